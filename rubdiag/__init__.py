@@ -1,0 +1,46 @@
+"""rubdiag: blade-rotor-casing rub-impact simulation and diagnosis.
+
+The top level is light: ``import rubdiag`` loads no numerical library. Each public name is
+imported from its submodule on first use.
+"""
+
+from __future__ import annotations
+
+import importlib
+
+from rubdiag._version import __version__
+
+# public name -> submodule that defines it
+_LAZY = {
+    "Rig": "rubdiag.model",
+    "load_rig": "rubdiag.model",
+    "paper_rig": "rubdiag.model",
+    "save_rig": "rubdiag.model",
+    "Unbalance": "rubdiag.model",
+    "assemble": "rubdiag.assembly",
+    "Model": "rubdiag.assembly",
+    "DofMap": "rubdiag.assembly",
+    "rayleigh_coefficients": "rubdiag.assembly",
+    "modes": "rubdiag.modal",
+    "campbell": "rubdiag.modal",
+    "critical_speeds": "rubdiag.modal",
+    "unbalance_response": "rubdiag.modal",
+    "harmonic_response": "rubdiag.modal",
+    "calibrate": "rubdiag.modal",
+}
+
+__all__ = ["__version__", *sorted(_LAZY)]
+
+
+def __getattr__(name: str):
+    try:
+        module = _LAZY[name]
+    except KeyError:
+        raise AttributeError(f"module 'rubdiag' has no attribute {name!r}") from None
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return __all__

@@ -1,0 +1,68 @@
+"""Names for every degree of freedom, so results can be addressed as ("shaft 11", "y").
+
+Node labels: ``"shaft N"`` (paper node number N), ``"blade B.S"`` (blade B, station S from
+root to tip, both 1-based; the root station 0 is tied to the disc and has no DOFs of its
+own) and ``"casing K"`` (1-based, node 1 on +y, counter-clockwise towards +z).
+
+Directions: ``y``, ``z`` (translations), ``ry``, ``rz`` (shaft rotations about y and z),
+``rx`` (in-plane rotation of blade and casing nodes about x).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+__all__ = ["PLANAR_DIRECTIONS", "SHAFT_DIRECTIONS", "DofMap"]
+
+SHAFT_DIRECTIONS = ("y", "z", "ry", "rz")
+PLANAR_DIRECTIONS = ("y", "z", "rx")
+
+
+@dataclass(frozen=True)
+class DofMap:
+    """Ordered DOF names; ``index(node, direction)`` gives the global DOF number."""
+
+    nodes: tuple[tuple[str, tuple[str, ...]], ...]
+    _index: dict = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        index, k = {}, 0
+        for label, directions in self.nodes:
+            for direction in directions:
+                index[(label, direction)] = k
+                k += 1
+        object.__setattr__(self, "_index", index)
+
+    @classmethod
+    def build(cls, shaft_nodes, n_blades: int, n_blade_stations: int, n_casing: int):
+        nodes = [(f"shaft {n}", SHAFT_DIRECTIONS) for n in shaft_nodes]
+        nodes += [(f"blade {b}.{s}", PLANAR_DIRECTIONS) for b in range(1, n_blades + 1)
+                  for s in range(1, n_blade_stations + 1)]
+        nodes += [(f"casing {k}", PLANAR_DIRECTIONS) for k in range(1, n_casing + 1)]
+        return cls(tuple(nodes))
+
+    @property
+    def n_dof(self) -> int:
+        return len(self._index)
+
+    @property
+    def labels(self) -> list[str]:
+        """``"shaft 11 y"``-style name of every DOF, in order."""
+        return [f"{node} {d}" for node, dirs in self.nodes for d in dirs]
+
+    def index(self, node: str | int, direction: str) -> int:
+        """Global DOF number; an int ``node`` means that shaft node."""
+        label = f"shaft {node}" if isinstance(node, int) else node
+        try:
+            return self._index[(label, direction)]
+        except KeyError:
+            raise ValueError(f"no DOF ({label!r}, {direction!r}) in this model") from None
+
+    def component(self, name: str, directions: tuple[str, ...] | None = None) -> list[int]:
+        """DOF numbers of a component ("shaft", "blade" or "casing"), optionally only the
+        given directions, in order."""
+        return [k for (label, d), k in self._index.items()
+                if label.split(" ", 1)[0] == name and (directions is None or d in directions)]
+
+    def __contains__(self, key) -> bool:
+        return key in self._index

@@ -1,0 +1,178 @@
+"""Commands of the linear analysis: ``modal``, ``campbell``, ``unbalance``, ``calibrate``."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+RPM = 3.141592653589793 / 30.0   # rad/s per rpm
+
+
+def register(sub) -> None:
+    rig_help = "rig TOML file (default: the study's paper rig)"
+
+    p = sub.add_parser("modal", help="critical speeds, natural frequencies, Rayleigh damping",
+                       description="Print the forward critical speeds (rpm), the natural "
+                       "frequencies at rest (Hz), Rayleigh alpha (1/s) and beta (s) and the "
+                       "number of DOFs of a rig.")
+    p.add_argument("--rig", type=Path, help=rig_help)
+    p.add_argument("--n-modes", type=int, default=8,
+                   help="natural frequencies to list (default 8)")
+    p.add_argument("--json", action="store_true", help="print one JSON object (SI units)")
+    p.set_defaults(func=_modal)
+
+    p = sub.add_parser("campbell", help="Campbell diagram (PNG and CSV)",
+                       description="Write campbell.png and campbell.csv: damped natural "
+                       "frequencies (Hz) and whirl of the lowest modes against speed (rpm).")
+    p.add_argument("--rig", type=Path, help=rig_help)
+    p.add_argument("--max-speed-rpm", type=float, default=8000.0,
+                   help="highest speed (rpm, default 8000)")
+    p.add_argument("--n-speeds", type=int, default=41, help="speeds (default 41)")
+    p.add_argument("--n-modes", type=int, default=8, help="modes per speed (default 8)")
+    p.add_argument("--out", type=Path, default=Path("out"), help="output folder (default out)")
+    p.set_defaults(func=_campbell)
+
+    p = sub.add_parser("unbalance", help="linear unbalance response (the study's Figs. 5-6)",
+                       description="Write unbalance_caseN.png/.csv: amplitude (mm) of shaft "
+                       "node 11 in y against speed (rpm) for the study's case 1 (unbalances "
+                       "in phase) or case 2 (out of phase), and deflection_caseN.png: the "
+                       "deflected shaft at the first (case 1) or second (case 2) critical "
+                       "speed.")
+    p.add_argument("--case", type=int, choices=(1, 2), required=True, help="loading case")
+    p.add_argument("--rig", type=Path, help=rig_help)
+    p.add_argument("--max-speed-rpm", type=float, default=8000.0,
+                   help="highest speed (rpm, default 8000)")
+    p.add_argument("--n-speeds", type=int, default=400, help="speeds (default 400)")
+    p.add_argument("--out", type=Path, default=Path("out"), help="output folder (default out)")
+    p.set_defaults(func=_unbalance)
+
+    p = sub.add_parser("calibrate", help="fit geometry to target critical speeds",
+                       description="Scale geometry knobs of a rig so that its first forward "
+                       "critical speeds hit the targets (rpm); write the calibrated rig TOML.")
+    p.add_argument("--rig", type=Path, help=rig_help)
+    p.add_argument("--targets-rpm", type=float, nargs="+", default=[1500.0, 5700.0],
+                   help="target forward critical speeds (rpm, default 1500 5700)")
+    p.add_argument("--knobs", nargs="+", default=["outer_spans", "inner_span"],
+                   help="geometry knobs to scale: outer_spans inner_span overhangs "
+                   "shaft_diameter disc_radius disc_thickness (default outer_spans inner_span)")
+    p.add_argument("--out", type=Path, default=Path("calibrated_rig.toml"),
+                   help="rig TOML to write (default calibrated_rig.toml)")
+    p.set_defaults(func=_calibrate)
+
+
+def _rig(path):
+    from rubdiag.model import load_rig, paper_rig
+
+    return paper_rig() if path is None else load_rig(path)
+
+
+def _positive(name: str, value):
+    if not value > 0:
+        raise ValueError(f"{name} = {value!r} is out of range (allowed: > 0)")
+    return value
+
+
+def _modal(args) -> int:
+    import numpy as np
+
+    from rubdiag.assembly import assemble
+    from rubdiag.modal import critical_speeds, modes
+
+    _positive("--n-modes", args.n_modes)
+    model = assemble(_rig(args.rig))
+    crit = critical_speeds(model, n=4)
+    at_rest = modes(model, 0.0, n_modes=args.n_modes, damped=False)
+    alpha, beta = model.rayleigh
+    f_hz = at_rest.damped_frequencies / (2 * np.pi)
+    if args.json:
+        print(json.dumps({
+            "rig": model.rig.name,
+            "critical_speeds_rpm": [float(c / RPM) for c in crit],
+            "critical_speeds_rad_s": [float(c) for c in crit],
+            "natural_frequencies_at_rest_hz": [float(f) for f in f_hz],
+            "rayleigh_alpha": float(alpha),
+            "rayleigh_beta": float(beta),
+            "n_dof": model.n_dof,
+        }))
+        return 0
+    print(f"rig: {model.rig.name}")
+    print(f"DOFs: {model.n_dof}")
+    print("forward critical speeds (rpm): " + ", ".join(f"{c / RPM:.1f}" for c in crit))
+    print("natural frequencies at rest (Hz): " + ", ".join(f"{f:.2f}" for f in f_hz))
+    print(f"Rayleigh damping: alpha = {alpha:.4f} 1/s, beta = {beta:.4e} s")
+    return 0
+
+
+def _campbell(args) -> int:
+    import numpy as np
+
+    from rubdiag.assembly import assemble
+    from rubdiag.modal import campbell
+    from rubdiag.plotting.modal import campbell_figure
+
+    _positive("--max-speed-rpm", args.max_speed_rpm)
+    _positive("--n-speeds", args.n_speeds)
+    _positive("--n-modes", args.n_modes)
+    model = assemble(_rig(args.rig))
+    result = campbell(model, np.linspace(0.0, args.max_speed_rpm * RPM, args.n_speeds),
+                      n_modes=args.n_modes)
+    args.out.mkdir(parents=True, exist_ok=True)
+    result.to_frame().to_csv(args.out / "campbell.csv", index=False)
+    campbell_figure(result, title=f"Campbell diagram: {model.rig.name}").savefig(
+        args.out / "campbell.png", dpi=150)
+    print(f"wrote {args.out / 'campbell.png'} and {args.out / 'campbell.csv'}", file=sys.stderr)
+    return 0
+
+
+def _unbalance(args) -> int:
+    import numpy as np
+
+    from rubdiag.assembly import assemble
+    from rubdiag.modal import critical_speeds, harmonic_response, unbalance_response
+    from rubdiag.plotting.modal import deflection_figure, unbalance_figure
+
+    _positive("--max-speed-rpm", args.max_speed_rpm)
+    _positive("--n-speeds", args.n_speeds)
+    rig = _rig(args.rig)
+    model = assemble(rig)
+    unbalance = rig.unbalance(args.case)
+    speeds = np.linspace(args.max_speed_rpm * RPM / args.n_speeds, args.max_speed_rpm * RPM,
+                         args.n_speeds)
+    response = unbalance_response(model, speeds, unbalance, points=((11, "y"),))
+    crit = critical_speeds(model, n=2)
+    args.out.mkdir(parents=True, exist_ok=True)
+    stem = f"case{args.case}"
+    response.to_frame().to_csv(args.out / f"unbalance_{stem}.csv", index=False)
+    unbalance_figure({f"case {args.case}": response}, critical_rpm=crit / RPM,
+                     title=f"Unbalance response of disc 1 (node 11, y), case {args.case}"
+                     ).savefig(args.out / f"unbalance_{stem}.png", dpi=150)
+    speed = crit[min(args.case, len(crit)) - 1]
+    shape = harmonic_response(model, speed, unbalance)
+    deflection_figure(model, {f"case {args.case} at {speed / RPM:.0f} rpm": shape},
+                      title=f"Deflected shaft at {speed / RPM:.0f} rpm, case {args.case}"
+                      ).savefig(args.out / f"deflection_{stem}.png", dpi=150)
+    peak = response.peak_speed() / RPM
+    print(f"case {args.case}: peak at {peak:.0f} rpm, disc 1 amplitude at "
+          f"{speed / RPM:.0f} rpm = {abs(shape.amplitude(11, 'y')) * 1e3:.3f} mm (y); wrote "
+          f"{args.out}/unbalance_{stem}.png, .csv and deflection_{stem}.png", file=sys.stderr)
+    return 0
+
+
+def _calibrate(args) -> int:
+    from rubdiag.modal import calibrate
+    from rubdiag.model import save_rig
+
+    for t in args.targets_rpm:
+        _positive("--targets-rpm", t)
+    result = calibrate(_rig(args.rig), [t * RPM for t in args.targets_rpm], knobs=args.knobs)
+    save_rig(result.rig, args.out)
+    for name, scale in zip(result.knobs, result.scales, strict=True):
+        print(f"{name}: x {scale:.6f}", file=sys.stderr)
+    reached = ", ".join(f"{s / RPM:.2f}" for s in result.speeds)
+    print(f"critical speeds (rpm): {reached}; wrote {args.out}", file=sys.stderr)
+    worst = max(abs(e) for e in result.relative_errors)
+    if worst > 1e-3:
+        print(f"warning: targets missed by up to {worst:.2%} (add knobs or widen them)",
+              file=sys.stderr)
+    return 0

@@ -1,0 +1,162 @@
+"""Natural frequencies and mode shapes at a spin speed, with gyroscopic effects.
+
+The quadratic eigenproblem (λ²M + λ(C + ΩG) + K) q = 0 is solved in first-order form,
+A x = λ B x with x = (q, λq), A = [[0, I], [−K, −D]], B = [[I, 0], [0, M]], by shift-invert
+Arnoldi near λ = σ (small, so the lowest modes come first and rigid-body modes do not make
+the operator singular). Each mode is classified by its whirl: at every node the lateral
+motion (u_y, u_z) = Re((a, b) e^{λt}) traces an ellipse, run forwards (from +y to +z, like
+the rotor) when Im(a·conj(b)) > 0. The whirl ratio sums 2·Im(a·conj(b)) over the shaft's
+nodes, normalised by Σ(|a|² + |b|²): +1 is a circular forward orbit, −1 backward.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+__all__ = ["Modes", "energy_shares", "modes", "whirl_ratio"]
+
+_DENSE_BELOW = 120   # DOFs; below this a dense solver is faster and complete
+_WHIRL_TOL = 1e-3
+
+
+@dataclass(frozen=True)
+class Modes:
+    """Modes at one spin speed, sorted by natural frequency.
+
+    Attributes
+    ----------
+    speed : float
+        Spin speed Ω (rad/s).
+    eigenvalues : ndarray of complex, (n_modes,)
+        λ = −ξω_n + iω_d (1/s).
+    shapes : ndarray of complex, (n_dof, n_modes)
+        Displacement part of each eigenvector, unit max-norm.
+    whirl_ratio : ndarray (n_modes,)
+        +1 circular forward whirl … −1 circular backward (see module docstring).
+    shaft_share, blade_share, casing_share : ndarray (n_modes,)
+        Fraction of the mode's kinetic energy in each component.
+    """
+
+    speed: float
+    eigenvalues: np.ndarray
+    shapes: np.ndarray
+    whirl_ratio: np.ndarray
+    shaft_share: np.ndarray
+    blade_share: np.ndarray
+    casing_share: np.ndarray
+
+    @property
+    def damped_frequencies(self) -> np.ndarray:
+        """ω_d (rad/s)."""
+        return self.eigenvalues.imag
+
+    @property
+    def natural_frequencies(self) -> np.ndarray:
+        """|λ| (rad/s): the undamped natural frequency for light damping."""
+        return np.abs(self.eigenvalues)
+
+    @property
+    def damping_ratios(self) -> np.ndarray:
+        return -self.eigenvalues.real / np.abs(self.eigenvalues)
+
+    @property
+    def whirl(self) -> np.ndarray:
+        """'forward', 'backward' or 'none' (planar, or no shaft motion) per mode."""
+        w = self.whirl_ratio
+        return np.where(w > _WHIRL_TOL, "forward", np.where(w < -_WHIRL_TOL, "backward", "none"))
+
+    def to_frame(self):
+        import pandas as pd
+
+        return pd.DataFrame({
+            "frequency_hz": self.damped_frequencies / (2 * np.pi),
+            "damping_ratio": self.damping_ratios,
+            "whirl": self.whirl,
+            "whirl_ratio": self.whirl_ratio,
+            "shaft_share": self.shaft_share,
+            "blade_share": self.blade_share,
+            "casing_share": self.casing_share,
+        })
+
+
+def modes(model, speed: float = 0.0, n_modes: int = 10, damped: bool = True) -> Modes:
+    """The ``n_modes`` lowest oscillating modes of ``model`` at spin speed Ω (rad/s).
+
+    ``damped=False`` leaves out C (gyroscopic effects stay), giving the undamped natural
+    frequencies. Overdamped (non-oscillating) roots are left out.
+    """
+    if not np.isfinite(speed) or speed < 0:
+        raise ValueError(f"speed = {speed!r} is out of range (allowed: >= 0 rad/s)")
+    if n_modes < 1:
+        raise ValueError(f"n_modes = {n_modes!r} is out of range (allowed: >= 1)")
+    n = model.n_dof
+    D = speed * model.G + (model.C if damped else 0 * model.G)
+    lam, vec = _quadratic_eigs(model.M, D, model.K, min(n_modes, n))
+    keep = lam.imag > 1e-9 * np.maximum(1.0, np.abs(lam))
+    lam, vec = lam[keep], vec[:, keep]
+    order = np.argsort(lam.imag)[:n_modes]
+    lam, shapes = lam[order], vec[:, order]
+    shapes = shapes / _max_entry(shapes)
+    shares = energy_shares(model, shapes)
+    return Modes(speed=float(speed), eigenvalues=lam, shapes=shapes,
+                 whirl_ratio=whirl_ratio(model, shapes), **shares)
+
+
+def _max_entry(shapes: np.ndarray) -> np.ndarray:
+    idx = np.argmax(np.abs(shapes), axis=0)
+    return shapes[idx, np.arange(shapes.shape[1])]
+
+
+def _quadratic_eigs(M, D, K, n_modes: int):
+    n = M.shape[0]
+    eye = sp.identity(n, format="csr")
+    A = sp.bmat([[None, eye], [-K, -D]], format="csc")
+    B = sp.bmat([[eye, None], [None, M]], format="csc")
+    # σ: a small negative shift, well below the lowest elastic frequency
+    sigma = -1.0
+    if n < _DENSE_BELOW:
+        lam, vec = sla.eig(A.toarray(), B.toarray())
+        finite = np.isfinite(lam)
+        return lam[finite], vec[:n, finite]
+    lu = spla.splu((A - sigma * B).tocsc())
+    op = spla.LinearOperator((2 * n, 2 * n), matvec=lambda x: lu.solve(B @ x),
+                             dtype=float)
+    k = min(2 * n - 2, 2 * n_modes + 10)
+    nu, vec = spla.eigs(op, k=k, which="LM")
+    return sigma + 1.0 / nu, vec[:n]
+
+
+def whirl_ratio(model, shapes: np.ndarray) -> np.ndarray:
+    """Whirl ratio in [−1, 1] of each column of ``shapes`` over the shaft nodes."""
+    dofs = model.dofs
+    y = model.dofs.component("shaft", ("y",))
+    z = model.dofs.component("shaft", ("z",))
+    if not y:   # no shaft in the model (e.g. a lone ring): use every lateral pair
+        y, z = _all_pairs(dofs)
+    a, b = shapes[y], shapes[z]
+    num = 2.0 * np.sum((a * b.conj()).imag, axis=0)
+    den = np.sum(np.abs(a) ** 2 + np.abs(b) ** 2, axis=0)
+    return np.divide(num, den, out=np.zeros_like(num), where=den > 0)
+
+
+def _all_pairs(dofs):
+    labels = dofs.labels
+    y = [i for i, s in enumerate(labels) if s.endswith(" y")]
+    return y, [i + 1 for i in y]
+
+
+def energy_shares(model, shapes: np.ndarray) -> dict[str, np.ndarray]:
+    """Fraction of each mode's kinetic energy q^H M q carried by shaft, blades and casing."""
+    Mq = model.M @ shapes
+    total = np.real(np.sum(shapes.conj() * Mq, axis=0))
+    out = {}
+    for name in ("shaft", "blade", "casing"):
+        idx = model.dofs.component(name)
+        part = np.real(np.sum(shapes[idx].conj() * Mq[idx], axis=0)) if idx else 0 * total
+        out[f"{name}_share"] = part / total
+    return out

@@ -1,0 +1,37 @@
+"""Model description layer: what the rig is, in frozen SI dataclasses, and its TOML files."""
+
+from rubdiag.model.io import load_rig, paper_rig, rig_from_dict, rig_to_dict, save_rig
+from rubdiag.model.rig import (
+    Bearing,
+    BladeContact,
+    Blades,
+    Casing,
+    Damping,
+    Disc,
+    Loading,
+    Material,
+    Rig,
+    Shaft,
+    StatorContact,
+    Unbalance,
+)
+
+__all__ = [
+    "Bearing",
+    "BladeContact",
+    "Blades",
+    "Casing",
+    "Damping",
+    "Disc",
+    "Loading",
+    "Material",
+    "Rig",
+    "Shaft",
+    "StatorContact",
+    "Unbalance",
+    "load_rig",
+    "paper_rig",
+    "rig_from_dict",
+    "rig_to_dict",
+    "save_rig",
+]

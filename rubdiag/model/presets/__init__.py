@@ -1,0 +1,1 @@
+"""Rig presets shipped as package data (read with importlib.resources)."""

@@ -1,0 +1,74 @@
+"""Figures of the linear analysis: Campbell diagram, unbalance response, deflected shape."""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+
+__all__ = ["campbell_figure", "deflection_figure", "unbalance_figure"]
+
+_RPM = 30.0 / np.pi
+_FORWARD, _BACKWARD = "#c0392b", "#2471a3"
+
+
+def campbell_figure(campbell, title: str = "Campbell diagram"):
+    """Damped natural frequencies (Hz) against speed (rpm), coloured by whirl; 1× line."""
+    fig, ax = plt.subplots(figsize=(7.5, 5), constrained_layout=True)
+    rpm = campbell.speeds * _RPM
+    f_hz = campbell.frequencies / (2 * np.pi)
+    for j in range(f_hz.shape[1]):
+        ax.plot(rpm, f_hz[:, j], color="0.8", lw=0.8, zorder=1)
+    fwd = campbell.whirl_ratio > 1e-3
+    bwd = campbell.whirl_ratio < -1e-3
+    grid = np.broadcast_to(rpm[:, None], f_hz.shape)
+    ax.scatter(grid[fwd], f_hz[fwd], s=12, marker="^", color=_FORWARD, label="forward whirl")
+    ax.scatter(grid[bwd], f_hz[bwd], s=12, marker="v", color=_BACKWARD, label="backward whirl")
+    ax.plot(rpm, rpm / 60.0, "k--", lw=1, label="1×")
+    top = float(np.nanmax(f_hz)) * 1.05
+    for cs in campbell.critical_speeds:
+        if cs <= campbell.speeds[-1]:
+            ax.plot(cs * _RPM, cs / (2 * np.pi), "ko", mfc="none", ms=9)
+            ax.annotate(f"{cs * _RPM:.0f} rpm", (cs * _RPM, cs / (2 * np.pi)),
+                        xytext=(6, -12), textcoords="offset points")
+    ax.set(xlabel="speed (rpm)", ylabel="natural frequency (Hz)", title=title,
+           xlim=(rpm[0], rpm[-1]), ylim=(0, top))
+    ax.grid(alpha=0.3)
+    ax.legend(loc="upper left")
+    return fig
+
+
+def unbalance_figure(responses: dict, critical_rpm=(), title="Unbalance response, disc 1 y"):
+    """Amplitude (mm, log) against speed (rpm) for several labelled UnbalanceResponse."""
+    fig, ax = plt.subplots(figsize=(7.5, 4.5), constrained_layout=True)
+    for label, resp in responses.items():
+        ax.semilogy(resp.speeds * _RPM, np.abs(resp.amplitudes[:, 0]) * 1e3, lw=1.6,
+                    label=label)
+    for cs in critical_rpm:
+        ax.axvline(cs, color="0.5", ls=":", lw=1)
+    ax.set(xlabel="speed (rpm)", ylabel="amplitude (mm)", title=title)
+    ax.grid(alpha=0.3, which="both")
+    ax.legend()
+    return fig
+
+
+def deflection_figure(model, responses: dict, title="Deflected shape at the critical speeds"):
+    """Orbit semi-major axis (mm) along the shaft for labelled HarmonicResponse objects,
+    with bearings and discs marked."""
+    fig, ax = plt.subplots(figsize=(7.5, 4), constrained_layout=True)
+    x_mm = model.shaft_x_m * 1e3
+    for label, resp in responses.items():
+        _, _, major = resp.shaft_deflection()
+        ax.plot(x_mm, major * 1e3, "o-", ms=3, label=label)
+    rig = model.rig
+    first = rig.shaft.first_node
+    for b in rig.bearings:
+        ax.axvline(x_mm[b.node - first], color="k", lw=2, alpha=0.4)
+    for d in rig.discs:
+        ax.axvline(x_mm[d.node - first], color="tab:green", lw=6, alpha=0.25)
+    ax.set(xlabel="axial position (mm)", ylabel="orbit semi-major axis (mm)", title=title)
+    ax.grid(alpha=0.3)
+    ax.legend()
+    return fig
