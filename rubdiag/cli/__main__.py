@@ -1,0 +1,5 @@
+import sys
+
+from rubdiag.cli import main
+
+sys.exit(main())
