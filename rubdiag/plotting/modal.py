@@ -21,9 +21,11 @@ def campbell_figure(campbell, title: str = "Campbell diagram"):
     f_hz = campbell.frequencies / (2 * np.pi)
     for j in range(f_hz.shape[1]):
         ax.plot(rpm, f_hz[:, j], color="0.8", lw=0.8, zorder=1)
-    fwd = campbell.whirl_ratio > 1e-3
-    bwd = campbell.whirl_ratio < -1e-3
+    rotor = campbell.shaft_share >= 0.25     # casing and blade modes do not whirl with the rotor
+    fwd = (campbell.whirl_ratio > 1e-3) & rotor
+    bwd = (campbell.whirl_ratio < -1e-3) & rotor
     grid = np.broadcast_to(rpm[:, None], f_hz.shape)
+    ax.scatter(grid[~rotor], f_hz[~rotor], s=6, color="0.6", label="casing / blade modes")
     ax.scatter(grid[fwd], f_hz[fwd], s=12, marker="^", color=_FORWARD, label="forward whirl")
     ax.scatter(grid[bwd], f_hz[bwd], s=12, marker="v", color=_BACKWARD, label="backward whirl")
     ax.plot(rpm, rpm / 60.0, "k--", lw=1, label="1×")
