@@ -27,6 +27,16 @@ _LAZY = {
     "unbalance_response": "rubdiag.modal",
     "harmonic_response": "rubdiag.modal",
     "calibrate": "rubdiag.modal",
+    "features": "rubdiag.signal",
+    "RubFeatures": "rubdiag.signal",
+    "amplitude_spectrum": "rubdiag.signal",
+    "spectral_lines": "rubdiag.signal",
+    "combination_pairs": "rubdiag.signal",
+    "prefixed_features": "rubdiag.signal",
+    "feature_names": "rubdiag.signal",
+    "read_signals": "rubdiag.signal",
+    "tacho_speed": "rubdiag.signal",
+    "dominant_speed": "rubdiag.signal",
 }
 
 __all__ = ["__version__", *sorted(_LAZY)]

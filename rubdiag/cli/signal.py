@@ -1,0 +1,142 @@
+"""``rubdiag features`` and ``rubdiag compare``: spectral rub features of measured signals."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+
+_INPUT_HELP = (
+    "signal file: .csv/.txt (header row, one column per channel), .npz (one 1-D array per "
+    "channel, optional scalar 'fs') or .parquet; a column t/time/time_s (seconds) gives fs"
+)
+
+
+def register(subparsers) -> None:
+    """Add the ``features`` and ``compare`` commands."""
+    p = subparsers.add_parser(
+        "features",
+        help="spectral rub-impact features of a signal file, one row per channel",
+        description=(
+            "Order lines (0.5x ... 8x, peak amplitude in the signal's unit, frequency in Hz, "
+            "phase in degrees), 1/3-order lines, sidebands n x +/- delta (Hz), broadband RMS "
+            "around n x and the strongest combination pair fa + fb = m x. Absent lines have "
+            "amplitude 0 and NaN frequency; features above Nyquist are NaN."
+        ),
+    )
+    p.add_argument("input", metavar="INPUT", help=_INPUT_HELP)
+    _common(p)
+    out = p.add_mutually_exclusive_group()
+    out.add_argument(
+        "--json", action="store_true", help="print a JSON list, one object per channel"
+    )
+    out.add_argument("--csv", metavar="FILE", help="write the table to a CSV file")
+    p.set_defaults(func=_features)
+
+    p = subparsers.add_parser(
+        "compare",
+        help="compare the spectra and features of two signal files (B - A)",
+        description=(
+            "Plot both amplitude spectra over orders of the running speed (log scale) with the "
+            "detected features marked, and print the features of A and B and their "
+            "difference B - A (amplitudes in the signals' unit, frequencies in Hz)."
+        ),
+    )
+    p.add_argument("a", metavar="A", help="reference signal file (" + _INPUT_HELP + ")")
+    p.add_argument("b", metavar="B", help="signal file compared with A (same formats)")
+    _common(p)
+    p.add_argument("--out", metavar="FIG.png", help="write the spectra figure to this file")
+    p.set_defaults(func=_compare)
+
+
+def _common(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--fs", type=float, metavar="HZ", help="sampling frequency in Hz")
+    p.add_argument(
+        "--speed-rpm",
+        type=float,
+        metavar="N",
+        help="running speed in rpm (default: from the tacho channel, else the strongest line)",
+    )
+    p.add_argument(
+        "--column", metavar="NAME", action="append", help="channel to analyse (repeatable)"
+    )
+    p.add_argument(
+        "--tacho",
+        metavar="NAME",
+        help="once-per-revolution pulse channel giving the speed (default: a column 'tacho')",
+    )
+
+
+def _load(path, args):
+    """Channels (DataFrame), fs (Hz) and the feature table of one signal file."""
+    from rubdiag.signal import features, read_signals
+
+    frame, fs = read_signals(path, args.fs)
+    table = features(frame, fs, args.speed_rpm, tacho=args.tacho, columns=args.column)
+    return frame, fs, table
+
+
+def _features(args) -> int:
+    _, _, table = _load(args.input, args)
+    if args.json:
+        rows = [
+            {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in row.items()}
+            for row in table.to_dict(orient="records")
+        ]
+        json.dump(rows, sys.stdout, indent=1, default=_plain)
+        print()
+    elif args.csv:
+        table.to_csv(args.csv, index=False)
+        print(f"wrote {len(table)} row(s) to {args.csv}")
+    else:
+        with _pandas_display():
+            print(table.set_index("channel").T.to_string())
+    return 0
+
+
+def _compare(args) -> int:
+    import numpy as np
+    import pandas as pd
+
+    from rubdiag.signal import amplitude_spectrum
+
+    loaded = {"A": _load(args.a, args), "B": _load(args.b, args)}
+    ta, tb = loaded["A"][2], loaded["B"][2]
+    common = [c for c in ta["channel"] if c in set(tb["channel"])]
+    if not common:
+        raise ValueError(f"{args.a} and {args.b} have no channel in common")
+    channel = common[0]
+    ra = ta.set_index("channel").loc[channel]
+    rb = tb.set_index("channel").loc[channel]
+    diff = pd.DataFrame({"A": ra, "B": rb, "B - A": rb - ra})
+    diff = diff[~(diff["A"].isna() & diff["B"].isna()) & ~((diff["A"] == 0) & (diff["B"] == 0))]
+    print(f"channel {channel!r}: A = {args.a}, B = {args.b}")
+    with _pandas_display():
+        print(diff.to_string())
+    if args.out:
+        from rubdiag.plotting.spectra import plot_order_spectra
+
+        curves = []
+        for (label, (frame, fs, _)), path, row in zip(
+            loaded.items(), (args.a, args.b), (ra, rb), strict=True
+        ):
+            f, amp = amplitude_spectrum(frame[channel].to_numpy(dtype=np.float64), fs)
+            curves.append((f"{label}: {path}", f, amp, row))
+        fig = plot_order_spectra(curves, title=f"channel {channel}")
+        fig.savefig(args.out, dpi=120)
+        print(f"wrote {args.out}")
+    return 0
+
+
+def _plain(value):
+    try:
+        return value.item()
+    except AttributeError:
+        return str(value)
+
+
+def _pandas_display():
+    import pandas as pd
+
+    return pd.option_context("display.max_rows", None, "display.float_format", "{:.6g}".format)

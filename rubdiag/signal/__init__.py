@@ -1,0 +1,50 @@
+"""Signal features of rub-impact: amplitude spectra, order lines, sidebands, combinations.
+
+Public API (all frequencies in Hz, speeds in rpm, amplitudes in the signal's unit):
+
+* :func:`amplitude_spectrum` ``(x, fs, …) -> (f, amplitude)`` — peak-amplitude spectrum.
+* :func:`spectral_lines` ``(x, fs, …) -> (f, amplitude, phase_deg)`` — exact lines.
+* :func:`tacho_speed`, :func:`dominant_speed` — running speed in rpm.
+* :func:`features` — one DataFrame row of features per channel (the table).
+* :func:`feature_names`, :func:`feature_matrix` — the columns; the batch path on a 2-D array.
+* :func:`combination_pairs` — all combination pairs of one signal.
+* :func:`prefixed_features` — one row for several named signals of one run.
+* :class:`RubFeatures` — the scikit-learn transformer.
+* :func:`read_signals` — CSV / NPZ / parquet files.
+
+See :mod:`rubdiag.signal.table` for the column names and the meaning of 0 and NaN.
+"""
+
+from __future__ import annotations
+
+from rubdiag.signal.combinations import CombinationPair, combination_pairs
+from rubdiag.signal.io import read_signals
+from rubdiag.signal.lines import spectral_lines
+from rubdiag.signal.orders import order_label
+from rubdiag.signal.spectrum import amplitude_spectrum
+from rubdiag.signal.speed import dominant_speed, tacho_speed
+from rubdiag.signal.table import (
+    FEATURE_NAMES,
+    feature_matrix,
+    feature_names,
+    features,
+    prefixed_features,
+)
+from rubdiag.signal.transformer import RubFeatures
+
+__all__ = [
+    "FEATURE_NAMES",
+    "CombinationPair",
+    "RubFeatures",
+    "amplitude_spectrum",
+    "combination_pairs",
+    "dominant_speed",
+    "feature_matrix",
+    "feature_names",
+    "features",
+    "order_label",
+    "prefixed_features",
+    "read_signals",
+    "spectral_lines",
+    "tacho_speed",
+]

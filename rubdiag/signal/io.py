@@ -1,0 +1,110 @@
+"""Measured signals from files: CSV, NPZ and parquet.
+
+Every format holds one channel per column (CSV, parquet: a header row names them; NPZ: one
+1-D array per key). The sampling frequency is given, or comes from a time column named
+``t``, ``time``, ``time_s`` or ``t_s`` (seconds, uniformly spaced), or, in an NPZ, from a
+scalar ``fs`` entry (Hz). The time column is removed from the channels.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from rubdiag.signal._checks import check_fs
+
+TIME_COLUMNS = ("t", "time", "time_s", "t_s")
+SUFFIXES = (".csv", ".txt", ".npz", ".parquet", ".pq")
+
+
+def read_signals(path: str | os.PathLike, fs: float | None = None) -> tuple[pd.DataFrame, float]:
+    """Read the channels of a signal file.
+
+    Parameters
+    ----------
+    path : str or path-like
+        A ``.csv``/``.txt`` (comma-separated, header row), ``.npz`` or ``.parquet``/``.pq`` file.
+    fs : float, optional
+        Sampling frequency in Hz. When None it comes from the time column (or the NPZ ``fs``
+        entry); when both are present they must agree within 0.1 %.
+
+    Returns
+    -------
+    channels : pandas.DataFrame
+        One float column per channel, rows are samples.
+    fs : float
+        Sampling frequency in Hz.
+    """
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in SUFFIXES:
+        raise ValueError(
+            f"{path.name}: unknown file type {suffix or '(none)'!r}; use one of "
+            + ", ".join(SUFFIXES)
+        )
+    if not path.exists():
+        raise FileNotFoundError(f"{path}: no such file")
+    stored_fs = None
+    if suffix == ".npz":
+        frame, stored_fs = _read_npz(path)
+    elif suffix in (".parquet", ".pq"):
+        frame = pd.read_parquet(path)
+    else:
+        try:
+            frame = pd.read_csv(path)
+        except pd.errors.EmptyDataError:
+            raise ValueError(f"{path.name}: the file is empty") from None
+    frame.columns = [str(c).strip() for c in frame.columns]
+    for name in frame.columns:
+        if not pd.api.types.is_numeric_dtype(frame[name]):
+            raise ValueError(f"{path.name}: column {name!r} is not numeric")
+    if len(frame) == 0:
+        raise ValueError(f"{path.name}: the file holds no samples")
+    time = next((c for c in frame.columns if c.lower() in TIME_COLUMNS), None)
+    time_fs = None
+    if time is not None:
+        time_fs = _fs_from_time(frame[time].to_numpy(dtype=np.float64), path.name, time)
+        frame = frame.drop(columns=[time])
+    found = time_fs if time_fs is not None else stored_fs
+    if fs is None:
+        if found is None:
+            raise ValueError(
+                f"{path.name}: no sampling frequency; give fs (--fs HZ) or a time column "
+                f"named one of {', '.join(TIME_COLUMNS)}"
+            )
+        fs = found
+    fs = check_fs(fs)
+    if found is not None and abs(found - fs) > 1e-3 * fs:
+        raise ValueError(f"{path.name}: fs = {fs:g} Hz disagrees with the file's {found:g} Hz")
+    if frame.shape[1] == 0:
+        raise ValueError(f"{path.name}: the file holds no signal column")
+    return frame.astype(np.float64), fs
+
+
+def _read_npz(path: Path) -> tuple[pd.DataFrame, float | None]:
+    with np.load(path, allow_pickle=False) as data:
+        arrays = {k: np.asarray(data[k]) for k in data.files}
+    fs = None
+    if "fs" in arrays:
+        if arrays["fs"].size != 1:
+            raise ValueError(f"{path.name}: the 'fs' entry must be a scalar (Hz)")
+        fs = float(arrays.pop("fs").reshape(()))
+    bad = [k for k, v in arrays.items() if v.ndim != 1]
+    if bad:
+        raise ValueError(f"{path.name}: entry {bad[0]!r} is not 1-D (one array per channel)")
+    if len({v.size for v in arrays.values()}) > 1:
+        raise ValueError(f"{path.name}: the channels have different lengths")
+    return pd.DataFrame(arrays), fs
+
+
+def _fs_from_time(t: np.ndarray, name: str, column: str) -> float:
+    if t.size < 2 or not np.isfinite(t).all():
+        raise ValueError(f"{name}: time column {column!r} needs at least 2 finite values")
+    dt = np.diff(t)
+    step = float(np.median(dt))
+    if step <= 0.0 or np.abs(dt - step).max() > 1e-3 * step:
+        raise ValueError(f"{name}: time column {column!r} is not uniformly increasing")
+    return 1.0 / step

@@ -1,0 +1,131 @@
+"""Significant spectral lines: local noise floor, detection and exact estimates.
+
+A bin holds a *line* when it is a local maximum of the amplitude spectrum that stands above
+``threshold`` times the local noise floor and above a numerical floor (``1e-6`` of the
+strongest bin, so that round-off and window leakage in noise-free signals are never lines).
+The *local noise floor* is the median amplitude over blocks of ``floor_width_hz`` (by default
+0.5× of the running speed), interpolated linearly between block centres: the median ignores
+the few bins that lines occupy in a block.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rubdiag.signal._checks import check_fs, check_signals
+from rubdiag.signal.spectrum import _spectra
+
+#: Lines weaker than this fraction of the strongest bin are never significant.
+REL_FLOOR = 1e-6
+#: Fewest bins in a noise-floor block.
+MIN_FLOOR_BINS = 8
+
+
+def spectral_lines(
+    x,
+    fs: float,
+    window="hann",
+    nperseg: int | None = None,
+    detrend="constant",
+    *,
+    threshold: float = 5.0,
+    floor_width_hz: float | None = None,
+):
+    """Significant lines of a signal with exact frequency, amplitude and phase.
+
+    Parameters
+    ----------
+    x : array_like, 1-D
+        Signal (any unit).
+    fs : float
+        Sampling frequency in Hz.
+    window, nperseg, detrend
+        As for :func:`amplitude_spectrum` (default: whole record, Hann window).
+    threshold : float
+        A line must exceed ``threshold`` times the local median amplitude (default 5).
+    floor_width_hz : float, optional
+        Width of the noise-floor blocks in Hz; default 1/40 of ``fs / 2`` (at least 8 bins).
+
+    Returns
+    -------
+    f : ndarray
+        Line frequencies in Hz, ascending.
+    amplitude : ndarray
+        Peak amplitudes (unit of ``x``), corrected for the line's offset from the bin.
+    phase : ndarray
+        Phases in degrees of ``cos(2π f t + phase)`` with ``t = 0`` at the first sample.
+    """
+    fs = check_fs(fs)
+    X = check_signals(x, "x")
+    if X.shape[0] != 1:
+        raise ValueError("spectral_lines takes one signal (a 1-D array)")
+    spec = _spectra(X, fs, window, nperseg, None, None, detrend)
+    width = fs / 80.0 if floor_width_hz is None else float(floor_width_hz)
+    if not np.isfinite(width) or width <= 0.0:
+        raise ValueError(f"floor_width_hz must be positive, got {floor_width_hz!r}")
+    floor = noise_floor(spec.amplitude, block_bins(np.array([width]), spec.df))
+    mask = line_mask(spec.amplitude, floor, threshold, spec.kernel)
+    p = np.flatnonzero(mask[0])[np.newaxis, :]
+    f, amp, phase = spec.kernel.refine(spec.amplitude, spec.first, p, spec.df)
+    return f[0], amp[0], phase[0]
+
+
+def block_bins(width_hz: np.ndarray, df: float) -> np.ndarray:
+    """Noise-floor block widths in bins for block widths in Hz (at least 8 bins)."""
+    return np.maximum(np.rint(width_hz / df).astype(np.int64), MIN_FLOOR_BINS)
+
+
+def noise_floor(amplitude: np.ndarray, blocks: np.ndarray) -> np.ndarray:
+    """Local median level of each row of ``amplitude`` (n_rows, n_bins).
+
+    ``blocks`` gives the block width in bins, one per row or one for all.
+    """
+    n_rows, _n_bins = amplitude.shape
+    blocks = np.broadcast_to(blocks, (n_rows,))
+    floor = np.empty_like(amplitude)
+    for b in np.unique(blocks):
+        rows = np.flatnonzero(blocks == b)
+        floor[rows] = _block_median(amplitude[rows], int(b))
+    return floor
+
+
+def _block_median(a: np.ndarray, b: int) -> np.ndarray:
+    n_rows, n_bins = a.shape
+    n_blocks = n_bins // b
+    if n_blocks < 2:
+        return np.broadcast_to(np.median(a, axis=1, keepdims=True), a.shape).copy()
+    med = np.median(a[:, : n_blocks * b].reshape(n_rows, n_blocks, b), axis=-1)
+    pos = (np.arange(n_bins) - (b - 1) / 2.0) / b
+    i0 = np.clip(np.floor(pos).astype(np.int64), 0, n_blocks - 2)
+    frac = np.clip(pos - i0, 0.0, 1.0)
+    return med[:, i0] * (1.0 - frac) + med[:, i0 + 1] * frac
+
+
+def line_mask(
+    amplitude: np.ndarray, floor: np.ndarray, threshold: float, kernel=None
+) -> np.ndarray:
+    """Boolean (n_rows, n_bins): bins that hold a significant line.
+
+    A line is a strict local maximum (ties broken towards the lower bin), ``threshold``
+    times above ``floor``, above :data:`REL_FLOOR` of the row's strongest bin and, for
+    windows with sidelobes (``kernel``), twice above what a stronger line's sidelobes put
+    there. The first two and last two bins never hold a line (exact estimates need both
+    neighbours).
+    """
+    threshold = float(threshold)
+    if not np.isfinite(threshold) or threshold < 1.0:
+        raise ValueError(f"threshold must be a finite factor >= 1, got {threshold!r}")
+    a = amplitude
+    mask = np.zeros(a.shape, dtype=bool)
+    if a.shape[1] < 5:
+        return mask
+    mid = a[:, 2:-2]
+    peak = (mid >= a[:, 1:-3]) & (mid > a[:, 3:-1])
+    strongest = a[:, 1:].max(axis=1, keepdims=True)
+    mask[:, 2:-2] = peak & (mid > threshold * floor[:, 2:-2]) & (mid > REL_FLOOR * strongest)
+    if kernel is not None:
+        rows, cols = np.nonzero(mask)
+        leak = kernel.sidelobe_level(a, rows, cols)
+        drop = a[rows, cols] <= 2.0 * leak
+        mask[rows[drop], cols[drop]] = False
+    return mask
