@@ -1,0 +1,16 @@
+"""Numba kernels: sparse triangular solves, contact laws and the Newmark time loop.
+
+* :mod:`rubdiag.kernels.sparse_lu` — CSR products, SuperLU factors applied in Numba.
+* :mod:`rubdiag.kernels.contact` — one element's contact law (point–point, annular) and the
+  per-step contact solve in the Schur complement (Newton + augmented Lagrangian).
+* :mod:`rubdiag.kernels.newmark` — the whole time loop (variable step, event log, energy).
+
+Kernel contract (see :mod:`rubdiag._numba`): float64 / int64 C-contiguous arrays and scalars in
+SI units, outputs and work arrays preallocated by the caller, status codes instead of
+exceptions. The public door is :mod:`rubdiag.simulate`.
+
+Numba's on-disk cache is keyed on the source file of the *called* kernel only:
+``newmark_contact`` inlines code from ``contact.py`` and ``sparse_lu.py``, and its cache entry
+is not invalidated when only those files change. After editing them, delete
+``rubdiag/kernels/__pycache__/*.nb*`` (or touch ``newmark.py``).
+"""

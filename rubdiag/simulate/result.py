@@ -1,0 +1,213 @@
+"""Result types of :func:`rubdiag.simulate.simulate_system`."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+__all__ = ["EpisodeLog", "SimulationDiverged", "SystemResult"]
+
+STATUS_MESSAGES = {
+    0: "The simulation reached the requested duration.",
+    1: "The contact iteration did not converge at the smallest step.",
+    2: "The state became non-finite.",
+}
+
+
+@dataclass(frozen=True)
+class EpisodeLog:
+    """Contact episodes gathered at every step (not only at recorded samples).
+
+    An episode is a contiguous run of closed status (2 sliding or 3 sticking) of one element.
+    One row per episode, in the order the episodes ended (episodes still closed when the run
+    stopped come last, with ``complete = False`` and ``t_end`` = the final time).
+
+    Fields (all shape (n_episodes,)): ``element`` (int, contact index), ``t_start``, ``t_end``
+    (s; the instants where the normal trial force ``lam - k_N g`` crosses zero, linearly
+    interpolated inside the closing/opening step), ``n_steps`` (closed steps),
+    ``peak_normal_force`` (N, largest end-of-step F_N of the episode), ``n_slide_entries``,
+    ``n_stick_entries`` (entries into status 2 / 3 within the episode, the first closed step
+    included), ``complete`` (bool).
+    """
+
+    element: np.ndarray
+    t_start: np.ndarray
+    t_end: np.ndarray
+    n_steps: np.ndarray
+    peak_normal_force: np.ndarray
+    n_slide_entries: np.ndarray
+    n_stick_entries: np.ndarray
+    complete: np.ndarray
+
+    def __len__(self) -> int:
+        return int(self.element.size)
+
+    @property
+    def duration(self) -> np.ndarray:
+        """Episode durations (s)."""
+        return self.t_end - self.t_start
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row per episode."""
+        return pd.DataFrame(
+            {
+                "element": self.element,
+                "t_start": self.t_start,
+                "t_end": self.t_end,
+                "duration": self.duration,
+                "n_steps": self.n_steps,
+                "peak_normal_force": self.peak_normal_force,
+                "n_slide_entries": self.n_slide_entries,
+                "n_stick_entries": self.n_stick_entries,
+                "complete": self.complete,
+            }
+        )
+
+
+@dataclass(frozen=True)
+class SystemResult:
+    """Everything a run of :func:`simulate_system` computed (also when it failed).
+
+    Samples (``n_out`` rows at ``t = k * output_dt``, exact: sample times are step ends):
+
+    * ``t`` (n_out,) s; ``q`` (n_out, n_rec) m, displacements of ``record_dofs``.
+    * ``contact_fn`` (n_out, n_c) N, normal force F_N >= 0; ``contact_ft`` (n_out, n_c) N,
+      signed tangential force on body a along the element tangent; ``contact_status``
+      (n_out, n_c) int8, 1 open / 2 sliding / 3 sticking; ``contact_gap`` (n_out, n_c) m
+      (negative = penetration); ``contact_slip`` (n_out, n_c) m, relative tangential
+      displacement s (kind 1: ``t.(u_a - u_b)``; kind 2: accumulated slip while closed,
+      surface travel included).
+    * Energy ledger (n_out,) J, cumulative from t = 0: ``work_external`` (work of f(t),
+      trapezoid on the step — exact for Newmark), ``work_drive`` (work of prescribed motions on
+      the contacts: the shaft drive through kind-2 friction, ``-F_T Ω R h`` per step, and
+      the gap ramp, ``-F̄_N Δg0``), ``dissipated_viscous`` (``h v̄ᵀ C v̄`` per step),
+      ``dissipated_friction`` (``|F_T| |Δ plastic slip|`` per sliding step, never negative),
+      ``contact_algorithmic`` (contact work not accounted for by the contact elastic energy
+      and friction: the penalty/trapezoid impact error and augmentation jumps). State
+      energies: ``kinetic`` (½ vᵀMv), ``strain`` (½ qᵀKq), ``contact_elastic``
+      (Σ ½F_N²/k_N + ½F_T²/k_T over closed elements).
+      Exact discrete identity: work_external + work_drive = Δ(kinetic + strain +
+      contact_elastic) + dissipated_viscous + dissipated_friction + contact_algorithmic.
+
+    Gathered at every step: ``episodes`` (:class:`EpisodeLog`); per element (n_c, 3) with
+    columns status 1, 2, 3: ``time_in_status`` (s), ``normal_impulse`` (N s, ∫F_N dt),
+    ``tangential_impulse`` (N s, ∫|F_T| dt) — each step is attributed to its end-of-step
+    status; running maxima (n_c,): ``max_normal_force`` (N), ``max_tangential_force`` (N),
+    ``max_penetration`` (m, 0 if never closed); ``max_cone_excess`` (N): max of
+    ``|F_T| - mu F_N`` over all steps and elements (≤ round-off if the law holds).
+
+    Step control: ``dt_levels`` (n_lev,) s, the step sizes dt/2^k; ``steps_per_level``
+    (n_lev,) accepted steps per level; ``level_change_t`` (s), ``level_change_level`` — every
+    change of level (the time at which the new level starts and the new level index);
+    ``n_steps`` accepted steps; ``n_rejected_newton`` / ``n_rejected_abrupt`` rejected steps
+    (contact iteration failed / abrupt closing); ``n_abrupt_at_min`` abrupt closings accepted at
+    the smallest step; ``newton_iterations`` (total) and ``newton_iterations_max`` (per step);
+    ``augment_iterations`` / ``augment_iterations_max`` (multiplier updates).
+
+    Final state: ``t_final`` (s), ``q_final``, ``v_final``, ``a_final`` (n,).
+    ``extra``: diagnostics (``setup_seconds``, ``kernel_seconds`` wall times, ``lu_nnz`` and
+    ``lu_ordering`` of the factorization per level).
+    Outcome: ``status`` (0 success, 1 no convergence at the smallest step, 2 non-finite state),
+    ``message``, ``failure_time`` (s, NaN on success), ``failure_element`` (contact index or
+    -1).
+    """
+
+    t: np.ndarray
+    record_dofs: np.ndarray
+    q: np.ndarray
+    contact_fn: np.ndarray
+    contact_ft: np.ndarray
+    contact_status: np.ndarray
+    contact_gap: np.ndarray
+    contact_slip: np.ndarray
+    work_external: np.ndarray
+    work_drive: np.ndarray
+    dissipated_viscous: np.ndarray
+    dissipated_friction: np.ndarray
+    contact_algorithmic: np.ndarray
+    kinetic: np.ndarray
+    strain: np.ndarray
+    contact_elastic: np.ndarray
+    episodes: EpisodeLog
+    time_in_status: np.ndarray
+    normal_impulse: np.ndarray
+    tangential_impulse: np.ndarray
+    max_normal_force: np.ndarray
+    max_tangential_force: np.ndarray
+    max_penetration: np.ndarray
+    max_cone_excess: float
+    dt: float
+    dt_min: float
+    output_dt: float
+    dt_levels: np.ndarray
+    steps_per_level: np.ndarray
+    level_change_t: np.ndarray
+    level_change_level: np.ndarray
+    n_steps: int
+    n_rejected_newton: int
+    n_rejected_abrupt: int
+    n_abrupt_at_min: int
+    newton_iterations: int
+    newton_iterations_max: int
+    augment_iterations: int
+    augment_iterations_max: int
+    t_final: float
+    q_final: np.ndarray
+    v_final: np.ndarray
+    a_final: np.ndarray
+    status: int
+    message: str
+    failure_time: float = float("nan")
+    failure_element: int = -1
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def success(self) -> bool:
+        return self.status == 0
+
+    @property
+    def mechanical_energy(self) -> np.ndarray:
+        """kinetic + strain + contact elastic energy at the samples (J)."""
+        return self.kinetic + self.strain + self.contact_elastic
+
+    @property
+    def energy_balance_residual(self) -> np.ndarray:
+        """External + drive work − Δ(mechanical energy) − viscous − friction dissipation (J).
+
+        Equals ``contact_algorithmic`` up to round-off; its size measures how well the contact
+        events are resolved in time.
+        """
+        e = self.mechanical_energy
+        return (
+            self.work_external + self.work_drive - (e - e[0])
+            - self.dissipated_viscous - self.dissipated_friction
+        )
+
+    def to_frame(self) -> pd.DataFrame:
+        """Samples as a DataFrame indexed by ``t``: ``q_<dof>`` then ``fn_<e>``, ``ft_<e>``,
+        ``status_<e>``, ``gap_<e>``, ``slip_<e>`` per contact element, then the energies."""
+        cols: dict[str, np.ndarray] = {}
+        for j, dof in enumerate(self.record_dofs):
+            cols[f"q_{int(dof)}"] = self.q[:, j]
+        for e in range(self.contact_fn.shape[1]):
+            cols[f"fn_{e}"] = self.contact_fn[:, e]
+            cols[f"ft_{e}"] = self.contact_ft[:, e]
+            cols[f"status_{e}"] = self.contact_status[:, e]
+            cols[f"gap_{e}"] = self.contact_gap[:, e]
+            cols[f"slip_{e}"] = self.contact_slip[:, e]
+        for name in (
+            "work_external", "work_drive", "dissipated_viscous", "dissipated_friction",
+            "contact_algorithmic", "kinetic", "strain", "contact_elastic",
+        ):
+            cols[name] = getattr(self, name)
+        return pd.DataFrame(cols, index=pd.Index(self.t, name="t"))
+
+
+class SimulationDiverged(RuntimeError):
+    """A run stopped before its end; ``result`` holds everything computed up to then."""
+
+    def __init__(self, message: str, result: SystemResult):
+        super().__init__(message)
+        self.result = result

@@ -1,0 +1,136 @@
+"""Bad input is refused with a message naming the parameter; failures keep partial results."""
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from rubdiag.simulate import Contacts, HarmonicForce, SimulationDiverged, simulate_system
+
+
+def _base():
+    M = sp.diags([1.0, 1.0, 0.5]).tocsr()
+    K = sp.csr_matrix(np.array([[2e4, -1e4, 0], [-1e4, 2e4, -1e4], [0, -1e4, 1e4]]))
+    C = sp.csr_matrix(1e-4 * K)
+    ct = Contacts.point([[0, 1]], [[-1, -1]], [[1.0, 0.0]], [[0.0, 1.0]], gap=1e-4, k_n=1e7)
+    return M, C, K, ct
+
+
+def _run(**over):
+    M, C, K, ct = _base()
+    args = dict(M=M, C=C, K=K, force=None, contacts=ct, q0=np.zeros(3), v0=np.zeros(3))
+    kw = dict(duration=1e-3, dt=1e-4)
+    for key, val in over.items():
+        (args if key in args else kw)[key] = val
+    return simulate_system(args.pop("M"), args.pop("C"), args.pop("K"), args.pop("force"),
+                           args.pop("contacts"), args.pop("q0"), args.pop("v0"), **kw)
+
+
+def _contacts(**kw):
+    base = dict(dof_a=[[0, 1]], dof_b=[[-1, -1]], normal=[[1.0, 0.0]], tangent=[[0.0, 1.0]],
+                gap=1e-4, k_n=1e7)
+    base.update(kw)
+    return Contacts.point(**base)
+
+
+@pytest.mark.parametrize(
+    ("over", "pattern"),
+    [
+        (dict(dt=0.0), r"dt = 0\.0 .*> 0"),
+        (dict(dt=-1e-5), r"dt = -1e-05"),
+        (dict(dt=float("nan")), r"dt = nan"),
+        (dict(dt_min=2e-4), r"dt_min = 0\.0002 .*<= dt = 0\.0001"),
+        (dict(dt_min=0.0), r"dt_min = 0\.0"),
+        (dict(duration=5e-5), r"duration = 5e-05 .*>= one step dt = 0\.0001"),
+        (dict(output_dt=1.5e-4), r"output_dt = 0\.00015 .*integer multiple of dt"),
+        (dict(contacts=_contacts(gap=-1e-6)), r"contacts\.gap\[0\] = -1e-06 .*>= 0"),
+        (dict(contacts=_contacts(mu=-0.1)), r"contacts\.mu\[0\] = -0\.1 .*>= 0"),
+        (dict(contacts=_contacts(k_n=0.0)), r"contacts\.k_n\[0\] = 0\.0 .*> 0 N/m"),
+        (dict(contacts=_contacts(k_n=-5.0)), r"contacts\.k_n\[0\] = -5\.0"),
+        (dict(contacts=_contacts(gap=np.inf)), r"contacts\.gap\[0\] = inf .*finite"),
+        (dict(contacts=_contacts(dof_a=[[0, 7]])), r"contacts\.dof_a\[0\] = \[0, 7\]"),
+        (dict(contacts=_contacts(normal=[[1.0, 1.0]])), r"orthonormal"),
+        (dict(contacts=_contacts(augmented=True, eps=0.0)), r"contacts\.eps\[0\] = 0\.0"),
+        (dict(q0=np.array([0.0, np.nan, 0.0])), r"q0 = .*non-finite"),
+        (dict(v0=np.array([0.0, np.inf, 0.0])), r"v0 = .*non-finite"),
+        (dict(q0=np.zeros(4)), r"q0 has shape \(4,\)"),
+        (dict(K=sp.csr_matrix(np.full((3, 3), np.nan))), r"K contains NaN or inf"),
+        (dict(M=sp.diags([1.0, np.inf, 1.0]).tocsr()), r"M contains NaN or inf"),
+        (dict(C=sp.csr_matrix((4, 4))), r"C has shape \(4, 4\)"),
+        (dict(force=HarmonicForce([1], [np.nan], [10.0])), r"force = .*finite"),
+        (dict(force=HarmonicForce([5], [1.0], [10.0])), r"force\.dofs = \[5\]"),
+        (dict(gap_ramp=(0.01, 1e-5)), r"gap_ramp\[1\] \(g_start\) = 1e-05 .*>= every"),
+        (dict(max_newton=-1), r"max_newton = -1"),
+        (dict(newton_tol=0.0), r"newton_tol = 0\.0"),
+        (dict(gamma=0.4), r"gamma = 0\.4 .*\[0\.5, 1\]"),
+        (dict(record_dofs=[0, 3]), r"record_dofs = \[0, 3\]"),
+    ],
+)
+def test_bad_input_names_parameter_value_and_range(over, pattern):
+    with pytest.raises(ValueError, match=pattern):
+        _run(**over)
+
+
+def test_singular_mass_is_refused():
+    M = sp.diags([1.0, 0.0, 1.0]).tocsr()
+    with pytest.raises(ValueError, match="M is singular"):
+        _run(M=M)
+
+
+def test_no_convergence_at_dt_min_stops_with_when_where_and_partial_result():
+    """A Newton cap of 0 iterations cannot follow a contact force that changes: the first
+    closing step fails, at dt_min = dt, and the run stops there."""
+    M, C, K, _ = _base()
+    ct = Contacts.point([[0, 1], [2, 1]], [[-1, -1], [-1, -1]], [[1.0, 0.0], [1.0, 0.0]],
+                        [[0.0, 1.0], [0.0, 1.0]], gap=[1e-2, 1e-4], k_n=1e7)
+    v0 = np.array([0.0, 0.0, 0.5])  # DOF 2 (element 1) moves towards its stop at 0.5 m/s
+    with pytest.raises(SimulationDiverged) as info:
+        simulate_system(M, C, K, None, ct, np.zeros(3), v0, duration=1e-2, dt=1e-5,
+                        dt_min=1e-5, max_newton=0)
+    err = info.value
+    res = err.result
+    assert res.status == 1 and not res.success
+    assert res.failure_element == 1
+    # the stop is reached at ~ gap / v = 0.2 ms, far before the 10 ms asked for
+    assert 1.5e-4 < res.failure_time < 3e-4
+    assert res.t_final == pytest.approx(res.failure_time - 1e-5)
+    assert "t = " in str(err) and "contact element 1" in str(err)
+    assert "did not converge" in str(err)
+    # what was computed is kept: samples up to the failure, consistent final state
+    assert res.t[-1] == pytest.approx(res.t_final)
+    assert res.q.shape[0] == res.t.size == res.n_steps + 1
+    np.testing.assert_allclose(res.q[-1], res.q_final)
+    # without raising, the same partial result is returned
+    res2 = simulate_system(M, C, K, None, ct, np.zeros(3), v0, duration=1e-2, dt=1e-5,
+                           dt_min=1e-5, max_newton=0, raise_on_failure=False)
+    assert res2.status == 1 and res2.failure_time == res.failure_time
+
+
+def test_variable_step_recovers_where_fixed_step_fails():
+    """Annular rub (curved contact: Newton needs 2 updates at dt = 1e-4 s) with a cap of 1
+    update: the fixed-step run stops, the variable-step run halves where needed and ends."""
+    M = sp.diags([1.0, 1.0]).tocsr()
+    K = sp.diags([4e4, 4e4]).tocsr()
+    C = sp.diags([4.0, 4.0]).tocsr()
+    omega = 220.0
+    force = HarmonicForce.unbalance(0, 1, 2e-4, omega)
+    ct = Contacts.annular([[0, 1]], clearance=1e-3, radius=0.05, k_n=2e7, mu=0.2)
+    kw = dict(duration=0.1, dt=1e-4, max_newton=1, omega=omega)
+    ok = simulate_system(M, C, K, force, ct, [0, 0], [0, 0], dt_min=1e-4 / 64, **kw)
+    assert ok.success
+    assert ok.n_rejected_newton > 0 and ok.steps_per_level[1:].sum() > 0
+    assert ok.newton_iterations_max <= 1
+    with pytest.raises(SimulationDiverged, match="contact element 0"):
+        simulate_system(M, C, K, force, ct, [0, 0], [0, 0], fixed_step=True, **kw)
+
+
+def test_non_finite_state_stops_with_status_2():
+    """A load that overflows the state: the run stops cleanly with status 2 and the time."""
+    M, C, K, _ = _base()
+    force = HarmonicForce([2], [1e305], [1e3])
+    with pytest.raises(SimulationDiverged, match="non-finite") as info:
+        simulate_system(M, C, K, force, None, np.zeros(3), np.zeros(3), duration=1e-2,
+                        dt=1e-4)
+    res = info.value.result
+    assert res.status == 2
+    assert 0 < res.failure_time <= 1e-2
+    assert np.all(np.isfinite(res.q))  # what was kept is the last finite state
