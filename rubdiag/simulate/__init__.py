@@ -1,17 +1,27 @@
 """The one public door to the time-integration kernels.
 
-:func:`simulate_system` integrates a generic linear system (sparse M, C, K) with a harmonic load
-and contact elements; the rig layer builds the matrices and the contact description on top.
+:func:`simulate` runs a rig described by a :class:`Run` and returns a
+:class:`SimulationResult`; :func:`simulate_system` integrates a generic linear system
+(sparse M, C, K) with a harmonic load and contact elements, for analytic tests and other
+models.
 """
 
 from rubdiag.simulate.result import EpisodeLog, SimulationDiverged, SystemResult
+from rubdiag.simulate.run import Run, critical_speed_for_case
+from rubdiag.simulate.simulation import SimulationResult, load_result, response_points, simulate
 from rubdiag.simulate.system import Contacts, HarmonicForce, simulate_system
 
 __all__ = [
     "Contacts",
     "EpisodeLog",
     "HarmonicForce",
+    "Run",
     "SimulationDiverged",
+    "SimulationResult",
     "SystemResult",
+    "critical_speed_for_case",
+    "load_result",
+    "response_points",
+    "simulate",
     "simulate_system",
 ]

@@ -798,11 +798,11 @@ def _package(
                3: "singular contact Jacobian"}.get(int(istate[IS.FAIL_CODE]), "unknown")
         message = (
             f"Contact iteration did not converge ({why}) at t = {fail_t:.9g} s, contact element "
-            f"{fail_e}, even at the smallest step {dt_min:.3g} s; results kept up to "
+            f"{fail_e + 1} (1-based), even at the smallest step {dt_min:.3g} s; results kept up to "
             f"t = {t_final:.9g} s."
         )
     else:
-        where = f"contact element {fail_e}" if fail_e >= 0 else "the structure"
+        where = f"contact element {fail_e + 1} (1-based)" if fail_e >= 0 else "the structure"
         message = (
             f"State became non-finite at t = {fail_t:.9g} s ({where}); results kept up to "
             f"t = {t_final:.9g} s."

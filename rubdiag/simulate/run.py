@@ -1,0 +1,147 @@
+"""A rub-impact run of a rig: a frozen, picklable description (the input of ``simulate``).
+
+A :class:`Run` holds everything that determines the result — the rig, the speed, the
+unbalance, the blade-casing gap, the time window, the step sizes, the output rate and the
+contact law — so that a run is a pure function of its description: ``simulate(run)`` twice
+gives the same arrays, on any machine or Dask worker.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from rubdiag.model import _check
+from rubdiag.model.rig import BladeContact, Rig, Unbalance
+
+__all__ = ["Run"]
+
+
+@dataclass(frozen=True)
+class Run:
+    """One simulation of a rig at constant speed, SI units.
+
+    Parameters
+    ----------
+    rig : Rig
+        The machine. Blade-casing contacts come from ``contact`` (or ``rig.contact``),
+        shaft-stator rubs from ``rig.stator_contacts``.
+    speed_rad_s : float
+        Spin speed Ω (rad/s).
+    unbalance : Unbalance
+        Per-disc unbalance magnitude (kg·m) and phase (rad); ``rig.unbalance(case)`` gives the
+        study's patterns.
+    gap_m : float, optional
+        Initial blade-tip/casing gap g0 (m) of every contact element; default the rig's
+        nominal gap. The casing geometry is the rig's; g0 enters the contact law only.
+    duration_s : float
+        Total simulated time (s), default 2.3.
+    discard_s : float
+        Start of the analysis window (s), default 0.3: statistics and spectra use
+        ``discard_s <= t <= duration_s``.
+    dt_s, dt_min_s : float
+        Largest and smallest time step (s); default 1e-5 and dt/64.
+    fixed_step : bool
+        Constant step ``dt_s`` (convergence studies).
+    output_rate_hz : float, optional
+        Waveform sampling rate (Hz); ``1/(output_rate_hz·dt_s)`` must be an integer. Default
+        10 kHz (or 1/dt_s when the step is longer than 0.1 ms). Contact events are gathered at every step whatever the output rate.
+    contact : BladeContact, optional
+        Contact law and which blades touch (default ``rig.contact``): k_N, k_T, μ,
+        augmentation and ε.
+    gap_ramp_s : float
+        Time (s) over which the gap closes linearly from just above the linear response
+        amplitude down to g0, so that the run does not start ~1 mm deep in the casing
+        (default 0.1; 0 applies g0 at once).
+    label : str
+        Free text carried into results and tables.
+    """
+
+    rig: Rig
+    speed_rad_s: float
+    unbalance: Unbalance
+    gap_m: float | None = None
+    duration_s: float = 2.3
+    discard_s: float = 0.3
+    dt_s: float = 1e-5
+    dt_min_s: float | None = None
+    fixed_step: bool = False
+    output_rate_hz: float | None = None
+    contact: BladeContact | None = None
+    gap_ramp_s: float = 0.1
+    label: str = ""
+
+    def __post_init__(self):
+        if not isinstance(self.rig, Rig):
+            raise ValueError(f"rig = {type(self.rig).__name__} has the wrong type (expected Rig)")
+        _check.number("speed_rad_s", self.speed_rad_s, lo=0.0, hi=1e5, lo_open=True)
+        if len(self.unbalance.magnitudes_kg_m) != len(self.rig.discs):
+            raise ValueError(f"unbalance has {len(self.unbalance.magnitudes_kg_m)} entries "
+                             f"(allowed: one per disc, {len(self.rig.discs)})")
+        if self.gap_m is None and self.contact_law is not None:
+            object.__setattr__(self, "gap_m", self.rig.nominal_gap_m())
+        if self.gap_m is not None:
+            _check.number("gap_m", self.gap_m, lo=0.0, hi=0.1)
+        _check.positive("dt_s", self.dt_s)
+        if self.dt_min_s is None:
+            object.__setattr__(self, "dt_min_s", self.dt_s / 64)
+        _check.number("dt_min_s", self.dt_min_s, lo=0.0, hi=self.dt_s, lo_open=True)
+        _check.number("duration_s", self.duration_s, lo=self.dt_s)
+        _check.number("discard_s", self.discard_s, lo=0.0, hi=self.duration_s, hi_open=True)
+        if self.output_rate_hz is None:
+            object.__setattr__(self, "output_rate_hz",
+                               1.0 / (self.dt_s * max(1, round(1e-4 / self.dt_s))))
+        _check.number("output_rate_hz", self.output_rate_hz, lo=0.0, hi=1.0 / self.dt_s,
+                      lo_open=True)
+        ratio = 1.0 / (self.output_rate_hz * self.dt_s)
+        if abs(ratio - round(ratio)) > 1e-6 * ratio:
+            raise ValueError(f"output_rate_hz = {self.output_rate_hz!r} is out of range "
+                             f"(allowed: 1/dt_s divided by an integer, e.g. "
+                             f"{1.0 / self.dt_s / max(1, round(ratio)):g})")
+        _check.number("gap_ramp_s", self.gap_ramp_s, lo=0.0, hi=self.duration_s)
+        if self.contact is not None and self.rig.contact is None:
+            raise ValueError("contact is given but the rig has no blade-casing contact "
+                             "geometry (blades and casing)")
+
+    @property
+    def contact_law(self) -> BladeContact | None:
+        """The blade-casing contact law in force: ``contact`` or the rig's."""
+        return self.contact if self.contact is not None else self.rig.contact
+
+    @property
+    def output_dt_s(self) -> float:
+        return self.dt_s * round(1.0 / (self.output_rate_hz * self.dt_s))
+
+    @property
+    def speed_rpm(self) -> float:
+        return self.speed_rad_s * 30.0 / math.pi
+
+    @classmethod
+    def paper_case(cls, case: int, gap_mm: float, speed_rpm: float | None = None,
+                   rig: Rig | None = None, **options) -> Run:
+        """The study's case 1 (unbalances in phase, at the first forward critical speed)
+        or case 2 (out of phase, at the second), with gap ``gap_mm`` (mm)."""
+        from rubdiag.model import paper_rig
+
+        rig = paper_rig() if rig is None else rig
+        unbalance = rig.unbalance(case)
+        if speed_rpm is None:
+            speed = critical_speed_for_case(rig, case)
+        else:
+            speed = _check.positive("speed_rpm", speed_rpm) * math.pi / 30.0
+        gap = _check.number("gap_mm", gap_mm, lo=0.0, hi=100.0) * 1e-3
+        options.setdefault("label", f"case {case}, g0 = {gap_mm:g} mm")
+        return cls(rig=rig, speed_rad_s=speed, unbalance=unbalance, gap_m=gap, **options)
+
+
+def critical_speed_for_case(rig: Rig, case: int) -> float:
+    """Forward critical speed (rad/s) that the study's case excites: 1st (case 1), 2nd (2)."""
+    from rubdiag.assembly import assemble
+    from rubdiag.modal import critical_speeds
+
+    if case not in (1, 2):
+        raise ValueError(f"case = {case!r} is out of range (allowed: 1 or 2)")
+    speeds = critical_speeds(assemble(rig), n=case)
+    if len(speeds) < case:
+        raise ValueError(f"the rig has no forward critical speed number {case}")
+    return float(speeds[case - 1])

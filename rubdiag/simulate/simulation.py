@@ -1,0 +1,337 @@
+"""Simulate a rig: from a :class:`~rubdiag.simulate.run.Run` to a :class:`SimulationResult`.
+
+``simulate(run)`` assembles the rig, starts from the linear harmonic steady state at the
+running speed (so that the transient is short), ramps the gap down to g0 (DESIGN item 10)
+and integrates with :func:`~rubdiag.simulate.system.simulate_system`.
+
+Result files (``result.save(path)``, ``load_result(path)``) are NumPy ``.npz`` archives:
+every array of the result under its field name (``system.<field>``, ``episodes.<field>``)
+plus ``meta``, a JSON document with the rubdiag version, the run description (the rig as in
+its TOML file, SI units) and the scalar fields. Written atomically (temporary file, then
+rename).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from rubdiag._version import __version__
+from rubdiag.model.io import rig_from_dict, rig_to_dict
+from rubdiag.model.rig import BladeContact, Unbalance
+from rubdiag.simulate.result import EpisodeLog, SimulationDiverged, SystemResult
+from rubdiag.simulate.run import Run
+from rubdiag.simulate.system import Contacts, HarmonicForce, simulate_system
+
+__all__ = ["SimulationResult", "load_result", "response_points", "simulate"]
+
+_RAMP_MARGIN = 1.1    # the ramp starts 10 % above the largest linear approach
+
+
+def response_points(rig) -> tuple[str, ...]:
+    """Recorded DOFs: both directions of every disc node, and with blade contacts the casing
+    node of contact element 1 and the tip of its blade (the study's nodes 11, 1844, 39)."""
+    points = [f"shaft {d.node} {x}" for d in rig.discs for x in "yz"]
+    if rig.contact is not None:
+        casing = rig.contact_casing_node(1)
+        tip = f"blade {rig.contact.blades[0]}.{rig.blades.n_elements}"
+        points += [f"casing {casing} {x}" for x in "yz"] + [f"{tip} {x}" for x in "yz"]
+    return tuple(points)
+
+
+def _dof(model, label: str) -> int:
+    node, direction = label.rsplit(" ", 1)
+    return model.dofs.index(node, direction)
+
+
+def _contacts(run: Run, model, linear) -> tuple[Contacts, float]:
+    """Contact elements of the run and the gap at which the ramp starts (m)."""
+    contacts = Contacts.empty()
+    start = 0.0
+    law = run.contact_law
+    if law is not None:
+        geo = model.blade_contacts
+        if law.blades != run.rig.contact.blades:
+            raise ValueError("contact.blades must equal the rig's contact blades (the "
+                             "contact geometry belongs to the rig)")
+        n = len(law.blades)
+        contacts = Contacts.point(geo.tip_dofs, geo.casing_dofs, geo.normal, geo.tangent,
+                                  np.full(n, run.gap_m), law.normal_stiffness_n_m,
+                                  k_t=law.tangential_stiffness_n_m,
+                                  mu=law.friction_coefficient, augmented=law.augmented,
+                                  eps=law.penetration_tolerance_m)
+        rel = linear[geo.tip_dofs] - linear[geo.casing_dofs]          # (n, 2) complex
+        start = float(np.abs(np.sum(rel * geo.normal, axis=1)).max())
+    for sc in run.rig.stator_contacts:
+        dofs = [[model.dofs.index(sc.node, "y"), model.dofs.index(sc.node, "z")]]
+        radius = sc.shaft_radius_m
+        if radius is None:
+            shaft = run.rig.shaft
+            i = min(sc.node - shaft.first_node, shaft.n_elements - 1)
+            radius = 0.5 * shaft.outer_diameters_m[i]
+        contacts = contacts + Contacts.annular(
+            np.array(dofs), np.array([sc.clearance_m]), np.array([radius]), sc.stiffness_n_m,
+            mu=sc.friction_coefficient)
+        a, b = linear[dofs[0][0]], linear[dofs[0][1]]
+        orbit = np.sqrt(0.5 * (abs(a) ** 2 + abs(b) ** 2 + abs(a * a + b * b)))
+        start = max(start, float(orbit))
+    return contacts, start
+
+
+def simulate(run: Run, progress: Callable[[float, float], None] | None = None,
+             raise_on_failure: bool = True) -> SimulationResult:
+    """Integrate ``run`` and return its :class:`SimulationResult`.
+
+    ``progress(t, duration)`` is called every few thousand steps. A run that cannot go on
+    (no convergence at ``dt_min``, a non-finite state) raises
+    :class:`~rubdiag.simulate.result.SimulationDiverged` whose ``result`` is the
+    :class:`SimulationResult` up to the failure (or, with ``raise_on_failure=False``, that
+    result is returned with ``status != 0``).
+    """
+    from rubdiag.assembly import assemble
+    from rubdiag.modal import harmonic_response
+
+    start_time = time.perf_counter()
+    model = assemble(run.rig)
+    speed = run.speed_rad_s
+    linear = harmonic_response(model, speed, run.unbalance)
+    F = model.unbalance_force(run.unbalance, speed)
+    loaded = np.flatnonzero(F)
+    force = HarmonicForce(loaded, F[loaded], speed)
+    contacts, approach = _contacts(run, model, linear.amplitudes)
+    gap_ramp = None
+    if len(contacts) and run.gap_ramp_s > 0:
+        g0 = contacts.gap
+        gap_ramp = (run.gap_ramp_s, np.maximum(g0, _RAMP_MARGIN * approach))
+    points = response_points(run.rig)
+    record = [_dof(model, p) for p in points]
+    try:
+        system = simulate_system(
+            model.M, (model.C + speed * model.G).tocsr(), model.K, force, contacts,
+            linear.displacement(0.0), linear.velocity(0.0), duration=run.duration_s,
+            dt=run.dt_s, dt_min=run.dt_min_s, fixed_step=run.fixed_step,
+            output_dt=run.output_dt_s, record_dofs=record, gap_ramp=gap_ramp, omega=speed,
+            progress=progress, raise_on_failure=True)
+    except SimulationDiverged as exc:
+        partial = SimulationResult(run, points, exc.result, time.perf_counter() - start_time)
+        if raise_on_failure:
+            raise SimulationDiverged(str(exc), partial) from None
+        return partial
+    return SimulationResult(run, points, system, time.perf_counter() - start_time)
+
+
+@dataclass(frozen=True)
+class SimulationResult:
+    """A simulated run: its description, waveforms, contact forces/status and event log.
+
+    Attributes
+    ----------
+    run : Run
+        What was simulated.
+    points : tuple of str
+        Names of the recorded displacements, e.g. ``"shaft 11 y"``, ``"casing 1 y"``.
+    system : SystemResult
+        Everything the integrator computed: samples ``t`` (s), ``q`` (m, columns =
+        ``points``), ``contact_fn``/``contact_ft`` (N) and ``contact_status`` (1 open,
+        2 sliding, 3 sticking) per element, the per-step event log ``episodes``, step-size
+        history, Newton counts, the energy ledger, ``status`` and ``message``.
+    wall_s : float
+        Wall-clock time of ``simulate`` (s).
+    version : str
+        rubdiag version that produced it.
+    """
+
+    run: Run
+    points: tuple[str, ...]
+    system: SystemResult
+    wall_s: float
+    version: str = __version__
+
+    # --- convenient views ----------------------------------------------------------------
+    @property
+    def t(self) -> np.ndarray:
+        return self.system.t
+
+    @property
+    def fs(self) -> float:
+        """Sampling rate of the waveforms (Hz)."""
+        return 1.0 / self.run.output_dt_s
+
+    @property
+    def status(self) -> int:
+        return self.system.status
+
+    @property
+    def message(self) -> str:
+        return self.system.message
+
+    @property
+    def success(self) -> bool:
+        return self.system.status == 0
+
+    @property
+    def window(self) -> np.ndarray:
+        """Boolean mask of the samples in the analysis window (t >= discard_s)."""
+        return self.t >= self.run.discard_s - 1e-12
+
+    def displacement(self, point: str, windowed: bool = False) -> np.ndarray:
+        """Recorded displacement (m) of a point such as ``"shaft 11 y"``."""
+        try:
+            j = self.points.index(point)
+        except ValueError:
+            raise ValueError(f"no recorded point {point!r} (recorded: "
+                             f"{', '.join(self.points)})") from None
+        q = self.system.q[:, j]
+        return q[self.window] if windowed else q
+
+    def window_episodes(self) -> EpisodeLog:
+        """Contact episodes that start inside the analysis window."""
+        ep = self.system.episodes
+        keep = ep.t_start >= self.run.discard_s
+        return EpisodeLog(**{f.name: getattr(ep, f.name)[keep]
+                             for f in dataclasses.fields(EpisodeLog)})
+
+    def summary(self) -> dict:
+        """Headline numbers over the analysis window (SI units), as ``rubdiag simulate
+        --json`` prints them. Forces come from the per-step event log (peaks are shorter
+        than the output interval), displacements from the recorded waveforms."""
+        ep = self.system.episodes
+        overlap = ep.t_end >= self.run.discard_s      # episodes reaching into the window
+        started = self.window_episodes()
+        first = started.element == 0
+        window = self.window
+        out = {
+            "label": self.run.label,
+            "status": self.status,
+            "message": self.message,
+            "speed_rpm": self.run.speed_rpm,
+            "gap_m": self.run.gap_m,
+            "window_s": [self.run.discard_s, float(self.t[-1]) if self.t.size else 0.0],
+            "dt_s": self.run.dt_s,
+            "n_steps": int(self.system.n_steps),
+            "wall_s": self.wall_s,
+            "n_episodes": int(len(started)),
+            "max_contact_force_n": _max(ep.peak_normal_force[overlap]),
+            "contact1_max_force_n": _max(ep.peak_normal_force[overlap & (ep.element == 0)]),
+            "contact1_sliding_entries": int(started.n_slide_entries[first].sum()),
+            "contact1_sticking_entries": int(started.n_stick_entries[first].sum()),
+        }
+        for key, prefix in (("shaft", "shaft"), ("casing", "casing")):
+            names = [p for p in self.points if p.startswith(prefix) and p.endswith(" y")]
+            if names and window.any():
+                out[f"{key}_max_y_m"] = float(self.displacement(names[0], True).max())
+        return out
+
+    def to_frame(self):
+        """Waveforms as a DataFrame indexed by time (s): one column per recorded point (m),
+        then ``fn_k``, ``ft_k`` (N) and ``status_k`` for contact element k = 1…"""
+        import pandas as pd
+
+        cols = {p: self.system.q[:, j] for j, p in enumerate(self.points)}
+        for k in range(self.system.contact_fn.shape[1]):
+            cols[f"fn_{k + 1}"] = self.system.contact_fn[:, k]
+            cols[f"ft_{k + 1}"] = self.system.contact_ft[:, k]
+            cols[f"status_{k + 1}"] = self.system.contact_status[:, k]
+        return pd.DataFrame(cols, index=pd.Index(self.t, name="t_s"))
+
+    # --- files ---------------------------------------------------------------------------
+    def save(self, path: str | Path) -> Path:
+        """Write the result (see the module docstring for the format); returns the path."""
+        path = Path(path)
+        if path.suffix != ".npz":
+            path = path.with_suffix(".npz")
+        arrays, scalars = {}, {}
+        for f in dataclasses.fields(SystemResult):
+            value = getattr(self.system, f.name)
+            if isinstance(value, EpisodeLog):
+                for g in dataclasses.fields(EpisodeLog):
+                    arrays[f"episodes.{g.name}"] = getattr(value, g.name)
+            elif isinstance(value, np.ndarray):
+                arrays[f"system.{f.name}"] = value
+            else:
+                scalars[f.name] = _jsonable(value)
+        meta = {"format": "rubdiag.simulation-result", "format_version": 1,
+                "rubdiag_version": self.version, "points": list(self.points),
+                "wall_s": self.wall_s, "run": _run_to_dict(self.run), "system": scalars}
+        tmp = path.with_name(path.name + ".tmp.npz")
+        np.savez_compressed(tmp, meta=np.array(json.dumps(meta)), **arrays)
+        tmp.replace(path)
+        return path
+
+
+def load_result(path: str | Path) -> SimulationResult:
+    """Read a result written by :meth:`SimulationResult.save`."""
+    path = Path(path)
+    try:
+        archive = np.load(path, allow_pickle=False)
+    except (OSError, ValueError) as exc:
+        raise ValueError(f"{path}: not a rubdiag result file ({exc})") from None
+    with archive:
+        if "meta" not in archive.files:
+            raise ValueError(f"{path}: not a rubdiag result file (no 'meta' entry)")
+        meta = json.loads(str(archive["meta"]))
+        if meta.get("format") != "rubdiag.simulation-result":
+            raise ValueError(f"{path}: not a rubdiag result file")
+        episodes = EpisodeLog(**{g.name: archive[f"episodes.{g.name}"]
+                                 for g in dataclasses.fields(EpisodeLog)})
+        fields = {}
+        for f in dataclasses.fields(SystemResult):
+            if f.name == "episodes":
+                fields[f.name] = episodes
+            elif f"system.{f.name}" in archive.files:
+                fields[f.name] = archive[f"system.{f.name}"]
+            else:   # JSON has no NaN: a NaN scalar (e.g. failure_time) was stored as null
+                value = meta["system"][f.name]
+                fields[f.name] = float("nan") if value is None else value
+    return SimulationResult(run=_run_from_dict(meta["run"]), points=tuple(meta["points"]),
+                            system=SystemResult(**fields), wall_s=meta["wall_s"],
+                            version=meta["rubdiag_version"])
+
+
+def _max(values: np.ndarray) -> float:
+    return float(values.max()) if values.size else 0.0
+
+
+def _jsonable(value):
+    if isinstance(value, dict):
+        return {k: _jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, float) and not np.isfinite(value):
+        return None if np.isnan(value) else str(value)
+    return value
+
+
+def _run_to_dict(run: Run) -> dict:
+    out = {}
+    for f in dataclasses.fields(Run):
+        value = getattr(run, f.name)
+        if f.name == "rig":
+            value = rig_to_dict(value)
+        elif dataclasses.is_dataclass(value):
+            value = {k: (list(v) if isinstance(v, tuple) else v)
+                     for k, v in dataclasses.asdict(value).items()}
+        out[f.name] = value
+    return out
+
+
+def _run_from_dict(data: dict) -> Run:
+    data = dict(data)
+    data["rig"] = rig_from_dict(data["rig"])
+    u = data["unbalance"]
+    data["unbalance"] = Unbalance(tuple(u["magnitudes_kg_m"]), tuple(u["phases_rad"]))
+    if data.get("contact") is not None:
+        c = dict(data["contact"])
+        c["blades"] = tuple(c["blades"])
+        data["contact"] = BladeContact(**c)
+    return Run(**data)
