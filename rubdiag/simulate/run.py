@@ -45,7 +45,8 @@ class Run:
         Constant step ``dt_s`` (convergence studies).
     output_rate_hz : float, optional
         Waveform sampling rate (Hz); ``1/(output_rate_hz·dt_s)`` must be an integer. Default
-        10 kHz (or 1/dt_s when the step is longer than 0.1 ms). Contact events are gathered at every step whatever the output rate.
+        10 kHz (or 1/dt_s when the step is longer than 0.1 ms). Contact events are
+        gathered at every step whatever the output rate.
     contact : BladeContact, optional
         Contact law and which blades touch (default ``rig.contact``): k_N, k_T, μ,
         augmentation and ε.

@@ -216,7 +216,7 @@ class SimulationResult:
             "dt_s": self.run.dt_s,
             "n_steps": int(self.system.n_steps),
             "wall_s": self.wall_s,
-            "n_episodes": int(len(started)),
+            "n_episodes": len(started),
             "max_contact_force_n": _max(ep.peak_normal_force[overlap]),
             "contact1_max_force_n": _max(ep.peak_normal_force[overlap & (ep.element == 0)]),
             "contact1_sliding_entries": int(started.n_slide_entries[first].sum()),
