@@ -248,10 +248,12 @@ def newmark_contact(
       ``aug_k`` (L, n_c) multiplier update stiffness per level (N/m).
     * state: ``q, v, a`` (n), ``mv = M v``, ``kq = K q`` (n, tracked incrementally);
       ``pc``, ``dc`` (2n_c) contact forces and
-      displacements; ``cf`` (9, n_c) rows e, lam, slip s, F_N, F_T, gap, episode start time,
-      episode peak F_N, trial normal force z; ``ci`` (4, n_c) rows status, episode steps,
+      displacements; ``cf`` (13, n_c) rows e, lam, slip s, F_N, F_T, gap, episode start time,
+      episode peak F_N, trial normal force z, then the episode's sliding time, sticking time,
+      normal impulse while sliding and while sticking; ``ci`` (4, n_c) rows status, episode steps,
       slide entries, stick entries.
-    * logs: ``ep_f`` (cap, 3) t_start, t_end, peak F_N; ``ep_i`` (cap, 5) element, steps,
+    * logs: ``ep_f`` (cap, 7) t_start, t_end, peak F_N, sliding time, sticking time, normal
+      impulse while sliding, while sticking; ``ep_i`` (cap, 5) element, steps,
       slide entries, stick entries, complete; ``lv_t``/``lv_l`` level-change log;
       ``tot`` (n_c, 9) time / normal impulse / tangential impulse per status 1..3;
       ``mx`` (n_c, 3) max F_N, max |F_T|, max penetration; ``lvl_count`` (L) accepted steps.
@@ -513,6 +515,8 @@ def newmark_contact(
                 frac = zo / (zo - zn) if zo < 0.0 else 0.0
                 cf[6, e] = t_n + frac * h
                 cf[7, e] = 0.0
+                for r in range(9, 13):
+                    cf[r, e] = 0.0
                 ci[1, e] = 0
                 ci[2, e] = 0
                 ci[3, e] = 0
@@ -524,6 +528,10 @@ def newmark_contact(
                     ci[2, e] += 1
                 if sn == STICKING and so != STICKING:
                     ci[3, e] += 1
+                # each step counts with its end-of-step status, as in ``tot``
+                r = 9 if sn == SLIDING else 10
+                cf[r, e] += h
+                cf[r + 2, e] += fn * h
             elif so != OPEN:
                 # episode ends inside this step: interpolate the trial normal force to zero
                 frac = zo / (zo - zn) if zn < 0.0 and zo > 0.0 else 1.0
@@ -531,6 +539,8 @@ def newmark_contact(
                 ep_f[k, 0] = cf[6, e]
                 ep_f[k, 1] = t_n + frac * h
                 ep_f[k, 2] = cf[7, e]
+                for r in range(4):
+                    ep_f[k, 3 + r] = cf[9 + r, e]
                 ep_i[k, 0] = e
                 ep_i[k, 1] = ci[1, e]
                 ep_i[k, 2] = ci[2, e]

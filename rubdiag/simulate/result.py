@@ -29,7 +29,9 @@ class EpisodeLog:
     interpolated inside the closing/opening step), ``n_steps`` (closed steps),
     ``peak_normal_force`` (N, largest end-of-step F_N of the episode), ``n_slide_entries``,
     ``n_stick_entries`` (entries into status 2 / 3 within the episode, the first closed step
-    included), ``complete`` (bool).
+    included), ``slide_time``, ``stick_time`` (s, summed step lengths whose end-of-step
+    status is 2 / 3), ``slide_impulse``, ``stick_impulse`` (N s, ∫F_N dt over those steps),
+    ``complete`` (bool).
     """
 
     element: np.ndarray
@@ -39,6 +41,10 @@ class EpisodeLog:
     peak_normal_force: np.ndarray
     n_slide_entries: np.ndarray
     n_stick_entries: np.ndarray
+    slide_time: np.ndarray
+    stick_time: np.ndarray
+    slide_impulse: np.ndarray
+    stick_impulse: np.ndarray
     complete: np.ndarray
 
     def __len__(self) -> int:
@@ -61,6 +67,10 @@ class EpisodeLog:
                 "peak_normal_force": self.peak_normal_force,
                 "n_slide_entries": self.n_slide_entries,
                 "n_stick_entries": self.n_stick_entries,
+                "slide_time": self.slide_time,
+                "stick_time": self.stick_time,
+                "slide_impulse": self.slide_impulse,
+                "stick_impulse": self.stick_impulse,
                 "complete": self.complete,
             }
         )

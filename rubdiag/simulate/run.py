@@ -92,7 +92,7 @@ class Run:
         if self.output_rate_hz is None:
             object.__setattr__(self, "output_rate_hz",
                                1.0 / (self.dt_s * max(1, round(1e-4 / self.dt_s))))
-        _check.number("output_rate_hz", self.output_rate_hz, lo=0.0, hi=1.0 / self.dt_s,
+        _check.number("output_rate_hz", self.output_rate_hz, lo=0.0, hi=(1 + 1e-9) / self.dt_s,
                       lo_open=True)
         ratio = 1.0 / (self.output_rate_hz * self.dt_s)
         if abs(ratio - round(ratio)) > 1e-6 * ratio:

@@ -200,9 +200,8 @@ class SimulationResult:
     def summary(self) -> dict:
         """Headline numbers over the analysis window (SI units), as ``rubdiag simulate
         --json`` prints them. Forces come from the per-step event log (peaks are shorter
-        than the output interval), displacements from the recorded waveforms."""
-        ep = self.system.episodes
-        overlap = ep.t_end >= self.run.discard_s      # episodes reaching into the window
+        than the output interval) over the episodes that start in the window, displacements
+        from the recorded waveforms."""
         started = self.window_episodes()
         first = started.element == 0
         window = self.window
@@ -217,8 +216,8 @@ class SimulationResult:
             "n_steps": int(self.system.n_steps),
             "wall_s": self.wall_s,
             "n_episodes": len(started),
-            "max_contact_force_n": _max(ep.peak_normal_force[overlap]),
-            "contact1_max_force_n": _max(ep.peak_normal_force[overlap & (ep.element == 0)]),
+            "max_contact_force_n": _max(started.peak_normal_force),
+            "contact1_max_force_n": _max(started.peak_normal_force[first]),
             "contact1_sliding_entries": int(started.n_slide_entries[first].sum()),
             "contact1_sticking_entries": int(started.n_stick_entries[first].sum()),
         }

@@ -547,7 +547,7 @@ def simulate_system(
     g_t0 = g_start if t_ramp > 0 else contacts.gap
     d0 = B @ q0
     p0 = np.zeros(2 * nc)
-    cf = np.zeros((9, nc))
+    cf = np.zeros((13, nc))
     ci = np.zeros((4, nc), dtype=np.int64)
     e_c0 = 0.0
     for e in range(nc):
@@ -675,7 +675,7 @@ def simulate_system(
     out_gap = np.zeros((n_out, nc))
     out_slip = np.zeros((n_out, nc))
     out_en = np.zeros((n_out, 8))
-    ep_f = np.zeros((episode_capacity, 3))
+    ep_f = np.zeros((episode_capacity, 7))
     ep_i = np.zeros((episode_capacity, 5), np.int64)
     lv_cap = 256
     lv_t = np.zeros(lv_cap)
@@ -738,7 +738,7 @@ def simulate_system(
         if code == STATUS_LOG_FULL:
             if istate[IS.N_EPISODES] + nc > ep_f.shape[0]:
                 cap = 2 * ep_f.shape[0] + nc
-                ep_f = np.concatenate([ep_f, np.zeros((cap - ep_f.shape[0], 3))])
+                ep_f = np.concatenate([ep_f, np.zeros((cap - ep_f.shape[0], 7))])
                 ep_i = np.concatenate([ep_i, np.zeros((cap - ep_i.shape[0], 5), np.int64)])
             if istate[IS.N_LEVEL_CHANGES] + 2 > lv_t.shape[0]:
                 lv_t = np.concatenate([lv_t, np.zeros(lv_t.shape[0])])
@@ -786,6 +786,10 @@ def _package(
         peak_normal_force=np.concatenate([ep_f[:ne, 2], cf[7, open_el]]),
         n_slide_entries=np.concatenate([ep_i[:ne, 2], ci[2, open_el]]).astype(np.int64),
         n_stick_entries=np.concatenate([ep_i[:ne, 3], ci[3, open_el]]).astype(np.int64),
+        slide_time=np.concatenate([ep_f[:ne, 3], cf[9, open_el]]),
+        stick_time=np.concatenate([ep_f[:ne, 4], cf[10, open_el]]),
+        slide_impulse=np.concatenate([ep_f[:ne, 5], cf[11, open_el]]),
+        stick_impulse=np.concatenate([ep_f[:ne, 6], cf[12, open_el]]),
         complete=np.concatenate([ep_i[:ne, 4] == 1, np.zeros(open_el.size, bool)]),
     )
     status = {STATUS_DONE: 0, STATUS_NO_CONVERGENCE: 1, STATUS_NONFINITE: 2}[code]

@@ -175,3 +175,22 @@ def test_annular_rub_slides_against_surface_speed_and_balances_energy():
     assert np.all(np.diff(res.dissipated_friction) >= 0)
     scale = res.mechanical_energy.max() + res.work_drive[-1]
     assert np.abs(res.energy_balance_residual).max() < 1e-2 * scale
+
+
+def test_episode_status_times_add_up_to_the_per_element_totals(penalty_run):
+    """Per-episode sliding/sticking times and impulses sum to the kernel's per-element totals
+    (both gathered at every step)."""
+    _, res = penalty_run
+    ep = res.episodes
+    for e in range(res.contact_fn.shape[1]):
+        mine = ep.element == e
+        np.testing.assert_allclose(ep.slide_time[mine].sum(), res.time_in_status[e, 1],
+                                   rtol=1e-9, atol=1e-15)
+        np.testing.assert_allclose(ep.stick_time[mine].sum(), res.time_in_status[e, 2],
+                                   rtol=1e-9, atol=1e-15)
+        np.testing.assert_allclose(ep.slide_impulse[mine].sum(), res.normal_impulse[e, 1],
+                                   rtol=1e-9, atol=1e-15)
+        np.testing.assert_allclose(ep.stick_impulse[mine].sum(), res.normal_impulse[e, 2],
+                                   rtol=1e-9, atol=1e-15)
+    assert np.all(ep.slide_time + ep.stick_time <= ep.duration + res.dt)
+    assert res.time_in_status[:, 1:].sum() > 0

@@ -1,0 +1,98 @@
+"""Contact statistics of a simulated run, from its per-step event log.
+
+Every number is taken over the **analysis window** ``[discard_s, end]`` of the run, from
+the contact episodes that *start* in it (an episode is a contiguous run of closed status,
+2 sliding or 3 sticking, of one element; the kernel logs each one at every step, so force
+peaks shorter than the output interval are not missed).
+
+Per contact element k = 1 … n (columns ``contact{k}_…``):
+
+``n_episodes``
+    episodes starting in the window.
+``min_force_n``, ``p05_force_n``, ``max_force_n``
+    smallest, 5th-percentile and largest per-episode peak normal force (N). The minimum and
+    the percentile only count episodes of at least 2 steps (a one-step graze peaks near
+    0 N); the study does not define its "minimum contact force", so both are reported.
+``sliding_entries``, ``sticking_entries``
+    entries into status 2 / 3 (the study's "sliding/sticking contact times"); also
+    ``…_per_s`` (per second of window) and ``…_per_rev`` (per revolution).
+``contact_fraction``
+    closed time / window length.
+``sticking_share``
+    sticking time / closed time (with a fixed step, sticking steps / closed steps).
+``mean_force_sliding_n``, ``mean_force_sticking_n``
+    time-averaged normal force while sliding / while sticking (N).
+
+Over all elements (columns ``contacts_…``): ``n_episodes``, ``max_force_n``, ``min_force_n``,
+``sliding_entries``, ``sticking_entries``, ``contact_fraction`` (mean over elements),
+``sticking_share``, ``mean_force_sliding_n``, ``mean_force_sticking_n``.
+
+Absent quantities (no episode, no sliding …) are NaN; counts are 0.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["CONTACT_STAT_NAMES", "contact_statistics"]
+
+CONTACT_STAT_NAMES = (
+    "n_episodes", "min_force_n", "p05_force_n", "max_force_n", "sliding_entries",
+    "sticking_entries", "sliding_entries_per_s", "sticking_entries_per_s",
+    "sliding_entries_per_rev", "sticking_entries_per_rev", "contact_fraction",
+    "sticking_share", "mean_force_sliding_n", "mean_force_sticking_n",
+)
+_MIN_EPISODE_STEPS = 2
+
+
+def _ratio(num: float, den: float) -> float:
+    return float(num / den) if den > 0 else float("nan")
+
+
+def _stats(ep, mask, window_s: float, revolutions: float) -> dict[str, float]:
+    peaks = ep.peak_normal_force[mask]
+    lasting = peaks[ep.n_steps[mask] >= _MIN_EPISODE_STEPS]
+    slide_t, stick_t = ep.slide_time[mask].sum(), ep.stick_time[mask].sum()
+    n_slide, n_stick = int(ep.n_slide_entries[mask].sum()), int(ep.n_stick_entries[mask].sum())
+    return {
+        "n_episodes": int(mask.sum()),
+        "min_force_n": float(lasting.min()) if lasting.size else float("nan"),
+        "p05_force_n": float(np.percentile(lasting, 5)) if lasting.size else float("nan"),
+        "max_force_n": float(peaks.max()) if peaks.size else float("nan"),
+        "sliding_entries": n_slide,
+        "sticking_entries": n_stick,
+        "sliding_entries_per_s": _ratio(n_slide, window_s),
+        "sticking_entries_per_s": _ratio(n_stick, window_s),
+        "sliding_entries_per_rev": _ratio(n_slide, revolutions),
+        "sticking_entries_per_rev": _ratio(n_stick, revolutions),
+        "contact_fraction": _ratio(slide_t + stick_t, window_s),
+        "sticking_share": _ratio(stick_t, slide_t + stick_t),
+        "mean_force_sliding_n": _ratio(ep.slide_impulse[mask].sum(), slide_t),
+        "mean_force_sticking_n": _ratio(ep.stick_impulse[mask].sum(), stick_t),
+    }
+
+
+def contact_statistics(result) -> dict[str, float]:
+    """Contact statistics of a :class:`~rubdiag.simulate.SimulationResult` (see the module
+    docstring for every key), plus ``window_s`` (its length) and, when the run records the
+    casing, ``casing_max_y_m``."""
+    ep = result.window_episodes()
+    end = float(result.t[-1]) if result.t.size else result.run.discard_s
+    window_s = max(end - result.run.discard_s, 0.0)
+    revolutions = window_s * result.run.speed_rad_s / (2 * np.pi)
+    n_elements = result.system.contact_fn.shape[1]
+    row: dict[str, float] = {"window_s": window_s}
+    for e in range(n_elements):
+        for key, value in _stats(ep, ep.element == e, window_s, revolutions).items():
+            row[f"contact{e + 1}_{key}"] = value
+    if n_elements:
+        overall = _stats(ep, np.ones(len(ep), bool), window_s, revolutions)
+        overall["contact_fraction"] /= n_elements
+        for key in ("n_episodes", "max_force_n", "min_force_n", "sliding_entries",
+                    "sticking_entries", "contact_fraction", "sticking_share",
+                    "mean_force_sliding_n", "mean_force_sticking_n"):
+            row[f"contacts_{key}"] = overall[key]
+    casing = [p for p in result.points if p.startswith("casing") and p.endswith(" y")]
+    if casing and result.window.any():
+        row["casing_max_y_m"] = float(result.displacement(casing[0], windowed=True).max())
+    return row

@@ -1,0 +1,78 @@
+"""Features of simulated runs: one table row per run.
+
+The row holds the run's parameters, the spectral features of its shaft, blade-tip and
+casing responses over the analysis window (columns prefixed ``shaft_``, ``blade_``,
+``casing_``) and its contact statistics (:mod:`rubdiag.signal.contact_stats`).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from rubdiag.signal.contact_stats import contact_statistics
+from rubdiag.signal.table import prefixed_features
+
+__all__ = ["is_result", "run_features", "run_signals"]
+
+
+def is_result(obj) -> bool:
+    """True for a SimulationResult or the path of a saved one (.npz with rubdiag metadata)."""
+    from rubdiag.simulate import SimulationResult
+
+    if isinstance(obj, SimulationResult):
+        return True
+    if isinstance(obj, (str, Path)) and Path(obj).suffix == ".npz" and Path(obj).is_file():
+        with np.load(obj, allow_pickle=False) as archive:
+            return "meta" in archive.files and "rubdiag.simulation-result" in str(
+                archive["meta"])
+    return False
+
+
+def run_signals(result) -> dict[str, np.ndarray]:
+    """The windowed y responses analysed for a run: ``shaft`` (the bladed disc's node, or the
+    first disc), ``blade`` (the tip of contact element 1's blade), ``casing`` (the casing
+    node of contact element 1), as recorded."""
+    rig = result.run.rig
+    disc = rig.blades.disc_node if rig.blades is not None else rig.discs[0].node
+    wanted = {"shaft": f"shaft {disc} y"}
+    for prefix in ("blade", "casing"):
+        names = [p for p in result.points if p.startswith(prefix) and p.endswith(" y")]
+        if names:
+            wanted[prefix] = names[0]
+    return {prefix: result.displacement(point, windowed=True)
+            for prefix, point in wanted.items()}
+
+
+def run_features(results, **options) -> pd.DataFrame:
+    """One row per simulated run (a SimulationResult, a saved result path, or a list).
+
+    ``options`` are those of :func:`rubdiag.signal.features` (``band``, ``threshold``,
+    ``window`` …). Columns: ``label``, ``status``, ``speed_rpm``, ``gap_m``,
+    ``friction_coefficient``, ``dt_s``, ``window_s``, then ``shaft_…``, ``blade_…``,
+    ``casing_…`` spectral features, then the contact statistics.
+    """
+    from rubdiag.simulate import SimulationResult, load_result
+
+    if isinstance(results, (SimulationResult, str, Path)):
+        results = [results]
+    rows = []
+    for result in results:
+        if not isinstance(result, SimulationResult):
+            result = load_result(result)
+        if not result.window.any():
+            raise ValueError(f"run {result.run.label!r} has no samples in its analysis window")
+        run = result.run
+        law = run.contact_law
+        meta = pd.DataFrame([{
+            "label": run.label, "status": result.status,
+            "gap_m": run.gap_m if run.gap_m is not None else np.nan,
+            "friction_coefficient": law.friction_coefficient if law else np.nan,
+            "dt_s": run.dt_s,
+        }])
+        spectra = prefixed_features(run_signals(result), result.fs, run.speed_rpm, **options)
+        stats = pd.DataFrame([contact_statistics(result)])
+        rows.append(pd.concat([meta, spectra, stats], axis=1))
+    return pd.concat(rows, ignore_index=True)
