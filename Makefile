@@ -1,5 +1,5 @@
 # Two commands for a fresh machine (Python 3.11, pip, make):
-#   make run    set up .venv and run the main job
+#   make run    set up .venv and run the main job (the study's Table 2 and Figures 5-10)
 #   make test   set up .venv and run the test suite
 PYTHON ?= python3
 VENV := .venv
@@ -15,22 +15,22 @@ $(BIN)/rubdiag: pyproject.toml
 	touch $@
 
 run: $(BIN)/rubdiag
-	$(BIN)/rubdiag modal
-	$(BIN)/rubdiag campbell --out $(OUT)
-	$(BIN)/rubdiag unbalance --case 1 --out $(OUT)
-	$(BIN)/rubdiag unbalance --case 2 --out $(OUT)
+	$(BIN)/rubdiag table2 --out $(OUT)
 
 test: $(BIN)/rubdiag
-	$(BIN)/python -m pytest -n 2
+	$(BIN)/python -m pytest -n 2 --dist loadfile
 
 test-slow: $(BIN)/rubdiag
-	$(BIN)/python -m pytest -n 2 -m slow
+	$(BIN)/python -m pytest -n 2 --dist loadfile -m slow
 
 lint: $(BIN)/rubdiag
 	$(BIN)/ruff check .
 
 bench: $(BIN)/rubdiag
 	$(BIN)/python benchmarks/bench_modal.py
+	$(BIN)/python benchmarks/bench_kernel.py
+	$(BIN)/python benchmarks/bench_table2.py
+	$(BIN)/python benchmarks/bench_features.py
 
 clean:
 	rm -rf $(VENV) $(OUT) .pytest_cache

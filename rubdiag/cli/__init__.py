@@ -14,7 +14,8 @@ import sys
 from rubdiag._version import __version__
 
 # Modules that register commands, in the order they appear in --help.
-_COMMAND_MODULES = ("rubdiag.cli.linear", "rubdiag.cli.simulate", "rubdiag.cli.signal")
+_COMMAND_MODULES = ("rubdiag.cli.paper", "rubdiag.cli.linear", "rubdiag.cli.simulate",
+                    "rubdiag.cli.signal")
 
 
 class _Parser(argparse.ArgumentParser):

@@ -57,7 +57,8 @@ def synchronous_modes(model, n_solutions: int = 12) -> CriticalSpeeds:
         sigma = -1.0
         lu = spla.splu((K - sigma * B).tocsc())
         op = spla.LinearOperator((n, n), matvec=lambda x: lu.solve(B @ x), dtype=complex)
-        nu, vec = spla.eigs(op, k=min(n - 2, n_solutions), which="LM")
+        v0 = np.ones(n, dtype=complex)   # a fixed start: the same speeds to the last bit every call
+        nu, vec = spla.eigs(op, k=min(n - 2, n_solutions), which="LM", v0=v0)
         lam = sigma + 1.0 / nu
     # Ω² must be real and positive (an indefinite M − iG gives spurious roots)
     ok = np.isfinite(lam) & (lam.real > 0) & (np.abs(lam.imag) < 1e-6 * np.abs(lam))

@@ -15,7 +15,7 @@ import pandas as pd
 from rubdiag.signal.contact_stats import contact_statistics
 from rubdiag.signal.table import prefixed_features
 
-__all__ = ["is_result", "run_features", "run_signals"]
+__all__ = ["is_result", "run_features", "run_points", "run_signals"]
 
 
 def is_result(obj) -> bool:
@@ -31,19 +31,24 @@ def is_result(obj) -> bool:
     return False
 
 
-def run_signals(result) -> dict[str, np.ndarray]:
-    """The windowed y responses analysed for a run: ``shaft`` (the bladed disc's node, or the
-    first disc), ``blade`` (the tip of contact element 1's blade), ``casing`` (the casing
-    node of contact element 1), as recorded."""
+def run_points(result) -> dict[str, str]:
+    """Recorded points analysed for a run, by prefix: ``shaft`` (the bladed disc's node, or
+    the first disc), ``blade`` (the tip of contact element 1's blade) and ``casing`` (the
+    casing node of contact element 1), y direction, when recorded."""
     rig = result.run.rig
     disc = rig.blades.disc_node if rig.blades is not None else rig.discs[0].node
-    wanted = {"shaft": f"shaft {disc} y"}
+    points = {"shaft": f"shaft {disc} y"}
     for prefix in ("blade", "casing"):
         names = [p for p in result.points if p.startswith(prefix) and p.endswith(" y")]
         if names:
-            wanted[prefix] = names[0]
+            points[prefix] = names[0]
+    return points
+
+
+def run_signals(result) -> dict[str, np.ndarray]:
+    """The windowed responses of :func:`run_points` (m), by prefix."""
     return {prefix: result.displacement(point, windowed=True)
-            for prefix, point in wanted.items()}
+            for prefix, point in run_points(result).items()}
 
 
 def run_features(results, **options) -> pd.DataFrame:

@@ -53,7 +53,8 @@ class Run:
     gap_ramp_s : float
         Time (s) over which the gap closes linearly from just above the linear response
         amplitude down to g0, so that the run does not start ~1 mm deep in the casing
-        (default 0.1; 0 applies g0 at once).
+        (default 0.1 s, or half the duration for runs shorter than 0.2 s; 0 applies g0 at
+        once).
     label : str
         Free text carried into results and tables.
     """
@@ -69,7 +70,7 @@ class Run:
     fixed_step: bool = False
     output_rate_hz: float | None = None
     contact: BladeContact | None = None
-    gap_ramp_s: float = 0.1
+    gap_ramp_s: float | None = None
     label: str = ""
 
     def __post_init__(self):
@@ -99,6 +100,8 @@ class Run:
             raise ValueError(f"output_rate_hz = {self.output_rate_hz!r} is out of range "
                              f"(allowed: 1/dt_s divided by an integer, e.g. "
                              f"{1.0 / self.dt_s / max(1, round(ratio)):g})")
+        if self.gap_ramp_s is None:
+            object.__setattr__(self, "gap_ramp_s", min(0.1, 0.5 * self.duration_s))
         _check.number("gap_ramp_s", self.gap_ramp_s, lo=0.0, hi=self.duration_s)
         if self.contact is not None and self.rig.contact is None:
             raise ValueError("contact is given but the rig has no blade-casing contact "

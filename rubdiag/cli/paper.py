@@ -1,0 +1,66 @@
+"""Commands of the study's reproduction: ``table2`` and ``plot``."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "table2", help="reproduce the study's Table 2 and Figures 5-10",
+        description="Simulate the study's four rub cases (case 1 at the first and case 2 at "
+        "the second forward critical speed, g0 = 2.3 mm light and 1.9 mm serious) in "
+        "parallel, extract their features and write DIR/table2.csv, DIR/table2.md, "
+        "DIR/features.csv and the figures fig5…fig10 (PNG), ours beside the study's values. "
+        "Finished runs are kept in DIR/runs/ and reused: an interrupted reproduction resumes.")
+    p.add_argument("--out", type=Path, default=Path("out"), help="output folder (default out)")
+    p.add_argument("--jobs", type=int, help="parallel processes (default: all cores)")
+    p.add_argument("--duration-s", type=float, default=2.3,
+                   help="total simulated time per case (s, default 2.3)")
+    p.add_argument("--discard-s", type=float, default=0.3,
+                   help="start left out of the statistics (s, default 0.3)")
+    p.add_argument("--rig", type=Path, help="rig TOML file (default: the study's paper rig)")
+    p.add_argument("--no-figures", action="store_true", help="write the tables only")
+    p.set_defaults(func=_table2)
+
+    p = sub.add_parser(
+        "plot", help="figures of a saved simulation result",
+        description="Draw the six-panel figure of a saved run (as the study's Figs. 7-10: "
+        "shaft and casing waveforms (µm), orbit with the clearance circle (mm), amplitude "
+        "spectra with the detected features, normal forces (N) and contact status).")
+    p.add_argument("result", type=Path, help="a result file written by `rubdiag simulate "
+                   "--out` or `rubdiag table2` (.npz)")
+    p.add_argument("--out", type=Path, default=Path("out"), help="output folder (default out)")
+    p.set_defaults(func=_plot)
+
+
+def _table2(args) -> int:
+    import time
+
+    from rubdiag.model import load_rig
+    from rubdiag.paper import table2
+
+    if args.jobs is not None and args.jobs < 1:
+        raise ValueError(f"--jobs = {args.jobs} is out of range (allowed: >= 1)")
+    start = time.perf_counter()
+    options = {} if args.rig is None else {"rig": load_rig(args.rig)}
+    table = table2(args.out, jobs=args.jobs, duration_s=args.duration_s,
+                   discard_s=args.discard_s, figures=not args.no_figures, **options)
+    print((args.out / "table2.md").read_text(encoding="utf-8"))
+    print(f"wrote {args.out}/table2.csv, table2.md, features.csv"
+          f"{'' if args.no_figures else ' and fig5…fig10 PNGs'} in "
+          f"{time.perf_counter() - start:.0f} s", file=sys.stderr)
+    return 0 if (table["contact1_max_force_n"] > 0).all() else 1
+
+
+def _plot(args) -> int:
+    from rubdiag.plotting.run import save_run_figures
+    from rubdiag.simulate import load_result
+
+    if not args.result.is_file():
+        raise FileNotFoundError(f"no such result file: {args.result}")
+    result = load_result(args.result)
+    paths = save_run_figures(result, args.out, stem=args.result.stem)
+    print("wrote " + ", ".join(str(p) for p in paths), file=sys.stderr)
+    return 0

@@ -1,0 +1,74 @@
+"""Words for a spectrum: the detected rub signatures of a run, written from its features.
+
+Nothing here is typed by hand per case: the text lists what the feature layer found in the
+shaft and blade spectra (a feature counts when either response shows it).
+"""
+
+from __future__ import annotations
+
+import math
+
+__all__ = ["describe_spectrum"]
+
+#: A broadband peak around n× stands this many times above the level around (n ± 1)×.
+BROADBAND_FACTOR = 5.0
+_HALF_ORDERS = ("0p5x", "1p5x", "2p5x", "3p5x", "4p5x", "5p5x", "6p5x", "7p5x")
+
+
+def _fraction(label: str) -> str:
+    """'3p5x' -> '7×/2'."""
+    value = float(label[:-1].replace("p", "."))
+    return f"{round(2 * value)}×/2"
+
+
+def _get(row, key: str) -> float:
+    value = row.get(key, math.nan)
+    return float(value) if value is not None else math.nan
+
+
+def describe_spectrum(row, prefixes=("shaft", "blade")) -> str:
+    """A short text of the rub signatures in a run's feature row.
+
+    Lists the dominant order, present harmonics 2×…8×, broadband peaks around n× (the RMS
+    level around n× at least :data:`BROADBAND_FACTOR` times that around (n − 1)× and
+    (n + 1)×: the study's "wide continuous spectrum peak near 4×"), sideband pairs n× ± Δ,
+    half-order lines and the strongest combination pair f_a + f_b = m×, e.g.
+    ``"1× dominant; broadband peak around 4×; 4× ± 2.8 Hz sidebands; 3×/2, 7×/2"`` or
+    ``"1× dominant; 7×; combination 43.8 Hz + 145.8 Hz = 2×"``.
+    """
+    parts = []
+    orders = ["1x", "2x", "3x", "4x", "5x", "6x", "7x", "8x", *_HALF_ORDERS]
+
+    def present(key):
+        return any(_get(row, f"{p}_{key}") > 0 for p in prefixes)
+
+    def largest(key):
+        return max(_get(row, f"{p}_{key}") for p in prefixes)
+
+    strongest = max(orders, key=lambda k: largest(f"amp_{k}"))
+    if largest(f"amp_{strongest}") > 0:
+        parts.append(f"{strongest.replace('p', '.').replace('x', '×')} dominant")
+    harmonics = [k for k in ("2x", "3x", "4x", "5x", "6x", "7x", "8x")
+                 if k != strongest and present(f"amp_{k}")]
+    if harmonics:
+        parts.append(", ".join(k.replace("x", "×") for k in harmonics))
+    for n in range(2, 8):
+        if any(_get(row, f"{p}_bb_{n}x_rms") > BROADBAND_FACTOR * max(
+                _get(row, f"{p}_bb_{n - 1}x_rms"), _get(row, f"{p}_bb_{n + 1}x_rms"))
+               for p in prefixes):
+            parts.append(f"broadband peak around {n}×")
+    for n in range(1, 9):
+        deltas = [_get(row, f"{p}_sb_{n}x_delta_hz") for p in prefixes]
+        deltas = [d for d in deltas if math.isfinite(d)]
+        if deltas:
+            parts.append(f"{n}× ± {deltas[0]:.1f} Hz sidebands")
+    halves = [k for k in _HALF_ORDERS if present(f"amp_{k}")]
+    if halves:
+        parts.append(", ".join(_fraction(k) for k in halves))
+    for p in prefixes:
+        fa, fb = _get(row, f"{p}_combo_fa_hz"), _get(row, f"{p}_combo_fb_hz")
+        if math.isfinite(fa) and math.isfinite(fb):
+            m = int(_get(row, f"{p}_combo_order"))
+            parts.append(f"combination {fa:.1f} Hz + {fb:.1f} Hz = {m}×")
+            break
+    return "; ".join(parts) if parts else "no significant line"

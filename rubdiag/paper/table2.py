@@ -1,0 +1,213 @@
+"""Reproduce the study's Table 2: four rub cases, their features, beside the study's values.
+
+Case 1 runs at the first forward critical speed with the unbalances in phase, case 2 at the
+second with them out of phase; each with g0 = 2.3 mm (light) and 1.9 mm (serious). The runs
+go to parallel processes; each finished run is saved as ``DIR/runs/case{c}_{intensity}.npz``
+before the next is waited for, so an interrupted reproduction resumes where it stopped (a
+saved run is reused when its description equals the one asked for).
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+from collections.abc import Callable
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+
+import pandas as pd
+
+from rubdiag.paper.describe import describe_spectrum
+
+__all__ = ["CASES", "PaperCase", "paper_values", "reproduce", "table2"]
+
+
+@dataclass(frozen=True)
+class PaperCase:
+    case: int
+    intensity: str
+    gap_mm: float
+
+    @property
+    def stem(self) -> str:
+        return f"case{self.case}_{self.intensity}"
+
+
+CASES = (PaperCase(1, "light", 2.3), PaperCase(1, "serious", 1.9),
+         PaperCase(2, "light", 2.3), PaperCase(2, "serious", 1.9))
+
+# our column -> the study's column in paper_table2.csv
+_PAPER_COLUMNS = {
+    "casing_max_y_um": "casing_max_y_um",
+    "contact1_min_force_n": "contact1_min_force_n",
+    "contact1_max_force_n": "contact1_max_force_n",
+    "contact1_sliding_entries": "contact1_sliding_entries",
+    "contact1_sticking_entries": "contact1_sticking_entries",
+    "shaft_blade_spectrum_features": "shaft_blade_spectrum_features",
+}
+
+
+def paper_values() -> pd.DataFrame:
+    """The study's Table 2 (package data, identical to ``data/paper_table2.csv``)."""
+    with resources.files("rubdiag.paper").joinpath("paper_table2.csv").open("r") as fh:
+        return pd.read_csv(fh)
+
+
+def _runs(rig, duration_s: float, discard_s: float, **options):
+    from rubdiag.simulate import Run
+
+    return {c.stem: Run.paper_case(c.case, c.gap_mm, rig=rig, duration_s=duration_s,
+                                   discard_s=discard_s,
+                                   label=f"case {c.case} {c.intensity} (g0 = {c.gap_mm} mm)",
+                                   **options) for c in CASES}
+
+
+def _simulate_to(run, path: str) -> tuple[str, float]:
+    """Worker: simulate and save (atomically); returns the path and the wall time."""
+    from rubdiag.simulate import simulate
+
+    start = time.perf_counter()
+    simulate(run).save(path)
+    return path, time.perf_counter() - start
+
+
+def _cached(path: Path, run):
+    from rubdiag.simulate import load_result
+
+    if not path.is_file():
+        return None
+    try:
+        result = load_result(path)
+    except (ValueError, KeyError, OSError):
+        return None
+    return result if result.success and result.run == run else None
+
+
+def reproduce(out_dir: str | Path = "out", jobs: int | None = None, duration_s: float = 2.3,
+              discard_s: float = 0.3, rig=None, log: Callable[[str], None] | None = None,
+              **options) -> dict:
+    """Run (or reuse) the four cases; returns ``{stem: SimulationResult}``.
+
+    ``options`` go to :class:`~rubdiag.simulate.Run` (``dt_s``, ``contact`` …).
+    """
+    from rubdiag.model import paper_rig
+
+    log = log or (lambda message: print(message, file=sys.stderr, flush=True))
+    rig = paper_rig() if rig is None else rig
+    runs = _runs(rig, duration_s, discard_s, **options)
+    run_dir = Path(out_dir) / "runs"
+    run_dir.mkdir(parents=True, exist_ok=True)
+    results, todo = {}, {}
+    for stem, run in runs.items():
+        cached = _cached(run_dir / f"{stem}.npz", run)
+        if cached is not None:
+            results[stem] = cached
+            log(f"{stem}: reused {run_dir / (stem + '.npz')}")
+        else:
+            todo[stem] = run
+    if todo:
+        jobs = min(len(todo), jobs or os.cpu_count() or 1)
+        log(f"simulating {len(todo)} case(s), {duration_s:g} s each, on {jobs} process(es)")
+        start = time.perf_counter()
+        with ProcessPoolExecutor(max_workers=jobs) as pool:
+            futures = {pool.submit(_simulate_to, run, str(run_dir / f"{stem}.npz")): stem
+                       for stem, run in todo.items()}
+            try:
+                for done, future in enumerate(as_completed(futures), start=1):
+                    stem = futures[future]
+                    path, wall = future.result()
+                    results[stem] = _cached(Path(path), runs[stem])
+                    log(f"{stem}: done in {wall:.1f} s ({done}/{len(todo)}, "
+                        f"{time.perf_counter() - start:.0f} s elapsed)")
+            except BaseException:
+                pool.shutdown(wait=False, cancel_futures=True)
+                raise
+    return {c.stem: results[c.stem] for c in CASES}
+
+
+def table2(out_dir: str | Path | None = "out", jobs: int | None = None,
+           duration_s: float = 2.3, discard_s: float = 0.3, figures: bool = True,
+           log=None, **options) -> pd.DataFrame:
+    """Reproduce Table 2; write ``table2.csv``, ``table2.md``, ``features.csv`` and the
+    figures to ``out_dir`` and return the table (one row per case, ours beside the study's
+    ``paper_…`` values).
+
+    Columns: ``case``, ``intensity``, ``gap_mm``, ``speed_rpm``, ``window_s``, ``dt_s``,
+    ``rotor_max_y_mm`` (shaft node 11), ``casing_max_y_um``, ``contact1_min_force_n``
+    (smallest per-episode peak, episodes of >= 2 steps), ``contact1_p05_force_n``,
+    ``contact1_max_force_n``, ``contact1_sliding_entries`` / ``…_sticking_entries`` (in the
+    window) and their ``…_per_s``, ``contact1_sticking_share`` (sticking / closed time),
+    ``contact1_mean_force_sliding_n`` / ``…_sticking_n``, ``shaft_blade_spectrum_features``
+    (written from the detected features), then ``paper_…``.
+    """
+    from rubdiag.signal.run_features import run_features
+
+    out = Path(out_dir if out_dir is not None else "out")
+    results = reproduce(out, jobs=jobs, duration_s=duration_s, discard_s=discard_s, log=log,
+                        **options)
+    feats = run_features([results[c.stem] for c in CASES])
+    feats.insert(0, "case", [c.case for c in CASES])
+    feats.insert(1, "intensity", [c.intensity for c in CASES])
+    table = pd.DataFrame({
+        "case": feats["case"],
+        "intensity": feats["intensity"],
+        "gap_mm": [c.gap_mm for c in CASES],
+        "speed_rpm": feats["speed_rpm"].round(1),
+        "discard_s": discard_s,
+        "window_s": feats["window_s"],
+        "dt_s": feats["dt_s"],
+        "rotor_max_y_mm": [results[c.stem].displacement("shaft 11 y", True).max() * 1e3
+                           for c in CASES],
+        "casing_max_y_um": feats["casing_max_y_m"] * 1e6,
+    })
+    for key in ("min_force_n", "p05_force_n", "max_force_n", "sliding_entries",
+                "sticking_entries", "sliding_entries_per_s", "sticking_entries_per_s",
+                "sticking_share", "mean_force_sliding_n", "mean_force_sticking_n"):
+        table[f"contact1_{key}"] = feats[f"contact1_{key}"]
+    table["shaft_blade_spectrum_features"] = [describe_spectrum(r) for r in
+                                              feats.to_dict("records")]
+    paper = paper_values().set_index(["case", "intensity"])
+    for ours, theirs in _PAPER_COLUMNS.items():
+        table[f"paper_{ours}"] = [paper.loc[(c.case, c.intensity), theirs] for c in CASES]
+    table.attrs["features"] = feats
+    table.attrs["results"] = results
+    _write(table, feats, out)
+    if figures:
+        from rubdiag.paper.figures import write_figures
+
+        write_figures(results, feats, out)
+    return table
+
+
+def _write(table: pd.DataFrame, feats: pd.DataFrame, out: Path) -> None:
+    out.mkdir(parents=True, exist_ok=True)
+    table.to_csv(out / "table2.csv", index=False)
+    feats.to_csv(out / "features.csv", index=False)
+    (out / "table2.md").write_text(to_markdown(table), encoding="utf-8")
+
+
+def to_markdown(table: pd.DataFrame) -> str:
+    """Table 2 as Markdown: ours | the study's, cell by cell."""
+    header = ("| case | g0 (mm) | speed (rpm) | casing max y (µm) | contact-1 min / max force "
+              "(N) | contact-1 sliding / sticking entries | sticking share | spectrum "
+              "features (shaft 11, blade tip) |\n|---|---|---|---|---|---|---|---|\n")
+    lines = []
+    for r in table.itertuples():
+        lines.append(
+            f"| {r.case} {r.intensity} | {r.gap_mm} | {r.speed_rpm:.0f} | "
+            f"**{r.casing_max_y_um:.0f}** / {r.paper_casing_max_y_um:g} | "
+            f"**{r.contact1_min_force_n:.1f} / {r.contact1_max_force_n:.1f}** / "
+            f"{r.paper_contact1_min_force_n:g} / {r.paper_contact1_max_force_n:g} | "
+            f"**{r.contact1_sliding_entries} / {r.contact1_sticking_entries}** / "
+            f"{r.paper_contact1_sliding_entries} / {r.paper_contact1_sticking_entries} | "
+            f"{r.contact1_sticking_share:.2f} | **{r.shaft_blade_spectrum_features}** / "
+            f"{r.paper_shaft_blade_spectrum_features} |")
+    first = table.iloc[0]
+    note = (f"\nOurs in **bold**, then the study's. Statistics over {first.window_s:g} s after "
+            f"discarding the first {first.discard_s:g} s; dt = {first.dt_s:g} s (halved where "
+            "needed). Minimum force: smallest per-episode peak over episodes of at least 2 "
+            "steps.\n")
+    return header + "\n".join(lines) + "\n" + note

@@ -1,0 +1,151 @@
+"""The study's claims, as tests on one shared full-length reproduction of Table 2.
+
+Where a claim is not reproduced by our documented settings, the test is an xfail whose
+reason is the measured one (README, "Differences from the study").
+"""
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from rubdiag.paper import paper_values, reproduce, table2
+
+DATA = Path(__file__).resolve().parents[2] / "data"
+
+
+@pytest.fixture(scope="module")
+def out(tmp_path_factory):
+    return tmp_path_factory.mktemp("table2")
+
+
+@pytest.fixture(scope="module")
+def table(out):
+    return table2(out, jobs=2, log=lambda message: None)
+
+
+def cell(table, case, intensity):
+    return table[(table.case == case) & (table.intensity == intensity)].iloc[0]
+
+
+def feature(table, case, intensity, name):
+    feats = table.attrs["features"]
+    index = cell(table, case, intensity).name
+    return feats.loc[index, name]
+
+
+def test_files_and_columns(table, out):
+    for name in ("table2.csv", "table2.md", "features.csv", "fig5_unbalance.png",
+                 "fig6_deflection.png", "fig7_case1_light.png", "fig8_case1_serious.png",
+                 "fig9_case2_light.png", "fig10_case2_serious.png"):
+        assert (out / name).stat().st_size > 1000, name
+    written = pd.read_csv(out / "table2.csv")
+    for column in ("case", "intensity", "gap_mm", "speed_rpm", "casing_max_y_um",
+                   "contact1_min_force_n", "contact1_max_force_n", "contact1_sliding_entries",
+                   "contact1_sticking_entries", "shaft_blade_spectrum_features",
+                   "paper_casing_max_y_um", "paper_contact1_max_force_n", "window_s"):
+        assert column in written.columns
+    assert list(zip(written.case, written.intensity, strict=True)) == [
+        (1, "light"), (1, "serious"), (2, "light"), (2, "serious")]
+    np.testing.assert_allclose(written.speed_rpm, [1500, 1500, 5700, 5700], rtol=0.005)
+
+
+def test_paper_values_are_the_studys(table):
+    reference = pd.read_csv(DATA / "paper_table2.csv")
+    pd.testing.assert_frame_equal(paper_values(), reference)
+    assert list(table.paper_contact1_max_force_n) == [189.3, 195.7, 1042.5, 1079.6]
+
+
+# --- claim 1: both gaps rub in both cases; case 2 the more serious, gap for gap ------------
+@pytest.mark.parametrize("intensity", ["light", "serious"])
+def test_claim1_case2_is_more_serious(table, intensity):
+    one, two = cell(table, 1, intensity), cell(table, 2, intensity)
+    for c in (one, two):
+        assert c.contact1_max_force_n > 0 and c.contact1_sliding_entries > 0
+    assert two.contact1_max_force_n / one.contact1_max_force_n >= 3.0
+    assert two.casing_max_y_um / one.casing_max_y_um >= 2.5
+
+
+# --- claim 2: case 1 — 1× dominant, lines grouped around 4× with sidebands 4× ± Δ ----------
+@pytest.mark.parametrize("intensity", ["light", "serious"])
+def test_claim2_case1_1x_dominant_and_broadband_4x(table, intensity):
+    for prefix in ("shaft", "blade"):
+        amps = {k: feature(table, 1, intensity, f"{prefix}_amp_{k}")
+                for k in ("2x", "3x", "4x", "5x", "6x", "7x", "8x", "1p5x", "3p5x")}
+        assert feature(table, 1, intensity, f"{prefix}_amp_1x") > 10 * max(amps.values())
+        bb = [feature(table, 1, intensity, f"{prefix}_bb_{n}x_rms") for n in (3, 4, 5)]
+        assert bb[1] > 5 * max(bb[0], bb[2])      # the wide peak near 4× (≈ 2nd critical)
+    assert "broadband peak around 4×" in cell(table, 1, intensity).shaft_blade_spectrum_features
+
+
+def test_claim2_case1_serious_has_4x_sidebands(table):
+    delta = feature(table, 1, "serious", "shaft_sb_4x_delta_hz")
+    assert 0 < delta < 10.0
+    assert "4× ±" in cell(table, 1, "serious").shaft_blade_spectrum_features
+
+
+@pytest.mark.xfail(strict=True, reason="measured: in case 1 light the 4× region is a broadband "
+                   "hump (bb_4x_rms ≈ 25× its neighbours) without a significant symmetric "
+                   "line pair; the pair 4× ± 2.8 Hz is found in case 1 serious only")
+def test_claim2_case1_light_has_4x_sidebands(table):
+    assert np.isfinite(feature(table, 1, "light", "shaft_sb_4x_delta_hz"))
+
+
+# --- claim 3: case 1 serious shows 3×/2 and 7×/2, stronger than case 1 light -------------------
+@pytest.mark.xfail(strict=True, reason="measured: case 1 serious has lines at 1.44× and 3.44× "
+                   "(36 and 86 Hz, 1.5 Hz below 3×/2 and 7×/2, outside the ±3 % order band); "
+                   "no line at 3×/2 or 7×/2 in either case-1 cell. Our half-order lines appear "
+                   "in case 2 serious instead")
+def test_claim3_half_orders_in_case1_serious(table):
+    for k in ("1p5x", "3p5x"):
+        serious = feature(table, 1, "serious", f"shaft_amp_{k}")
+        light = feature(table, 1, "light", f"shaft_amp_{k}")
+        assert serious > 0 and serious > light
+
+
+# --- claim 4: case 2 — a combination pair f_a + f_b = 2× ---------------------------------------
+@pytest.mark.parametrize("intensity", ["light", "serious"])
+def test_claim4_case2_combination_pair(table, intensity):
+    fa = feature(table, 2, intensity, "shaft_combo_fa_hz")
+    fb = feature(table, 2, intensity, "shaft_combo_fb_hz")
+    f1 = cell(table, 2, intensity).speed_rpm / 60
+    assert feature(table, 2, intensity, "shaft_combo_order") == 2
+    assert fa + fb == pytest.approx(2 * f1, abs=0.5)          # within the 0.5 Hz resolution
+    assert fa < f1 < fb and fb - fa >= 0.5 * f1
+    assert "combination" in cell(table, 2, intensity).shaft_blade_spectrum_features
+
+
+# --- claim 5: sticking at larger force than sliding; case-1 sticking share grows ------------
+def test_claim5_sticking_at_larger_force_and_growing_share(table):
+    for row in table.itertuples():
+        assert row.contact1_mean_force_sticking_n > row.contact1_mean_force_sliding_n
+    assert (cell(table, 1, "serious").contact1_sticking_share
+            > cell(table, 1, "light").contact1_sticking_share)
+
+
+# --- claim 6: numbers ---------------------------------------------------------------------------
+def test_claim6_numbers_against_the_study(table):
+    ratio_force = table.contact1_max_force_n / table.paper_contact1_max_force_n
+    assert ratio_force.between(0.7, 1.3).all(), ratio_force.tolist()
+    ratio_casing = table.casing_max_y_um / table.paper_casing_max_y_um
+    assert ratio_casing.between(0.5, 2.0).all(), ratio_casing.tolist()
+    assert cell(table, 1, "light").rotor_max_y_mm == pytest.approx(2.0, rel=0.3)
+    # entry counts come per window and per second, with the window stated
+    np.testing.assert_allclose(table.window_s, 2.0, rtol=1e-9)
+    np.testing.assert_allclose(table.contact1_sliding_entries_per_s,
+                               table.contact1_sliding_entries / table.window_s)
+
+
+# --- resuming ------------------------------------------------------------------------------------
+def test_finished_cases_are_reused_and_a_lost_one_is_rerun(table, out):
+    messages = []
+    reproduce(out, jobs=1, log=messages.append)
+    assert sum("reused" in m for m in messages) == 4
+    (out / "runs" / "case1_light.npz").unlink()
+    messages.clear()
+    again = reproduce(out, jobs=1, log=messages.append)
+    assert sum("reused" in m for m in messages) == 3
+    assert any(m.startswith("case1_light: done") for m in messages)
+    np.testing.assert_array_equal(again["case1_light"].system.q,
+                                  table.attrs["results"]["case1_light"].system.q)
