@@ -36,6 +36,7 @@ _LAZY = {
     "amplitude_spectrum": "rubdiag.signal",
     "spectral_lines": "rubdiag.signal",
     "combination_pairs": "rubdiag.signal",
+    "contact_statistics": "rubdiag.signal",
     "prefixed_features": "rubdiag.signal",
     "feature_names": "rubdiag.signal",
     "read_signals": "rubdiag.signal",

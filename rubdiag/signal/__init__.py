@@ -18,6 +18,7 @@ See :mod:`rubdiag.signal.table` for the column names and the meaning of 0 and Na
 from __future__ import annotations
 
 from rubdiag.signal.combinations import CombinationPair, combination_pairs
+from rubdiag.signal.contact_stats import contact_statistics
 from rubdiag.signal.io import read_signals
 from rubdiag.signal.lines import spectral_lines
 from rubdiag.signal.orders import order_label
@@ -38,6 +39,7 @@ __all__ = [
     "RubFeatures",
     "amplitude_spectrum",
     "combination_pairs",
+    "contact_statistics",
     "dominant_speed",
     "feature_matrix",
     "feature_names",
