@@ -9,7 +9,9 @@ import sys
 
 _INPUT_HELP = (
     "signal file: .csv/.txt (header row, one column per channel), .npz (one 1-D array per "
-    "channel, optional scalar 'fs') or .parquet; a column t/time/time_s (seconds) gives fs"
+    "channel, optional scalar 'fs') or .parquet; a column t/time/time_s (seconds) gives fs; "
+    "or a simulation result (.npz from `rubdiag simulate --out`): its shaft, blade and casing "
+    "responses over the analysis window, at the run's speed"
 )
 
 
@@ -71,9 +73,22 @@ def _common(p: argparse.ArgumentParser) -> None:
 def _load(path, args):
     """Channels (DataFrame), fs (Hz) and the feature table of one signal file."""
     from rubdiag.signal import features, read_signals
+    from rubdiag.signal.run_features import is_result, run_signals
 
-    frame, fs = read_signals(path, args.fs)
-    table = features(frame, fs, args.speed_rpm, tacho=args.tacho, columns=args.column)
+    speed = args.speed_rpm
+    if is_result(path):
+        # a simulation result: its shaft, blade and casing responses over the analysis
+        # window, at the run's speed unless --speed-rpm says otherwise
+        import pandas as pd
+
+        from rubdiag.simulate import load_result
+
+        result = load_result(path)
+        frame, fs = pd.DataFrame(run_signals(result)), result.fs
+        speed = result.run.speed_rpm if speed is None else speed
+    else:
+        frame, fs = read_signals(path, args.fs)
+    table = features(frame, fs, speed, tacho=args.tacho, columns=args.column)
     return frame, fs, table
 
 
