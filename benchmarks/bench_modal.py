@@ -36,6 +36,8 @@ import subprocess
 import sys
 import time
 
+from _threads import limit_threads  # benchmarks/ is on sys.path when run as a script
+
 HEAVY = ("numpy", "scipy", "pandas", "numba", "matplotlib", "sklearn", "pyarrow")
 IMPORT_BAR_S = 0.5
 CRITICAL_BAR_S = 2.0
@@ -72,20 +74,6 @@ def timed(fn, repeat: int) -> tuple[float, list[float]]:
         fn()
         times.append(time.perf_counter() - t0)
     return statistics.median(times), times
-
-
-def limit_threads(n: int | None) -> str:
-    """Limit the loaded BLAS/OpenMP thread pools to ``n`` (None: leave them); describe them."""
-    try:
-        from threadpoolctl import threadpool_info, threadpool_limits
-    except ImportError:
-        if n is not None:
-            raise SystemExit("--threads needs threadpoolctl (pip install threadpoolctl)") from None
-        return "unknown (threadpoolctl not installed)"
-    if n is not None:
-        threadpool_limits(limits=n)
-    return ", ".join(f"{p['internal_api']} {p['num_threads']}"
-                     for p in threadpool_info()) or "none found"
 
 
 def cpu_model() -> str:

@@ -41,6 +41,7 @@ import time
 import warnings
 
 import numpy as np
+from _threads import limit_threads  # benchmarks/ is on sys.path when run as a script
 
 RPM = np.pi / 30.0      # rad/s per rpm
 TOLERANCE = 0.01        # relative: the pass/fail bar
@@ -190,20 +191,6 @@ def ross_forward(rs, rig, n, rtol, **physics):
         if ratio > 0 and lateral > 0.5:
             forward.append(w_n)
     return np.sort(forward)[:n], t1 - t0, t2 - t1, crossings
-
-
-def limit_threads(n: int | None) -> str:
-    """Limit the loaded BLAS/OpenMP thread pools to ``n`` (None: leave them); describe them."""
-    try:
-        from threadpoolctl import threadpool_info, threadpool_limits
-    except ImportError:
-        if n is not None:
-            raise SystemExit("--threads needs threadpoolctl (pip install threadpoolctl)") from None
-        return "unknown (threadpoolctl not installed)"
-    if n is not None:
-        threadpool_limits(limits=n)
-    return ", ".join(f"{p['internal_api']} {p['num_threads']}"
-                     for p in threadpool_info()) or "none found"
 
 
 def relative_differences(a, b):
