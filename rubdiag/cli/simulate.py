@@ -27,7 +27,8 @@ def register(sub) -> None:
                    help="start left out of the statistics (s, default 0.3)")
     p.add_argument("--dt-s", type=float, default=1e-5,
                    help="largest time step (s, default 1e-5; halved down to dt/64 as needed)")
-    p.add_argument("--mu", type=float, help="friction coefficient (default the rig's, 0.3)")
+    p.add_argument("--mu", type=float,
+                   help="friction coefficient (default: the rig's; 0.4 for the paper rig)")
     p.add_argument("--rig", type=Path, help="rig TOML file (default: the study's paper rig)")
     p.add_argument("--out", type=Path, help="save the result (.npz) here")
     p.add_argument("--json", action="store_true", help="print one JSON object (SI units)")

@@ -165,7 +165,7 @@ def test_variants_come_from_replace(paper_rig):
     stiffer = dataclasses.replace(paper_rig, contact=dataclasses.replace(
         paper_rig.contact, friction_coefficient=0.5))
     assert stiffer.contact.friction_coefficient == 0.5
-    assert paper_rig.contact.friction_coefficient == 0.3
+    assert paper_rig.contact.friction_coefficient == 0.4
     with pytest.raises(dataclasses.FrozenInstanceError):
         paper_rig.name = "x"
 
