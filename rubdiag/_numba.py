@@ -11,7 +11,41 @@ no Python objects; outputs are preallocated by the caller; status codes, not exc
 from __future__ import annotations
 
 import functools
+import hashlib
+import os
+from pathlib import Path
 
 import numba
 
 njit = functools.partial(numba.njit, cache=True, fastmath=False, nogil=True)
+
+_FINGERPRINT = "rubdiag-sources.sha256"
+
+
+def drop_stale_cache(package: str | Path) -> bool:
+    """Delete a kernel package's Numba cache when any of its source files changed.
+
+    Numba keys a cached kernel on its own file only: a kernel that calls functions from
+    another file keeps a stale build when only that file changes. A fingerprint of all the
+    package's sources, kept beside the cache, catches that. Returns True when the cache was
+    dropped. A cache folder we cannot write to is left alone (Numba then caches elsewhere).
+    """
+    package = Path(package)
+    digest = hashlib.sha256()
+    for source in sorted(package.glob("*.py")):
+        digest.update(source.name.encode() + source.read_bytes())
+    fingerprint = digest.hexdigest()
+    cache = package / "__pycache__"
+    stamp = cache / _FINGERPRINT
+    try:
+        if stamp.is_file() and stamp.read_text() == fingerprint:
+            return False
+        cache.mkdir(exist_ok=True)
+        for entry in [*cache.glob("*.nbi"), *cache.glob("*.nbc")]:
+            entry.unlink(missing_ok=True)
+        tmp = stamp.with_name(f"{stamp.name}.{os.getpid()}")
+        tmp.write_text(fingerprint)
+        tmp.replace(stamp)
+    except OSError:
+        return False
+    return True

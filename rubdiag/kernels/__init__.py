@@ -11,6 +11,12 @@ exceptions. The public door is :mod:`rubdiag.simulate`.
 
 Numba's on-disk cache is keyed on the source file of the *called* kernel only:
 ``newmark_contact`` inlines code from ``contact.py`` and ``sparse_lu.py``, and its cache entry
-is not invalidated when only those files change. After editing them, delete
-``rubdiag/kernels/__pycache__/*.nb*`` (or touch ``newmark.py``).
+would not be invalidated when only those files change. Importing this package therefore
+drops the whole cache when any kernel source changed (:func:`rubdiag._numba.drop_stale_cache`).
 """
+
+from pathlib import Path
+
+from rubdiag._numba import drop_stale_cache
+
+drop_stale_cache(Path(__file__).parent)
