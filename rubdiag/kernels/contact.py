@@ -66,6 +66,10 @@ __all__ = [
 ]
 
 
+_PLAIN_NEWTON = 8          # full Newton steps before some relaxed ones
+_RELAX = (0.5, 0.3, 0.7)   # varied, so that a relaxed step cannot fall into a cycle of its own
+
+
 @njit
 def element_law(kind, x0, x1, x0n, x1n, g0, kn, kt, mu, lam, e_n, drive):
     """Evaluate one element's contact law.
@@ -295,8 +299,11 @@ def solve_contact(
             for ii in range(ma):
                 ei = act[ii // 2]
                 wv[2 * ei + (ii % 2)] = wv2[ii]
+            # Semi-smooth Newton can cycle between stick and slip at the Coulomb kink;
+            # relaxed steps after the first few iterations break the cycle.
+            relax = _RELAX[(it // 3) % 3] if it >= _PLAIN_NEWTON and it % 3 == 2 else 1.0
             for i in range(m2):
-                d[i] += wv[i]
+                d[i] += relax * wv[i]
             it += 1
             n_it += 1
         # augmentation

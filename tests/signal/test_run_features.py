@@ -12,7 +12,7 @@ from rubdiag.simulate import Run, simulate
 @pytest.fixture(scope="module")
 def every_step_run():
     # fixed step, every step recorded: the samples see everything the event log sees
-    # (at 5 µs: with fixed 10 µs steps the stick/slip iteration of case 2 can cycle)
+    # (5 µs steps: fine enough for every step of case 2 to converge without relaxation)
     run = Run.paper_case(2, 1.9, duration_s=0.25, discard_s=0.12, dt_s=5e-6, fixed_step=True,
                          output_rate_hz=2e5, gap_ramp_s=0.05)
     return simulate(run)

@@ -161,3 +161,13 @@ def test_failure_says_when_and_where_and_keeps_the_partial_result(tmp_path):
     back = load_result(partial.save(tmp_path / "partial.npz"))
     assert back.status == 1 and back.message == partial.message
     assert math.isfinite(back.system.failure_time)
+
+
+def test_fixed_step_at_the_default_dt_gets_through_stick_slip_cycles():
+    # the semi-smooth Newton iteration used to cycle between stick and slip here (t ≈ 16 ms)
+    run = Run.paper_case(2, 1.9, duration_s=0.08, discard_s=0.0, fixed_step=True,
+                         gap_ramp_s=0.05)
+    result = simulate(run)
+    assert result.success and result.system.n_steps == 8000
+    assert len(result.system.episodes) > 0
+    assert result.system.newton_iterations_max <= 25
