@@ -40,13 +40,17 @@ def _table2(args) -> int:
 
     from rubdiag.model import load_rig
     from rubdiag.paper import table2
+    from rubdiag.simulate import SimulationDiverged
 
     if args.jobs is not None and args.jobs < 1:
         raise ValueError(f"--jobs = {args.jobs} is out of range (allowed: >= 1)")
     start = time.perf_counter()
     options = {} if args.rig is None else {"rig": load_rig(args.rig)}
-    table = table2(args.out, jobs=args.jobs, duration_s=args.duration_s,
-                   discard_s=args.discard_s, figures=not args.no_figures, **options)
+    try:
+        table = table2(args.out, jobs=args.jobs, duration_s=args.duration_s,
+                       discard_s=args.discard_s, figures=not args.no_figures, **options)
+    except SimulationDiverged as exc:   # finished cases stay saved in DIR/runs
+        raise ValueError(str(exc)) from None
     print((args.out / "table2.md").read_text(encoding="utf-8"))
     print(f"wrote {args.out}/table2.csv, table2.md, features.csv"
           f"{'' if args.no_figures else ' and fig5…fig10 PNGs'} in "

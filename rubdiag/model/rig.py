@@ -218,9 +218,10 @@ class Casing:
 
     - ``"distributed"`` (default): every node gets y and z springs and dampers such that
       their sums equal ``support_k_*``/``support_c_*`` (the rigid-ring stiffness);
-    - ``"point"``: one node, ``support_node``, carries the whole spring-damper, plus a
-      rotational spring ``support_k_rx_nm_rad`` about x so that the ring cannot spin freely
-      (default k_y·R²).
+    - ``"point"``: one node, ``support_node`` (default: the node opposite casing node 1,
+      i.e. opposite contact element 1, so that the casing is not measured where it is
+      held), carries the whole spring-damper, plus a rotational spring
+      ``support_k_rx_nm_rad`` about x so that the ring cannot spin freely (default k_y·R²).
     """
 
     radius_m: float
@@ -232,7 +233,7 @@ class Casing:
     support_k_z_n_m: float = 1e6
     support_c_y_ns_m: float = 1e3
     support_c_z_ns_m: float = 1e3
-    support_node: int = 1
+    support_node: int | None = None
     support_k_rx_nm_rad: float | None = None
 
     def __post_init__(self):
@@ -245,6 +246,8 @@ class Casing:
         for name in ("support_k_y_n_m", "support_k_z_n_m", "support_c_y_ns_m",
                      "support_c_z_ns_m"):
             _check.non_negative(f"Casing.{name}", getattr(self, name))
+        if self.support_node is None:
+            _set(self, "support_node", self.n_elements // 2 + 1)
         _check.integer("Casing.support_node", self.support_node, lo=1, hi=self.n_elements)
         if self.support_k_rx_nm_rad is not None:
             _check.non_negative("Casing.support_k_rx_nm_rad", self.support_k_rx_nm_rad)

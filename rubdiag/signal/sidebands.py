@@ -97,7 +97,8 @@ def broadband_rms(
     to :data:`LEAKAGE_BINS` away) where the window leakage of the line (amplitude
     ``line_amp``, 0 when absent) exceeds the local noise ``floor``. The power of the bins
     kept is scaled to the whole band, so white noise of density ``S`` (unit²/Hz) reads
-    ``sqrt(S · 0.5×)`` whatever was left out.
+    ``sqrt(S · 0.5×)`` whatever was left out. NaN when nothing is left (a present line
+    whose main lobe covers the whole band of a very short record).
     """
     a = spec.amplitude
     n_rows, n_bins = a.shape
@@ -118,10 +119,14 @@ def broadband_rms(
     leak = np.nan_to_num(line_amp)[..., np.newaxis] * np.interp(
         dist, spec.kernel.d, spec.kernel.mag, right=0.0
     )
-    drop = inside & ((dist <= spec.kernel.lobe + 1) | (leak > floor[rows[..., np.newaxis], jc]))
+    # an absent line occupies no bins: on short records its main lobe would be most of
+    # the band, and dropping it would leave nothing to measure
+    present = (np.nan_to_num(line_amp) > 0)[..., np.newaxis]
+    lobe = present & (dist <= spec.kernel.lobe + 1)
+    drop = inside & (lobe | (leak > floor[rows[..., np.newaxis], jc]))
     total -= np.where(drop, a[rows[..., np.newaxis], jc] ** 2, 0.0).sum(axis=-1)
-    kept = np.maximum(n_band - drop.sum(axis=-1), 1)
-    power = np.maximum(total, 0.0) * n_band / kept
+    kept = n_band - drop.sum(axis=-1)
+    power = np.maximum(total, 0.0) * n_band / np.maximum(kept, 1)
     rms = np.sqrt(power / (2.0 * spec.kernel.enbw))
-    valid = np.floor(c + w) <= n_bins - 2
+    valid = (np.floor(c + w) <= n_bins - 2) & (kept > 0)
     return np.where(valid, rms, np.nan)

@@ -32,7 +32,8 @@ Absent and unmeasurable features
   (e.g. 8× of a fast machine sampled slowly), or, for sidebands, when the record is too
   short to resolve any Δ < 0.25× outside the n× line's main lobe (about 13
   revolutions or fewer with the Hann window): **every** column of it is NaN, amplitudes too.
-* ``bb_*_rms`` is always measured (NaN only above Nyquist).
+* ``bb_*_rms`` is measured whenever its band lies below Nyquist (NaN above it, or when a
+  present line's main lobe covers the whole band of a record of a few revolutions).
 """
 
 from __future__ import annotations

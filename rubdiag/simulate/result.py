@@ -221,3 +221,7 @@ class SimulationDiverged(RuntimeError):
     def __init__(self, message: str, result: SystemResult):
         super().__init__(message)
         self.result = result
+
+    def __reduce__(self):
+        # picklable with its partial result, so it crosses process boundaries (table2 workers)
+        return type(self), (str(self), self.result)

@@ -171,3 +171,13 @@ def test_fixed_step_at_the_default_dt_gets_through_stick_slip_cycles():
     assert result.success and result.system.n_steps == 8000
     assert len(result.system.episodes) > 0
     assert result.system.newton_iterations_max <= 25
+
+
+def test_divergence_error_pickles_with_its_partial_result():
+    run = Run.paper_case(2, 1.9, duration_s=0.05, discard_s=0.0, dt_s=1e-4, fixed_step=True,
+                         gap_ramp_s=0.0)
+    with pytest.raises(SimulationDiverged) as info:
+        simulate(run)
+    again = pickle.loads(pickle.dumps(info.value))
+    assert str(again) == str(info.value)
+    np.testing.assert_array_equal(again.result.system.q, info.value.result.system.q)
