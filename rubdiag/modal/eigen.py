@@ -95,7 +95,7 @@ def modes(model, speed: float = 0.0, n_modes: int = 10, damped: bool = True) -> 
     if n_modes < 1:
         raise ValueError(f"n_modes = {n_modes!r} is out of range (allowed: >= 1)")
     n = model.n_dof
-    D = speed * model.G + (model.C if damped else 0 * model.G)
+    D = model.C + speed * model.G if damped else speed * model.G
     lam, vec = _quadratic_eigs(model.M, D, model.K, min(n_modes, n))
     keep = lam.imag > 1e-9 * np.maximum(1.0, np.abs(lam))
     lam, vec = lam[keep], vec[:, keep]
