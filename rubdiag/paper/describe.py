@@ -43,7 +43,8 @@ def describe_spectrum(row, prefixes=("shaft", "blade")) -> str:
         return any(_get(row, f"{p}_{key}") > 0 for p in prefixes)
 
     def largest(key):
-        return max(_get(row, f"{p}_{key}") for p in prefixes)
+        values = [v for v in (_get(row, f"{p}_{key}") for p in prefixes) if math.isfinite(v)]
+        return max(values, default=0.0)
 
     strongest = max(orders, key=lambda k: largest(f"amp_{k}"))
     if largest(f"amp_{strongest}") > 0:
