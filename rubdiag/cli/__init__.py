@@ -25,14 +25,11 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message}\n")
 
 
-class UsageError(ValueError):
-    """Raised by commands for input the user must fix (printed as one line, exit 2)."""
-
-
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(
         prog="rubdiag",
-        description="Blade-rotor-casing rub-impact: simulation, rub signatures, classifiers.",
+        description="Blade-rotor-casing rub-impact: modal analysis, contact simulation, rub "
+        "signatures and the study's Table 2.",
     )
     parser.add_argument("--version", action="version", version=f"rubdiag {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
