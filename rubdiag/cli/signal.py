@@ -10,8 +10,9 @@ import sys
 _INPUT_HELP = (
     "signal file: .csv/.txt (header row, one column per channel), .npz (one 1-D array per "
     "channel, optional scalar 'fs') or .parquet; a column t/time/time_s (seconds) gives fs; "
-    "or a simulation result (.npz from `rubdiag simulate --out`): its shaft, blade and casing "
-    "responses over the analysis window, at the run's speed"
+    "or a simulation result (.npz from `rubdiag simulate --out`): `features` gives one row "
+    "for the run (shaft_/blade_/casing_ spectra over the analysis window and contact "
+    "statistics), `compare` compares its shaft, blade and casing channels"
 )
 
 
@@ -93,7 +94,17 @@ def _load(path, args):
 
 
 def _features(args) -> int:
-    _, _, table = _load(args.input, args)
+    from rubdiag.signal.run_features import is_result
+
+    if is_result(args.input):
+        # a simulation result: one row for the run, as rubdiag.features(result) gives it
+        # (shaft_/blade_/casing_ spectra and the contact statistics)
+        from rubdiag.signal import features
+
+        table = features(args.input)
+        table.insert(0, "source", [args.input])
+    else:
+        _, _, table = _load(args.input, args)
     if args.json:
         rows = [
             {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in row.items()}
@@ -106,7 +117,7 @@ def _features(args) -> int:
         print(f"wrote {len(table)} row(s) to {args.csv}")
     else:
         with _pandas_display():
-            print(table.set_index("channel").T.to_string())
+            print(table.set_index(table.columns[0]).T.to_string())   # channel or source
     return 0
 
 
