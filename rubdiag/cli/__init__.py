@@ -47,6 +47,11 @@ def main(argv: list[str] | None = None) -> int:
         message = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         print(f"rubdiag {args.command}: error: {message}", file=sys.stderr)
         return 2
+    except BrokenPipeError:   # e.g. `rubdiag features x.csv | head`: the reader left
+        import os
+
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
     except KeyboardInterrupt:
         print(f"rubdiag {args.command}: interrupted", file=sys.stderr)
         return 130

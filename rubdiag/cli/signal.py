@@ -86,6 +86,8 @@ def _load(path, args):
 
         result = load_result(path)
         frame, fs = pd.DataFrame(run_signals(result)), result.fs
+        if args.column is None:   # a casing that was never touched does not move: skip it
+            frame = frame.loc[:, frame.std() > 0]
         speed = result.run.speed_rpm if speed is None else speed
     else:
         frame, fs = read_signals(path, args.fs)

@@ -123,3 +123,16 @@ def test_cli_reads_simulation_results(every_step_run, tmp_path, capsys):
     out = capsys.readouterr().out
     assert "channel 'shaft'" in out
     assert (tmp_path / "c.png").stat().st_size > 10_000
+
+
+def test_compare_a_healthy_and_a_rubbing_run(tmp_path, capsys):
+    from rubdiag.cli import main
+
+    healthy = simulate(Run.paper_case(1, 5.0, duration_s=0.8, discard_s=0.3))   # never touches
+    rubbing = simulate(Run.paper_case(1, 1.9, duration_s=0.8, discard_s=0.3))
+    assert healthy.summary()["n_episodes"] == 0 and rubbing.summary()["n_episodes"] > 0
+    a, b = healthy.save(tmp_path / "a.npz"), rubbing.save(tmp_path / "b.npz")
+    assert main(["compare", str(a), str(b), "--out", str(tmp_path / "c.png")]) == 0
+    out = capsys.readouterr().out
+    assert "channel 'shaft'" in out and "amp_1x" in out
+    assert (tmp_path / "c.png").stat().st_size > 10_000
