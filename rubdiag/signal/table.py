@@ -258,19 +258,37 @@ def prefixed_features(signals: Mapping[str, object], fs: float, speed_rpm: float
     Returns
     -------
     pandas.DataFrame
-        One row: ``speed_rpm`` then ``<prefix>_<feature>`` for every prefix and feature.
+        One row: ``speed_rpm`` then ``<prefix>_<feature>`` for every prefix and feature. A
+        signal that never moves (a casing no blade touched) has every line absent
+        (:func:`still_features`); at least one signal must move.
     """
     if not signals:
         raise ValueError("signals is empty: give at least one {prefix: signal}")
     lengths = {name: np.shape(x) for name, x in signals.items()}
     if len(set(lengths.values())) != 1 or len(next(iter(lengths.values()))) != 1:
         raise ValueError(f"signals must be 1-D and of equal length, got shapes {lengths}")
-    X = np.vstack([np.asarray(x, dtype=np.float64) for x in signals.values()])
-    values = feature_matrix(X, fs, speed_rpm, Options(**options))
+    arrays = {name: np.asarray(x, dtype=np.float64) for name, x in signals.items()}
+    moving = {name: x for name, x in arrays.items() if np.ptp(x) > 0 or not np.isfinite(x).all()}
+    if not moving:
+        raise ValueError("every signal is constant: there is no spectrum to analyse")
+    values = feature_matrix(np.vstack(list(moving.values())), fs, speed_rpm, Options(**options))
+    computed = dict(zip(moving, values, strict=True))
     row = {"speed_rpm": values[0, 0]}
-    for prefix, v in zip(signals, values, strict=True):
-        row.update({f"{prefix}_{n}": v[j] for j, n in enumerate(FEATURE_NAMES) if j > 0})
+    for prefix in arrays:
+        if prefix in computed:
+            v = computed[prefix]
+            row.update({f"{prefix}_{n}": v[j] for j, n in enumerate(FEATURE_NAMES) if j > 0})
+        else:   # a signal that never moves has no line: all absent
+            row.update({f"{prefix}_{n}": v for n, v in still_features().items()})
     return pd.DataFrame([row])
+
+
+def still_features() -> dict[str, float]:
+    """Feature values of a signal that does not move (e.g. a casing never touched): every
+    line absent (amplitudes, ``rms`` and levels 0; locations NaN), as documented above."""
+    located = ("freq_", "phase_", "combo_fa", "combo_fb", "combo_order")
+    return {name: (np.nan if name.startswith(located) or name.endswith("_delta_hz") else 0.0)
+            for name in FEATURE_NAMES if name != "speed_rpm"}
 
 
 def _require(frame: pd.DataFrame, names) -> None:

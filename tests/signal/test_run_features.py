@@ -131,6 +131,15 @@ def test_compare_a_healthy_and_a_rubbing_run(tmp_path, capsys):
     healthy = simulate(Run.paper_case(1, 5.0, duration_s=0.8, discard_s=0.3))   # never touches
     rubbing = simulate(Run.paper_case(1, 1.9, duration_s=0.8, discard_s=0.3))
     assert healthy.summary()["n_episodes"] == 0 and rubbing.summary()["n_episodes"] > 0
+    # a healthy run is a row like any other (datasets mix them): same columns, the casing's
+    # lines absent (amplitude 0, location NaN) and no contact statistics
+    rows = rubdiag.features([healthy, rubbing])
+    assert len(rows) == 2 and rows.columns.is_unique
+    quiet = rows.iloc[0]
+    assert quiet["casing_amp_1x"] == 0.0 and np.isnan(quiet["casing_freq_1x_hz"])
+    assert quiet["casing_rms"] == 0.0 and quiet["contact1_n_episodes"] == 0
+    assert np.isnan(quiet["contact1_max_force_n"]) and quiet["shaft_amp_1x"] > 2e-3
+    assert rows.iloc[1]["casing_amp_1x"] > 0
     a, b = healthy.save(tmp_path / "a.npz"), rubbing.save(tmp_path / "b.npz")
     assert main(["compare", str(a), str(b), "--out", str(tmp_path / "c.png")]) == 0
     out = capsys.readouterr().out
