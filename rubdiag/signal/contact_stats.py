@@ -27,7 +27,9 @@ Over all elements (columns ``contacts_…``): ``n_episodes``, ``max_force_n``, `
 ``sliding_entries``, ``sticking_entries``, ``contact_fraction`` (mean over elements),
 ``sticking_share``, ``mean_force_sliding_n``, ``mean_force_sticking_n``.
 
-Absent quantities (no episode, no sliding …) are NaN; counts are 0.
+Without any episode the maximum force is 0 N and the counts and fractions are 0 (measured:
+nothing touched); quantities that need an episode (minimum and percentile force, sticking
+share, mean forces) are NaN (undefined).
 """
 
 from __future__ import annotations
@@ -58,7 +60,7 @@ def _stats(ep, mask, window_s: float, revolutions: float) -> dict[str, float]:
         "n_episodes": int(mask.sum()),
         "min_force_n": float(lasting.min()) if lasting.size else float("nan"),
         "p05_force_n": float(np.percentile(lasting, 5)) if lasting.size else float("nan"),
-        "max_force_n": float(peaks.max()) if peaks.size else float("nan"),
+        "max_force_n": float(peaks.max()) if peaks.size else 0.0,   # no contact: 0 N
         "sliding_entries": n_slide,
         "sticking_entries": n_stick,
         "sliding_entries_per_s": _ratio(n_slide, window_s),

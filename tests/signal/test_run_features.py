@@ -138,7 +138,8 @@ def test_compare_a_healthy_and_a_rubbing_run(tmp_path, capsys):
     quiet = rows.iloc[0]
     assert quiet["casing_amp_1x"] == 0.0 and np.isnan(quiet["casing_freq_1x_hz"])
     assert quiet["casing_rms"] == 0.0 and quiet["contact1_n_episodes"] == 0
-    assert np.isnan(quiet["contact1_max_force_n"]) and quiet["shaft_amp_1x"] > 2e-3
+    assert quiet["contact1_max_force_n"] == 0.0 and np.isnan(quiet["contact1_min_force_n"])
+    assert np.isnan(quiet["contact1_sticking_share"]) and quiet["shaft_amp_1x"] > 2e-3
     assert rows.iloc[1]["casing_amp_1x"] > 0
     a, b = healthy.save(tmp_path / "a.npz"), rubbing.save(tmp_path / "b.npz")
     assert main(["compare", str(a), str(b), "--out", str(tmp_path / "c.png")]) == 0
