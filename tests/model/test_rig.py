@@ -180,3 +180,10 @@ def test_import_is_light():
                          check=True).stdout.strip()
     assert out == ""
     assert rubdiag.paper_rig is rubdiag.model.paper_rig
+
+
+def test_every_public_name_resolves():
+    for name in rubdiag.__all__:
+        assert getattr(rubdiag, name) is not None, name
+    with pytest.raises(AttributeError, match="no attribute 'nonesuch'"):
+        rubdiag.nonesuch
