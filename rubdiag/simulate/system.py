@@ -162,27 +162,34 @@ class Contacts:
         return cls(z, z2, z2, z2, z2, z, z, z, z, z, z, z)
 
     @classmethod
+    def _broadcast(cls, kind, dof_a, dof_b, normal, tangent, gap, k_n, k_t, mu, radius,
+                   augmented, eps) -> Contacts:
+        """Elements of one kind, every per-element argument broadcast over ``dof_a``'s rows."""
+        dof_a = np.asarray(dof_a, dtype=np.int64).reshape(-1, 2)
+        nc = dof_a.shape[0]
+
+        def rows(x, dtype):
+            return np.broadcast_to(np.asarray(x, dtype=dtype).reshape(-1, 2), (nc, 2)).copy()
+
+        def each(x, dtype=np.float64):
+            return np.broadcast_to(np.asarray(x, dtype=dtype), (nc,)).copy()
+
+        k_n = each(k_n)
+        return cls(
+            np.full(nc, kind), dof_a, rows(dof_b, np.int64), rows(normal, np.float64),
+            rows(tangent, np.float64), each(gap), k_n, k_n.copy() if k_t is None else each(k_t),
+            each(mu), each(radius), each(augmented, bool), each(eps),
+        )
+
+    @classmethod
     def point(
         cls, dof_a, dof_b, normal, tangent, gap, k_n, *, k_t=None, mu=0.3,
         augmented=False, eps=20e-6,
     ) -> Contacts:
         """Point–point elements (kind 1). Scalars broadcast over the elements;
         ``k_t`` defaults to ``k_n``."""
-        dof_a = np.asarray(dof_a, dtype=np.int64).reshape(-1, 2)
-        nc = dof_a.shape[0]
-
-        def b(x):
-            return np.broadcast_to(np.asarray(x, dtype=np.float64), (nc,)).copy()
-
-        k_n = b(k_n)
-        return cls(
-            np.full(nc, KIND_POINT), dof_a,
-            np.broadcast_to(np.asarray(dof_b, dtype=np.int64).reshape(-1, 2), (nc, 2)).copy(),
-            np.broadcast_to(np.asarray(normal, dtype=np.float64).reshape(-1, 2), (nc, 2)).copy(),
-            np.broadcast_to(np.asarray(tangent, dtype=np.float64).reshape(-1, 2), (nc, 2)).copy(),
-            b(gap), k_n, k_n.copy() if k_t is None else b(k_t), b(mu), np.zeros(nc),
-            np.broadcast_to(np.asarray(augmented, dtype=bool), (nc,)).copy(), b(eps),
-        )
+        return cls._broadcast(KIND_POINT, dof_a, dof_b, normal, tangent, gap, k_n, k_t, mu,
+                              0.0, augmented, eps)
 
     @classmethod
     def annular(
@@ -190,20 +197,9 @@ class Contacts:
         augmented=False, eps=20e-6,
     ) -> Contacts:
         """Shaft–stator annular clearances (kind 2) at shaft nodes ``dof_a`` (y, z)."""
-        dof_a = np.asarray(dof_a, dtype=np.int64).reshape(-1, 2)
-        nc = dof_a.shape[0]
-
-        def b(x):
-            return np.broadcast_to(np.asarray(x, dtype=np.float64), (nc,)).copy()
-
-        k_n = b(k_n)
-        return cls(
-            np.full(nc, KIND_ANNULAR), dof_a,
-            np.broadcast_to(np.asarray(dof_b, dtype=np.int64).reshape(-1, 2), (nc, 2)).copy(),
-            np.tile([1.0, 0.0], (nc, 1)), np.tile([0.0, 1.0], (nc, 1)),
-            b(clearance), k_n, k_n.copy() if k_t is None else b(k_t), b(mu), b(radius),
-            np.broadcast_to(np.asarray(augmented, dtype=bool), (nc,)).copy(), b(eps),
-        )
+        # the basis of kind 2 follows the displacement; the fixed one is a placeholder
+        return cls._broadcast(KIND_ANNULAR, dof_a, dof_b, (1.0, 0.0), (0.0, 1.0), clearance,
+                              k_n, k_t, mu, radius, augmented, eps)
 
     def __add__(self, other: Contacts) -> Contacts:
         return Contacts(
