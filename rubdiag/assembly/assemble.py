@@ -118,10 +118,6 @@ class Model:
         return (alpha * self.M + beta * self.K_structural + self.C_discrete).tocsr()
 
     @functools.cached_property
-    def shaft_dofs(self) -> np.ndarray:
-        return np.array(self.dofs.component("shaft"))
-
-    @functools.cached_property
     def shaft_x_m(self) -> np.ndarray:
         """Axial position of every shaft node (m)."""
         return np.array(self.rig.shaft.node_positions_m)
