@@ -67,7 +67,7 @@ __all__ = [
 STATUS_DONE = 0  # reached tick_end
 STATUS_NO_CONVERGENCE = 1  # contact iteration failed at the smallest step
 STATUS_NONFINITE = 2  # non-finite state
-STATUS_LOG_FULL = 3  # episode or level-change log full: caller grows the logs and re-enters
+STATUS_LOG_FULL = 3  # a log (episodes, segments, level changes) is full: caller grows it
 
 
 class IS:
@@ -90,7 +90,8 @@ class IS:
     AUG_MAX = 14
     FAIL_CODE = 15  # contact-solve code of the failure
     AUG_PENDING = 16  # steps accepted with the penetration band not yet reached
-    SIZE = 17
+    N_SEGMENTS = 17
+    SIZE = 18
 
 
 class FS:
@@ -125,7 +126,8 @@ I_SAMPLE0_DONE = 13
 I_AUG_MAX = 14
 I_FAIL_CODE = 15
 I_AUG_PENDING = 16
-I_SIZE = 17
+I_N_SEGMENTS = 17
+I_SIZE = 18
 F_W_EXT = 0
 F_W_DRIVE = 1
 F_D_VISC = 2
@@ -215,6 +217,16 @@ def _record(
 
 
 @njit
+def _log_segment(sg_f, sg_i, istate, e, status, t_start, t_end):
+    k = istate[I_N_SEGMENTS]
+    sg_f[k, 0] = t_start
+    sg_f[k, 1] = t_end
+    sg_i[k, 0] = e
+    sg_i[k, 1] = status
+    istate[I_N_SEGMENTS] = k + 1
+
+
+@njit
 def newmark_contact(
     m_ptr, m_idx, m_val, c_ptr, c_idx, c_val, mk_ptr, mk_idx, mk_m, mk_k,
     l_ptr, l_idx, l_val, l_dinv, u_ptr, u_idx, u_val, u_dinv, perm_r, perm_c,
@@ -225,7 +237,7 @@ def newmark_contact(
     fpar, ipar,
     rec_dof, out_q, out_fn, out_ft, out_st, out_gap, out_slip, out_en,
     q, v, a, mv, kq, pc, dc, cf, ci,
-    ep_f, ep_i, lv_t, lv_l, tot, mx, lvl_count, istate, fstate,
+    ep_f, ep_i, sg_f, sg_i, lv_t, lv_l, tot, mx, lvl_count, istate, fstate,
     wn, wc, wcn, wm, jac, iwork, ciw,
 ):
     """Run the time loop from ``istate[TICK]`` to ``ipar[5]`` (tick_end). Returns a status code.
@@ -248,13 +260,17 @@ def newmark_contact(
       ``aug_k`` (L, n_c) multiplier update stiffness per level (N/m).
     * state: ``q, v, a`` (n), ``mv = M v``, ``kq = K q`` (n, tracked incrementally);
       ``pc``, ``dc`` (2n_c) contact forces and
-      displacements; ``cf`` (13, n_c) rows e, lam, slip s, F_N, F_T, gap, episode start time,
+      displacements; ``cf`` (14, n_c) rows e, lam, slip s, F_N, F_T, gap, episode start time,
       episode peak F_N, trial normal force z, then the episode's sliding time, sticking time,
-      normal impulse while sliding and while sticking; ``ci`` (4, n_c) rows status, episode steps,
+      normal impulse while sliding and while sticking, and the current segment's start time;
+      ``ci`` (4, n_c) rows status, episode steps,
       slide entries, stick entries.
     * logs: ``ep_f`` (cap, 7) t_start, t_end, peak F_N, sliding time, sticking time, normal
       impulse while sliding, while sticking; ``ep_i`` (cap, 5) element, steps,
-      slide entries, stick entries, complete; ``lv_t``/``lv_l`` level-change log;
+      slide entries, stick entries, complete; ``sg_f`` (cap, 2) t_start, t_end and ``sg_i``
+      (cap, 2) element, status of every status segment (a maximal run of one closed status:
+      steps count with their end-of-step status, the episode's interpolated start and end
+      bound its first and last segment); ``lv_t``/``lv_l`` level-change log;
       ``tot`` (n_c, 9) time / normal impulse / tangential impulse per status 1..3;
       ``mx`` (n_c, 3) max F_N, max |F_T|, max penetration; ``lvl_count`` (L) accepted steps.
     * work: ``wn`` (6, n), ``wc`` (5, 2n_c), ``wcn`` (3, n_c), ``wm`` (2n_c, 2n_c),
@@ -283,6 +299,7 @@ def newmark_contact(
     top = n_lev - 1
     tick_dt = dt0 / (1 << top)
     ep_cap = ep_f.shape[0]
+    sg_cap = sg_f.shape[0]
     lv_cap = lv_t.shape[0]
     nf = f_dof.shape[0]
 
@@ -310,7 +327,11 @@ def newmark_contact(
         istate[I_SAMPLE0_DONE] = 1
 
     while istate[I_TICK] < tick_end:
-        if istate[I_N_EPISODES] + nc > ep_cap or istate[I_N_LEVEL_CHANGES] + 2 > lv_cap:
+        if (
+            istate[I_N_EPISODES] + nc > ep_cap
+            or istate[I_N_SEGMENTS] + nc > sg_cap
+            or istate[I_N_LEVEL_CHANGES] + 2 > lv_cap
+        ):
             return STATUS_LOG_FULL
         tick = istate[I_TICK]
         lev = istate[I_LEVEL]
@@ -520,6 +541,11 @@ def newmark_contact(
                 ci[1, e] = 0
                 ci[2, e] = 0
                 ci[3, e] = 0
+                cf[13, e] = cf[6, e]
+            elif so != OPEN and sn != OPEN and sn != so:
+                # sliding <-> sticking: the step counts with its new status
+                _log_segment(sg_f, sg_i, istate, e, so, cf[13, e], t_n)
+                cf[13, e] = t_n
             if sn != OPEN:
                 ci[1, e] += 1
                 if fn > cf[7, e]:
@@ -547,6 +573,7 @@ def newmark_contact(
                 ep_i[k, 3] = ci[3, e]
                 ep_i[k, 4] = 1
                 istate[I_N_EPISODES] = k + 1
+                _log_segment(sg_f, sg_i, istate, e, so, cf[13, e], ep_f[k, 1])
             tot[e, sn - 1] += h
             tot[e, 3 + sn - 1] += fn * h
             tot[e, 6 + sn - 1] += abs(ft) * h

@@ -84,9 +84,9 @@ def contact_statistics(result) -> dict[str, float]:
     revolutions = window_s * result.run.speed_rad_s / (2 * np.pi)
     n_elements = result.system.contact_fn.shape[1]
     row: dict[str, float] = {"window_s": window_s}
-    for e in range(n_elements):
-        for key, value in _stats(ep, ep.element == e, window_s, revolutions).items():
-            row[f"contact{e + 1}_{key}"] = value
+    for k in range(1, n_elements + 1):
+        for key, value in _stats(ep, ep.element == k, window_s, revolutions).items():
+            row[f"contact{k}_{key}"] = value
     if n_elements:
         overall = _stats(ep, np.ones(len(ep), bool), window_s, revolutions)
         overall["contact_fraction"] /= n_elements

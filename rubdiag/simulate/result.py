@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-__all__ = ["EpisodeLog", "SimulationDiverged", "SystemResult"]
+__all__ = ["EpisodeLog", "SimulationDiverged", "StatusLog", "SystemResult"]
 
 STATUS_MESSAGES = {
     0: "The simulation reached the requested duration.",
@@ -24,7 +24,8 @@ class EpisodeLog:
     One row per episode, in the order the episodes ended (episodes still closed when the run
     stopped come last, with ``complete = False`` and ``t_end`` = the final time).
 
-    Fields (all shape (n_episodes,)): ``element`` (int, contact index), ``t_start``, ``t_end``
+    Fields (all shape (n_episodes,)): ``element`` (int, contact element number, 1-based as
+    everywhere public), ``t_start``, ``t_end``
     (s; the instants where the normal trial force ``lam - k_N g`` crosses zero, linearly
     interpolated inside the closing/opening step), ``n_steps`` (closed steps),
     ``peak_normal_force`` (N, largest end-of-step F_N of the episode), ``n_slide_entries``,
@@ -77,6 +78,34 @@ class EpisodeLog:
 
 
 @dataclass(frozen=True)
+class StatusLog:
+    """Status segments gathered at every step: what the contact-status panel draws.
+
+    A segment is a maximal run of one closed status (2 sliding or 3 sticking) of one element;
+    the segments of an episode tile it without gaps. Each step counts with its end-of-step
+    status, so a change of status inside an episode happens at a step boundary; the first and
+    last segment of an episode start and end at the episode's interpolated ``t_start`` and
+    ``t_end``. Segments still running when the run stopped end at the final time.
+
+    Fields (all shape (n_segments,)): ``element`` (int, contact element number from 1),
+    ``status`` (int8, 2 sliding / 3 sticking), ``t_start``, ``t_end`` (s).
+    """
+
+    element: np.ndarray
+    status: np.ndarray
+    t_start: np.ndarray
+    t_end: np.ndarray
+
+    def __len__(self) -> int:
+        return int(self.element.size)
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row per segment, in the order the segments ended."""
+        return pd.DataFrame({"element": self.element, "status": self.status,
+                             "t_start": self.t_start, "t_end": self.t_end})
+
+
+@dataclass(frozen=True)
 class SystemResult:
     """Everything a run of :func:`simulate_system` computed (also when it failed).
 
@@ -101,7 +130,8 @@ class SystemResult:
       Exact discrete identity: work_external + work_drive = Δ(kinetic + strain +
       contact_elastic) + dissipated_viscous + dissipated_friction + contact_algorithmic.
 
-    Gathered at every step: ``episodes`` (:class:`EpisodeLog`); per element (n_c, 3) with
+    Gathered at every step: ``episodes`` (:class:`EpisodeLog`), ``status_segments``
+    (:class:`StatusLog`); per element (n_c, 3) with
     columns status 1, 2, 3: ``time_in_status`` (s), ``normal_impulse`` (N s, ∫F_N dt),
     ``tangential_impulse`` (N s, ∫|F_T| dt) — each step is attributed to its end-of-step
     status; running maxima (n_c,): ``max_normal_force`` (N), ``max_tangential_force`` (N),
@@ -120,8 +150,8 @@ class SystemResult:
     ``extra``: diagnostics (``setup_seconds``, ``kernel_seconds`` wall times, ``lu_nnz`` and
     ``lu_ordering`` of the factorization per level).
     Outcome: ``status`` (0 success, 1 no convergence at the smallest step, 2 non-finite state),
-    ``message``, ``failure_time`` (s, NaN on success), ``failure_element`` (contact index or
-    -1).
+    ``message``, ``failure_time`` (s, NaN on success), ``failure_element`` (contact element number
+    from 1, or 0 when no contact element is to blame).
     """
 
     t: np.ndarray
@@ -141,6 +171,7 @@ class SystemResult:
     strain: np.ndarray
     contact_elastic: np.ndarray
     episodes: EpisodeLog
+    status_segments: StatusLog
     time_in_status: np.ndarray
     normal_impulse: np.ndarray
     tangential_impulse: np.ndarray
@@ -170,7 +201,7 @@ class SystemResult:
     status: int
     message: str
     failure_time: float = float("nan")
-    failure_element: int = -1
+    failure_element: int = 0
     extra: dict = field(default_factory=dict)
 
     @property
@@ -196,17 +227,19 @@ class SystemResult:
         )
 
     def to_frame(self) -> pd.DataFrame:
-        """Samples as a DataFrame indexed by ``t``: ``q_<dof>`` then ``fn_<e>``, ``ft_<e>``,
-        ``status_<e>``, ``gap_<e>``, ``slip_<e>`` per contact element, then the energies."""
+        """Samples as a DataFrame indexed by ``t``: ``q_<dof>`` then ``fn_<k>``, ``ft_<k>``,
+        ``status_<k>``, ``gap_<k>``, ``slip_<k>`` per contact element k = 1…, then the
+        energies."""
         cols: dict[str, np.ndarray] = {}
         for j, dof in enumerate(self.record_dofs):
             cols[f"q_{int(dof)}"] = self.q[:, j]
         for e in range(self.contact_fn.shape[1]):
-            cols[f"fn_{e}"] = self.contact_fn[:, e]
-            cols[f"ft_{e}"] = self.contact_ft[:, e]
-            cols[f"status_{e}"] = self.contact_status[:, e]
-            cols[f"gap_{e}"] = self.contact_gap[:, e]
-            cols[f"slip_{e}"] = self.contact_slip[:, e]
+            k = e + 1
+            cols[f"fn_{k}"] = self.contact_fn[:, e]
+            cols[f"ft_{k}"] = self.contact_ft[:, e]
+            cols[f"status_{k}"] = self.contact_status[:, e]
+            cols[f"gap_{k}"] = self.contact_gap[:, e]
+            cols[f"slip_{k}"] = self.contact_slip[:, e]
         for name in (
             "work_external", "work_drive", "dissipated_viscous", "dissipated_friction",
             "contact_algorithmic", "kinetic", "strain", "contact_elastic",

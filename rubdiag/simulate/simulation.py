@@ -14,6 +14,7 @@ rename).
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import json
 import time
 from collections.abc import Callable
@@ -25,13 +26,18 @@ import numpy as np
 from rubdiag._version import __version__
 from rubdiag.model.io import rig_from_dict, rig_to_dict
 from rubdiag.model.rig import BladeContact, Unbalance
-from rubdiag.simulate.result import EpisodeLog, SimulationDiverged, SystemResult
+from rubdiag.simulate.result import EpisodeLog, SimulationDiverged, StatusLog, SystemResult
 from rubdiag.simulate.run import Run
 from rubdiag.simulate.system import Contacts, HarmonicForce, simulate_system
 
 __all__ = ["SimulationResult", "load_result", "response_points", "simulate"]
 
 _RAMP_MARGIN = 1.1    # the ramp starts 10 % above the largest linear approach
+
+# Version 2: contact elements numbered from 1 in the logs (format 1: from 0); the per-step
+# status-segment log. load_result converts format 1 files.
+FORMAT_VERSION = 2
+_LOGS = {"episodes": EpisodeLog, "status_segments": StatusLog}
 
 
 def response_points(rig) -> tuple[str, ...]:
@@ -203,7 +209,7 @@ class SimulationResult:
         than the output interval) over the episodes that start in the window, displacements
         from the recorded waveforms."""
         started = self.window_episodes()
-        first = started.element == 0
+        first = started.element == 1
         window = self.window
         out = {
             "label": self.run.label,
@@ -248,14 +254,14 @@ class SimulationResult:
         arrays, scalars = {}, {}
         for f in dataclasses.fields(SystemResult):
             value = getattr(self.system, f.name)
-            if isinstance(value, EpisodeLog):
-                for g in dataclasses.fields(EpisodeLog):
-                    arrays[f"episodes.{g.name}"] = getattr(value, g.name)
+            if f.name in _LOGS:
+                for g in dataclasses.fields(value):
+                    arrays[f"{f.name}.{g.name}"] = getattr(value, g.name)
             elif isinstance(value, np.ndarray):
                 arrays[f"system.{f.name}"] = value
             else:
                 scalars[f.name] = _jsonable(value)
-        meta = {"format": "rubdiag.simulation-result", "format_version": 1,
+        meta = {"format": "rubdiag.simulation-result", "format_version": FORMAT_VERSION,
                 "rubdiag_version": self.version, "points": list(self.points),
                 "wall_s": self.wall_s, "run": _run_to_dict(self.run), "system": scalars}
         tmp = path.with_name(path.name + ".tmp.npz")
@@ -277,20 +283,60 @@ def load_result(path: str | Path) -> SimulationResult:
         meta = json.loads(str(archive["meta"]))
         if meta.get("format") != "rubdiag.simulation-result":
             raise ValueError(f"{path}: not a rubdiag result file")
-        episodes = EpisodeLog(**{g.name: archive[f"episodes.{g.name}"]
-                                 for g in dataclasses.fields(EpisodeLog)})
+        version = meta.get("format_version", 1)
+        if version > FORMAT_VERSION:
+            raise ValueError(f"{path}: result format {version} is newer than this rubdiag "
+                             f"reads ({FORMAT_VERSION}): upgrade rubdiag")
         fields = {}
         for f in dataclasses.fields(SystemResult):
-            if f.name == "episodes":
-                fields[f.name] = episodes
+            if f.name in _LOGS:
+                if f"{f.name}.t_start" in archive.files:
+                    fields[f.name] = _LOGS[f.name](**{
+                        g.name: archive[f"{f.name}.{g.name}"]
+                        for g in dataclasses.fields(_LOGS[f.name])})
             elif f"system.{f.name}" in archive.files:
                 fields[f.name] = archive[f"system.{f.name}"]
             else:   # JSON has no NaN: a NaN scalar (e.g. failure_time) was stored as null
                 value = meta["system"][f.name]
                 fields[f.name] = float("nan") if value is None else value
+    if version == 1:
+        fields = _from_format_1(fields, path)
     return SimulationResult(run=_run_from_dict(meta["run"]), points=tuple(meta["points"]),
                             system=SystemResult(**fields), wall_s=meta["wall_s"],
                             version=meta["rubdiag_version"])
+
+
+def _from_format_1(fields: dict, path: Path) -> dict:
+    """Format 1 numbered contact elements from 0 and had no status-segment log: renumber,
+    and rebuild the segments from the sampled status (segments shorter than an output
+    interval are missing from such a file; a warning says so)."""
+    import warnings
+
+    episodes = fields["episodes"]
+    fields["episodes"] = dataclasses.replace(episodes, element=episodes.element + 1)
+    failed = int(fields["failure_element"])
+    fields["failure_element"] = failed + 1 if failed >= 0 else 0
+    fields["status_segments"] = _segments_from_samples(fields["t"], fields["contact_status"])
+    warnings.warn(f"{path}: a format-1 result file has no per-step status log; contact "
+                  "status segments were rebuilt from the sampled status (re-run the "
+                  "simulation for every short episode)", stacklevel=3)
+    return fields
+
+
+def _segments_from_samples(t: np.ndarray, status: np.ndarray) -> StatusLog:
+    """Status segments of sampled status: each closed sample stands for the interval up
+    to the next sample."""
+    rows = []
+    for e in range(status.shape[1]):
+        s = np.r_[1, status[:, e], 1]
+        change = np.flatnonzero(np.diff(s)) + 1        # indices into s where a run starts
+        for a, b in itertools.pairwise(change):
+            if s[a] != 1:
+                rows.append((e + 1, s[a], t[a - 1], t[min(b - 1, t.size - 1)]))
+    rows.sort(key=lambda r: r[3])
+    cols = list(zip(*rows, strict=True)) if rows else [(), (), (), ()]
+    return StatusLog(element=np.array(cols[0], np.int64), status=np.array(cols[1], np.int8),
+                     t_start=np.array(cols[2], float), t_end=np.array(cols[3], float))
 
 
 def _max(values: np.ndarray) -> float:

@@ -31,7 +31,7 @@ from rubdiag.kernels.newmark import (
     newmark_contact,
 )
 from rubdiag.kernels.sparse_lu import factorize
-from rubdiag.simulate.result import EpisodeLog, SimulationDiverged, SystemResult
+from rubdiag.simulate.result import EpisodeLog, SimulationDiverged, StatusLog, SystemResult
 
 __all__ = [
     "Contacts",
@@ -543,7 +543,7 @@ def simulate_system(
     g_t0 = g_start if t_ramp > 0 else contacts.gap
     d0 = B @ q0
     p0 = np.zeros(2 * nc)
-    cf = np.zeros((13, nc))
+    cf = np.zeros((14, nc))
     ci = np.zeros((4, nc), dtype=np.int64)
     e_c0 = 0.0
     for e in range(nc):
@@ -673,6 +673,8 @@ def simulate_system(
     out_en = np.zeros((n_out, 8))
     ep_f = np.zeros((episode_capacity, 7))
     ep_i = np.zeros((episode_capacity, 5), np.int64)
+    sg_f = np.zeros((4 * episode_capacity, 2))
+    sg_i = np.zeros((4 * episode_capacity, 2), np.int64)
     lv_cap = 256
     lv_t = np.zeros(lv_cap)
     lv_l = np.zeros(lv_cap, np.int64)
@@ -727,7 +729,7 @@ def simulate_system(
             fpar, ipar,
             record_dofs, out_q, out_fn, out_ft, out_st, out_gap, out_slip, out_en,
             q, v, a, mv, kq, pc, dc, cf, ci,
-            ep_f, ep_i, lv_t, lv_l, tot, mx, lvl_count, istate, fstate,
+            ep_f, ep_i, sg_f, sg_i, lv_t, lv_l, tot, mx, lvl_count, istate, fstate,
             wn, wc, wcn, wm, jac, iwork, ciw,
         )
         t_kernel += time.perf_counter() - tk
@@ -736,6 +738,9 @@ def simulate_system(
                 cap = 2 * ep_f.shape[0] + nc
                 ep_f = np.concatenate([ep_f, np.zeros((cap - ep_f.shape[0], 7))])
                 ep_i = np.concatenate([ep_i, np.zeros((cap - ep_i.shape[0], 5), np.int64)])
+            if istate[IS.N_SEGMENTS] + nc > sg_f.shape[0]:
+                sg_f = np.concatenate([sg_f, np.zeros_like(sg_f)])
+                sg_i = np.concatenate([sg_i, np.zeros_like(sg_i)])
             if istate[IS.N_LEVEL_CHANGES] + 2 > lv_t.shape[0]:
                 lv_t = np.concatenate([lv_t, np.zeros(lv_t.shape[0])])
                 lv_l = np.concatenate([lv_l, np.zeros(lv_l.shape[0], np.int64)])
@@ -750,7 +755,8 @@ def simulate_system(
     result = _package(
         code, n_big, dt, dt_min_, output_dt, n_lev, out_ticks, record_dofs,
         out_q, out_fn, out_ft, out_st, out_gap, out_slip, out_en,
-        q, v, a, cf, ci, ep_f, ep_i, lv_t, lv_l, tot, mx, lvl_count, istate, fstate,
+        q, v, a, cf, ci, ep_f, ep_i, sg_f, sg_i, lv_t, lv_l, tot, mx, lvl_count, istate,
+        fstate,
     )
     result.extra.update(
         setup_seconds=t_setup, kernel_seconds=t_kernel, contact_level_required=lev_req,
@@ -765,7 +771,7 @@ def simulate_system(
 def _package(
     code, n_big, dt, dt_min, output_dt, n_lev, out_ticks, record_dofs,
     out_q, out_fn, out_ft, out_st, out_gap, out_slip, out_en,
-    q, v, a, cf, ci, ep_f, ep_i, lv_t, lv_l, tot, mx, lvl_count, istate, fstate,
+    q, v, a, cf, ci, ep_f, ep_i, sg_f, sg_i, lv_t, lv_l, tot, mx, lvl_count, istate, fstate,
 ) -> SystemResult:
     top = n_lev - 1
     tick = int(istate[IS.TICK])
@@ -773,7 +779,7 @@ def _package(
     n_written = tick // int(out_ticks) + 1
     ne = int(istate[IS.N_EPISODES])
     open_el = np.flatnonzero(ci[0] != OPEN)
-    element = np.concatenate([ep_i[:ne, 0], open_el])
+    element = np.concatenate([ep_i[:ne, 0], open_el]) + 1     # public numbering from 1
     episodes = EpisodeLog(
         element=element.astype(np.int64),
         t_start=np.concatenate([ep_f[:ne, 0], cf[6, open_el]]),
@@ -788,9 +794,16 @@ def _package(
         stick_impulse=np.concatenate([ep_f[:ne, 6], cf[12, open_el]]),
         complete=np.concatenate([ep_i[:ne, 4] == 1, np.zeros(open_el.size, bool)]),
     )
+    ns = int(istate[IS.N_SEGMENTS])
+    segments = StatusLog(
+        element=np.concatenate([sg_i[:ns, 0], open_el]).astype(np.int64) + 1,
+        status=np.concatenate([sg_i[:ns, 1], ci[0, open_el]]).astype(np.int8),
+        t_start=np.concatenate([sg_f[:ns, 0], cf[13, open_el]]),
+        t_end=np.concatenate([sg_f[:ns, 1], np.full(open_el.size, t_final)]),
+    )
     status = {STATUS_DONE: 0, STATUS_NO_CONVERGENCE: 1, STATUS_NONFINITE: 2}[code]
     fail_t = float(fstate[FS.FAIL_TIME]) if status else float("nan")
-    fail_e = int(istate[IS.FAIL_ELEMENT]) if status else -1
+    fail_e = int(istate[IS.FAIL_ELEMENT]) + 1 if status else 0     # 0: no element
     if status == 0:
         message = f"Reached t = {t_final:.6g} s in {int(istate[IS.N_ACCEPTED])} steps."
     elif status == 1:
@@ -798,11 +811,11 @@ def _package(
                3: "singular contact Jacobian"}.get(int(istate[IS.FAIL_CODE]), "unknown")
         message = (
             f"Contact iteration did not converge ({why}) at t = {fail_t:.9g} s, contact element "
-            f"{fail_e + 1} (1-based), even at the smallest step {dt_min:.3g} s; results kept up to "
+            f"{fail_e}, even at the smallest step {dt_min:.3g} s; results kept up to "
             f"t = {t_final:.9g} s."
         )
     else:
-        where = f"contact element {fail_e + 1} (1-based)" if fail_e >= 0 else "the structure"
+        where = f"contact element {fail_e}" if fail_e > 0 else "the structure"
         message = (
             f"State became non-finite at t = {fail_t:.9g} s ({where}); results kept up to "
             f"t = {t_final:.9g} s."
@@ -827,6 +840,7 @@ def _package(
         strain=out_en[sl, 6],
         contact_elastic=out_en[sl, 7],
         episodes=episodes,
+        status_segments=segments,
         time_in_status=tot[:, 0:3].copy(),
         normal_impulse=tot[:, 3:6].copy(),
         tangential_impulse=tot[:, 6:9].copy(),

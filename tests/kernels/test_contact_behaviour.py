@@ -77,7 +77,7 @@ def test_episode_log_matches_the_per_step_samples(penalty_run):
         closed = res.contact_status[:, e] != OPEN
         edges = np.diff(np.r_[0, closed.astype(int), 0])
         starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
-        mine = ep.element == e
+        mine = ep.element == e + 1
         assert mine.sum() == starts.size
         np.testing.assert_array_equal(ep.n_steps[mine], ends - starts)
         peaks = [res.contact_fn[a:b, e].max() for a, b in zip(starts, ends, strict=True)]
@@ -183,7 +183,7 @@ def test_episode_status_times_add_up_to_the_per_element_totals(penalty_run):
     _, res = penalty_run
     ep = res.episodes
     for e in range(res.contact_fn.shape[1]):
-        mine = ep.element == e
+        mine = ep.element == e + 1
         np.testing.assert_allclose(ep.slide_time[mine].sum(), res.time_in_status[e, 1],
                                    rtol=1e-9, atol=1e-15)
         np.testing.assert_allclose(ep.stick_time[mine].sum(), res.time_in_status[e, 2],

@@ -52,7 +52,7 @@ def test_contact_law_holds_on_the_paper_rig(case_runs):
         # the event log agrees with the sampled status: every closed sample lies in an episode
         ep = sys.episodes
         t_closed = result.t[closed[:, 0]]
-        starts, ends = ep.t_start[ep.element == 0], ep.t_end[ep.element == 0]
+        starts, ends = ep.t_start[ep.element == 1], ep.t_end[ep.element == 1]
         inside = [(np.any((starts <= t + 1e-12) & (ends >= t - 1e-12))) for t in t_closed]
         assert all(inside)
 
@@ -73,9 +73,41 @@ def test_result_file_round_trip(case_runs, tmp_path):
     assert back.points == result.points and back.version == result.version
     np.testing.assert_array_equal(back.system.q, result.system.q)
     np.testing.assert_array_equal(back.system.contact_status, result.system.contact_status)
-    np.testing.assert_array_equal(back.system.episodes.peak_normal_force,
-                                  result.system.episodes.peak_normal_force)
+    for log in ("episodes", "status_segments"):
+        a, b = getattr(back.system, log), getattr(result.system, log)
+        for name in ("element", "t_start", "t_end"):
+            np.testing.assert_array_equal(getattr(a, name), getattr(b, name))
     assert back.summary() == result.summary()
+
+
+def test_format_1_files_are_converted(case_runs, tmp_path):
+    """Format 1 numbered contact elements from 0 and had no segment log: load_result
+    renumbers and rebuilds the segments from the sampled status, with a warning."""
+    import json
+
+    result = case_runs[1]
+    path = result.save(tmp_path / "v2.npz")
+    with np.load(path) as archive:
+        entries = {k: archive[k] for k in archive.files if not k.startswith("status_segments")}
+    meta = json.loads(str(entries["meta"]))
+    meta["format_version"] = 1
+    meta["system"]["failure_element"] = -1
+    entries["meta"] = np.array(json.dumps(meta))
+    entries["episodes.element"] = entries["episodes.element"] - 1
+    np.savez_compressed(tmp_path / "v1.npz", **entries)
+    with pytest.warns(UserWarning, match="rebuilt from the sampled status"):
+        old = load_result(tmp_path / "v1.npz")
+    np.testing.assert_array_equal(old.system.episodes.element, result.system.episodes.element)
+    assert old.system.failure_element == 0
+    assert old.summary() == result.summary()
+    # the rebuilt segments reproduce the sampled status (what format 1 knew)
+    seg, status = old.system.status_segments, result.system.contact_status
+    for k in range(1, status.shape[1] + 1):
+        mine = seg.element == k
+        closed_samples = np.flatnonzero(status[:, k - 1] != 1)
+        covered = sum(np.count_nonzero((result.t >= a) & (result.t < b))
+                      for a, b in zip(seg.t_start[mine], seg.t_end[mine], strict=True))
+        assert covered == closed_samples.size
 
 
 def test_a_run_is_a_pure_function_of_its_picklable_description():
@@ -151,7 +183,7 @@ def test_failure_says_when_and_where_and_keeps_the_partial_result(tmp_path):
     # fixed steps of 0.1 ms are too coarse for the stick/slip iteration in case 2
     run = Run.paper_case(2, 1.9, duration_s=0.3, discard_s=0.1, dt_s=1e-4, fixed_step=True)
     with pytest.raises(SimulationDiverged, match=r"did not converge .* at t = .* s, contact "
-                                                 r"element \d \(1-based\)") as info:
+                                                 r"element \d,") as info:
         simulate(run)
     partial = info.value.result
     assert partial.status == 1 and not partial.success
