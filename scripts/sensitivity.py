@@ -283,7 +283,7 @@ def _rows_case_by_case(setting: Setting, out_dir: Path, jobs: int, first_error: 
                        ) -> list[dict]:
     """The retry after table2 raised: run each case on its own, keep what runs."""
     from rubdiag.paper.table2 import _cached
-    from rubdiag.signal.run_features import run_features
+    from rubdiag.runs import run_features
     from rubdiag.simulate import Run
 
     rig, contact = setting.rig(), setting.contact()

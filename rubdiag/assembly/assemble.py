@@ -79,6 +79,10 @@ class Model:
         The part of K that Rayleigh's β acts on (shaft, blades, casing ring).
     C_discrete : scipy.sparse.csr_matrix
         Bearing and casing-support dampers (N·s/m).
+    rayleigh : (float, float) or None
+        Rayleigh (α in 1/s, β in s), from the rig's damping ratios and reference speeds.
+        None when the rig leaves the reference speeds to its critical speeds, which only
+        the modal layer computes: :func:`rubdiag.modal.with_rayleigh` fills it in.
     """
 
     rig: Rig
@@ -88,32 +92,19 @@ class Model:
     G: sp.csr_matrix
     K_structural: sp.csr_matrix
     C_discrete: sp.csr_matrix
+    rayleigh: tuple[float, float] | None = None
 
     @property
     def n_dof(self) -> int:
         return self.dofs.n_dof
 
     @functools.cached_property
-    def rayleigh(self) -> tuple[float, float]:
-        """Rayleigh (α in 1/s, β in s) from the rig's damping ratios and reference speeds.
-
-        Without reference speeds in the rig, the first two forward critical speeds are used.
-        """
-        damping = self.rig.damping
-        speeds = damping.reference_speeds_rad_s
-        if speeds is None:
-            from rubdiag.modal.critical import critical_speeds  # computed on demand
-
-            found = critical_speeds(self, n=2)
-            if len(found) < 2:
-                raise ValueError("Damping.reference_speeds_rad_s is not set and the rig has "
-                                 "fewer than two forward critical speeds: give them")
-            speeds = tuple(found[:2])
-        return rayleigh_coefficients(speeds[0], speeds[1], damping.xi_1, damping.xi_2)
-
-    @functools.cached_property
     def C(self) -> sp.csr_matrix:
         """Damping matrix (N·s/m): α M + β K_structural + discrete dampers."""
+        if self.rayleigh is None:
+            raise ValueError("Rayleigh damping is not known: the rig has no "
+                             "Damping.reference_speeds_rad_s; rubdiag.modal.with_rayleigh(model) "
+                             "takes them from its first two forward critical speeds")
         alpha, beta = self.rayleigh
         return (alpha * self.M + beta * self.K_structural + self.C_discrete).tocsr()
 
@@ -162,7 +153,11 @@ class Model:
 
 
 def assemble(rig: Rig) -> Model:
-    """Assemble the global sparse matrices of ``rig``."""
+    """Assemble the global sparse matrices of ``rig``.
+
+    Rayleigh damping is set when the rig gives its reference speeds; otherwise
+    ``Model.rayleigh`` is None until :func:`rubdiag.modal.with_rayleigh` computes it.
+    """
     blades, casing = rig.blades, rig.casing
     dofs = DofMap.build(
         rig.shaft.nodes,
@@ -180,8 +175,13 @@ def assemble(rig: Rig) -> Model:
     if casing is not None:
         _add_casing(rig, dofs, M, Ks, Kd, Cd)
     K_structural = Ks.csr()
+    damping = rig.damping
+    rayleigh = None
+    if damping.reference_speeds_rad_s is not None:
+        rayleigh = rayleigh_coefficients(*damping.reference_speeds_rad_s, damping.xi_1,
+                                         damping.xi_2)
     return Model(rig=rig, dofs=dofs, M=M.csr(), K=(K_structural + Kd.csr()).tocsr(),
-                 G=G.csr(), K_structural=K_structural, C_discrete=Cd.csr())
+                 G=G.csr(), K_structural=K_structural, C_discrete=Cd.csr(), rayleigh=rayleigh)
 
 
 def _add_shaft(rig, dofs, M, K, G) -> None:

@@ -77,10 +77,10 @@ def _modal(args) -> int:
     import numpy as np
 
     from rubdiag.assembly import assemble
-    from rubdiag.modal import critical_speeds, modes
+    from rubdiag.modal import critical_speeds, modes, with_rayleigh
 
     _positive("--n-modes", args.n_modes)
-    model = assemble(_rig(args.rig))
+    model = with_rayleigh(assemble(_rig(args.rig)))
     crit = critical_speeds(model, n=4)
     at_rest = modes(model, 0.0, n_modes=args.n_modes, damped=False)
     alpha, beta = model.rayleigh

@@ -73,8 +73,8 @@ def _common(p: argparse.ArgumentParser) -> None:
 
 def _load(path, args):
     """Channels (DataFrame), fs (Hz) and the feature table of one signal file."""
+    from rubdiag.runs import is_result, run_signals
     from rubdiag.signal import features, read_signals
-    from rubdiag.signal.run_features import is_result, run_signals
 
     speed = args.speed_rpm
     if is_result(path):
@@ -96,14 +96,12 @@ def _load(path, args):
 
 
 def _features(args) -> int:
-    from rubdiag.signal.run_features import is_result
+    from rubdiag.runs import is_result, run_features
 
     if is_result(args.input):
         # a simulation result: one row for the run, as rubdiag.features(result) gives it
         # (shaft_/blade_/casing_ spectra and the contact statistics)
-        from rubdiag.signal import features
-
-        table = features(args.input)
+        table = run_features(args.input)
         table.insert(0, "source", [args.input])
     else:
         _, _, table = _load(args.input, args)

@@ -3,7 +3,12 @@ unbalance responses, and calibration of unknown geometry to target critical spee
 
 from rubdiag.modal.calibrate import KNOBS, Calibration, calibrate
 from rubdiag.modal.campbell import Campbell, campbell
-from rubdiag.modal.critical import CriticalSpeeds, critical_speeds, synchronous_modes
+from rubdiag.modal.critical import (
+    CriticalSpeeds,
+    critical_speeds,
+    synchronous_modes,
+    with_rayleigh,
+)
 from rubdiag.modal.eigen import Modes, modes
 from rubdiag.modal.harmonic import (
     HarmonicResponse,
@@ -27,4 +32,5 @@ __all__ = [
     "modes",
     "synchronous_modes",
     "unbalance_response",
+    "with_rayleigh",
 ]

@@ -13,15 +13,17 @@ casing ring or a blade's own bending is not one).
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse.linalg as spla
 
-from rubdiag.modal.eigen import energy_shares, whirl_ratio
+from rubdiag.assembly import rayleigh_coefficients
+from rubdiag.modal.shapes import energy_shares, whirl_ratio
 
-__all__ = ["CriticalSpeeds", "critical_speeds", "synchronous_modes"]
+__all__ = ["CriticalSpeeds", "critical_speeds", "synchronous_modes", "with_rayleigh"]
 
 _MIN_SHAFT_SHARE = 0.25
 
@@ -86,3 +88,18 @@ def critical_speeds(model, n: int = 2, whirl: str = "forward") -> np.ndarray:
         if len(speeds) >= n or k >= model.n_dof - 2:
             return speeds[:n]
         k = min(2 * k, model.n_dof - 2)
+
+
+def with_rayleigh(model):
+    """``model`` with its Rayleigh damping known: unchanged when the rig gives reference
+    speeds, else a copy whose reference speeds are its first two forward critical speeds
+    (the study's choice)."""
+    if model.rayleigh is not None:
+        return model
+    found = critical_speeds(model, n=2)
+    if len(found) < 2:
+        raise ValueError("Damping.reference_speeds_rad_s is not set and the rig has fewer "
+                         "than two forward critical speeds: give them")
+    damping = model.rig.damping
+    alpha_beta = rayleigh_coefficients(found[0], found[1], damping.xi_1, damping.xi_2)
+    return dataclasses.replace(model, rayleigh=alpha_beta)

@@ -18,7 +18,10 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-__all__ = ["Modes", "energy_shares", "modes", "whirl_ratio"]
+from rubdiag.modal.critical import with_rayleigh
+from rubdiag.modal.shapes import energy_shares, whirl_ratio
+
+__all__ = ["Modes", "modes"]
 
 _DENSE_BELOW = 120   # DOFs; below this a dense solver is faster and complete
 _WHIRL_TOL = 1e-3
@@ -95,7 +98,7 @@ def modes(model, speed: float = 0.0, n_modes: int = 10, damped: bool = True) -> 
     if n_modes < 1:
         raise ValueError(f"n_modes = {n_modes!r} is out of range (allowed: >= 1)")
     n = model.n_dof
-    D = model.C + speed * model.G if damped else speed * model.G
+    D = with_rayleigh(model).C + speed * model.G if damped else speed * model.G
     lam, vec = _quadratic_eigs(model.M, D, model.K, min(n_modes, n))
     keep = lam.imag > 1e-9 * np.maximum(1.0, np.abs(lam))
     lam, vec = lam[keep], vec[:, keep]
@@ -129,34 +132,3 @@ def _quadratic_eigs(M, D, K, n_modes: int):
     k = min(2 * n - 2, 2 * n_modes + 10)
     nu, vec = spla.eigs(op, k=k, which="LM", v0=np.ones(2 * n))   # fixed start: reproducible
     return sigma + 1.0 / nu, vec[:n]
-
-
-def whirl_ratio(model, shapes: np.ndarray) -> np.ndarray:
-    """Whirl ratio in [−1, 1] of each column of ``shapes`` over the shaft nodes."""
-    dofs = model.dofs
-    y = model.dofs.component("shaft", ("y",))
-    z = model.dofs.component("shaft", ("z",))
-    if not y:   # no shaft in the model (e.g. a lone ring): use every lateral pair
-        y, z = _all_pairs(dofs)
-    a, b = shapes[y], shapes[z]
-    num = 2.0 * np.sum((a * b.conj()).imag, axis=0)
-    den = np.sum(np.abs(a) ** 2 + np.abs(b) ** 2, axis=0)
-    return np.divide(num, den, out=np.zeros_like(num), where=den > 0)
-
-
-def _all_pairs(dofs):
-    labels = dofs.labels
-    y = [i for i, s in enumerate(labels) if s.endswith(" y")]
-    return y, [i + 1 for i in y]
-
-
-def energy_shares(model, shapes: np.ndarray) -> dict[str, np.ndarray]:
-    """Fraction of each mode's kinetic energy q^H M q carried by shaft, blades and casing."""
-    Mq = model.M @ shapes
-    total = np.real(np.sum(shapes.conj() * Mq, axis=0))
-    out = {}
-    for name in ("shaft", "blade", "casing"):
-        idx = model.dofs.component(name)
-        part = np.real(np.sum(shapes[idx].conj() * Mq[idx], axis=0)) if idx else 0 * total
-        out[f"{name}_share"] = part / total
-    return out

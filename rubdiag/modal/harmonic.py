@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse.linalg as spla
 
+from rubdiag.modal.critical import with_rayleigh
 from rubdiag.model.rig import Unbalance
 
 __all__ = ["HarmonicResponse", "UnbalanceResponse", "harmonic_response", "unbalance_response"]
@@ -24,7 +25,8 @@ def _check_speed(speed: float) -> float:
 
 
 def _solve(model, unbalance: Unbalance, speed: float) -> np.ndarray:
-    Z = (model.K - speed**2 * model.M + 1j * speed * (model.C + speed * model.G)).tocsc()
+    C = with_rayleigh(model).C
+    Z = (model.K - speed**2 * model.M + 1j * speed * (C + speed * model.G)).tocsc()
     return spla.splu(Z).solve(model.unbalance_force(unbalance, speed))
 
 

@@ -19,7 +19,7 @@ GAP_RAMPS_S = (0.098, 0.099, 0.1, 0.101, 0.102)
 
 
 def _features(run) -> dict:
-    from rubdiag.signal.run_features import run_features
+    from rubdiag.runs import run_features
     from rubdiag.simulate import simulate
 
     return run_features(simulate(run)).iloc[0].to_dict()

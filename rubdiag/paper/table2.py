@@ -143,7 +143,7 @@ def table2(out_dir: str | Path | None = "out", jobs: int | None = None,
     ``contact1_mean_force_sliding_n`` / ``…_sticking_n``, ``shaft_blade_spectrum_features``
     (written from the detected features), then ``paper_…``.
     """
-    from rubdiag.signal.run_features import run_features
+    from rubdiag.runs import run_features
 
     out = Path(out_dir if out_dir is not None else "out")
     results = reproduce(out, jobs=jobs, duration_s=duration_s, discard_s=discard_s, log=log,

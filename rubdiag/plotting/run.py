@@ -72,11 +72,11 @@ def _panel_status(fig, ax, t, status):
 def run_figure(result, row=None, title: str | None = None):
     """The six-panel figure of one run (analysis window only).
 
-    ``row`` is the run's feature row (:func:`rubdiag.signal.run_features`); computed when
+    ``row`` is the run's feature row (:func:`rubdiag.runs.features`); computed when
     not given.
     """
+    from rubdiag.runs import run_features, run_points, run_signals
     from rubdiag.signal import amplitude_spectrum
-    from rubdiag.signal.run_features import run_features, run_points, run_signals
 
     if row is None:
         row = run_features(result).iloc[0].to_dict()

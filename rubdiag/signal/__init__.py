@@ -12,13 +12,15 @@ Public API (all frequencies in Hz, speeds in rpm, amplitudes in the signal's uni
 * :class:`RubFeatures` — the scikit-learn transformer.
 * :func:`read_signals` — CSV / NPZ / parquet files.
 
+This layer imports nothing else of rubdiag: measured signals never need the simulator.
+Simulated runs are turned into rows by :mod:`rubdiag.runs`.
+
 See :mod:`rubdiag.signal.table` for the column names and the meaning of 0 and NaN.
 """
 
 from __future__ import annotations
 
 from rubdiag.signal.combinations import CombinationPair, combination_pairs
-from rubdiag.signal.contact_stats import contact_statistics
 from rubdiag.signal.io import read_signals
 from rubdiag.signal.lines import spectral_lines
 from rubdiag.signal.orders import order_label
@@ -39,7 +41,6 @@ __all__ = [
     "RubFeatures",
     "amplitude_spectrum",
     "combination_pairs",
-    "contact_statistics",
     "dominant_speed",
     "feature_matrix",
     "feature_names",

@@ -38,7 +38,6 @@ Absent and unmeasurable features
 
 from __future__ import annotations
 
-import dataclasses
 import os
 from collections.abc import Mapping
 
@@ -203,11 +202,6 @@ def features(
     (1.0, 0.1, 0.0)
     """
     opts = Options(band, threshold, window, nperseg, detrend, min_revolutions, combo_tol_hz)
-    from rubdiag.signal.run_features import is_result, run_features
-
-    if is_result(signal) or (isinstance(signal, list) and signal and all(
-            is_result(s) for s in signal)):
-        return run_features(signal, **dataclasses.asdict(opts))
     frame, fs = _channels(signal, fs)
     if isinstance(tacho, str):
         _require(frame, [tacho])

@@ -101,10 +101,10 @@ def simulate(run: Run, progress: Callable[[float, float], None] | None = None,
     result is returned with ``status != 0``).
     """
     from rubdiag.assembly import assemble
-    from rubdiag.modal import harmonic_response
+    from rubdiag.modal import harmonic_response, with_rayleigh
 
     start_time = time.perf_counter()
-    model = assemble(run.rig)
+    model = with_rayleigh(assemble(run.rig))
     speed = run.speed_rad_s
     linear = harmonic_response(model, speed, run.unbalance)
     F = model.unbalance_force(run.unbalance, speed)

@@ -16,6 +16,7 @@ from rubdiag.modal import (
     harmonic_response,
     modes,
     unbalance_response,
+    with_rayleigh,
 )
 from rubdiag.model import Bearing, Damping, Disc, Loading, Material, Rig, Shaft, Unbalance
 
@@ -144,6 +145,24 @@ def test_rayleigh_damping_ratios_of_paper_modes(paper_model):
     result = modes(paper_model, 0.0, n_modes=4)
     rotor = result.shaft_share > 0.5
     np.testing.assert_allclose(result.damping_ratios[rotor], 0.04, rtol=0.03)
+
+
+def test_rayleigh_reference_speeds_default_to_the_critical_speeds(paper_rig, paper_model):
+    # a rig without reference speeds: assembly leaves α, β open, the modal layer takes
+    # the first two forward critical speeds, where the damping ratio is then ξ exactly
+    rig = dataclasses.replace(paper_rig, damping=Damping(0.03, 0.05))
+    model = assemble(rig)
+    assert model.rayleigh is None
+    with pytest.raises(ValueError, match="with_rayleigh"):
+        _ = model.C
+    damped = with_rayleigh(model)
+    w1, w2 = critical_speeds(model, n=2)
+    alpha, beta = damped.rayleigh
+    assert alpha / (2 * w1) + beta * w1 / 2 == pytest.approx(0.03, rel=1e-9)
+    assert alpha / (2 * w2) + beta * w2 / 2 == pytest.approx(0.05, rel=1e-9)
+    assert with_rayleigh(paper_model) is paper_model   # reference speeds given: unchanged
+    # modes() and the harmonic response fill it in themselves
+    assert modes(model, 0.0, n_modes=2).damping_ratios[0] > 0
 
 
 # --- the paper rig -------------------------------------------------------------------

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import rubdiag
-from rubdiag.signal.contact_stats import contact_statistics
+from rubdiag.runs import contact_statistics
 from rubdiag.simulate import Run, simulate
 
 

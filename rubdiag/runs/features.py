@@ -2,33 +2,64 @@
 
 The row holds the run's parameters, the spectral features of its shaft, blade-tip and
 casing responses over the analysis window (columns prefixed ``shaft_``, ``blade_``,
-``casing_``) and its contact statistics (:mod:`rubdiag.signal.contact_stats`).
+``casing_``) and its contact statistics (:mod:`rubdiag.runs.contact_stats`).
+
+:func:`features` is the public ``rubdiag.features``: a simulation result goes to
+:func:`run_features`, anything else (a measured signal) to :func:`rubdiag.signal.features`
+without loading the simulator.
 """
 
 from __future__ import annotations
 
+import sys
+import zipfile
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-from rubdiag.signal.contact_stats import contact_statistics
+from rubdiag.runs.contact_stats import contact_statistics
+from rubdiag.signal import features as signal_features
 from rubdiag.signal.table import prefixed_features
 
-__all__ = ["is_result", "run_features", "run_points", "run_signals"]
+__all__ = ["features", "is_result", "run_features", "run_points", "run_signals"]
+
+_RESULT_MARK = "rubdiag.simulation-result"
 
 
 def is_result(obj) -> bool:
-    """True for a SimulationResult or the path of a saved one (.npz with rubdiag metadata)."""
-    from rubdiag.simulate import SimulationResult
+    """True for a SimulationResult or the path of a saved one (.npz with rubdiag metadata).
 
-    if isinstance(obj, SimulationResult):
+    Loads neither the simulator nor Numba: an object can only be a SimulationResult if
+    :mod:`rubdiag.simulate` was imported, and a file is recognised by its metadata.
+    """
+    simulate = sys.modules.get("rubdiag.simulate")
+    if simulate is not None and isinstance(obj, simulate.SimulationResult):
         return True
-    if isinstance(obj, (str, Path)) and Path(obj).suffix == ".npz" and Path(obj).is_file():
-        with np.load(obj, allow_pickle=False) as archive:
-            return "meta" in archive.files and "rubdiag.simulation-result" in str(
-                archive["meta"])
+    if isinstance(obj, str | Path) and Path(obj).suffix == ".npz" and Path(obj).is_file():
+        try:
+            with np.load(obj, allow_pickle=False) as archive:
+                return "meta" in archive.files and _RESULT_MARK in str(archive["meta"])
+        except (OSError, ValueError, zipfile.BadZipFile, EOFError):
+            return False    # not a readable archive: the reader that opens it says why
     return False
+
+
+def features(signal, fs: float | None = None, speed_rpm: float | None = None, **options):
+    """Rub-impact features of measured signals or of simulated runs.
+
+    A :class:`~rubdiag.simulate.SimulationResult`, the path of a saved one, or a list of
+    them gives one row per run (:func:`run_features`); anything else is a measured signal
+    and gives one row per channel (:func:`rubdiag.signal.features`, whose parameters these
+    are).
+    """
+    if is_result(signal) or (isinstance(signal, list) and signal
+                             and all(is_result(s) for s in signal)):
+        if fs is not None or speed_rpm is not None:
+            raise ValueError("fs and speed_rpm come from the simulation result: do not give "
+                             "them for a run")
+        return run_features(signal, **options)
+    return signal_features(signal, fs, speed_rpm, **options)
 
 
 def run_points(result) -> dict[str, str]:

@@ -1,0 +1,16 @@
+"""Simulated runs as tables: what needs both the simulator and the signal layer.
+
+* :func:`features` — the public ``rubdiag.features``: one row per run for simulation
+  results, one row per channel for measured signals.
+* :func:`run_features` — one row per simulated run: parameters, spectral features of the
+  shaft, blade tip and casing, contact statistics.
+* :func:`contact_statistics` — contact statistics of one run, from its event logs.
+"""
+
+from __future__ import annotations
+
+from rubdiag.runs.contact_stats import CONTACT_STAT_NAMES, contact_statistics
+from rubdiag.runs.features import features, is_result, run_features, run_points, run_signals
+
+__all__ = ["CONTACT_STAT_NAMES", "contact_statistics", "features", "is_result", "run_features",
+           "run_points", "run_signals"]
