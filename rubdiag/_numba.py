@@ -10,6 +10,7 @@ no Python objects; outputs are preallocated by the caller; status codes, not exc
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import hashlib
 import os
@@ -17,9 +18,38 @@ from pathlib import Path
 
 import numba
 
+try:
+    import fcntl
+except ImportError:     # Windows: no advisory locks; the check still runs once per process
+    fcntl = None
+
 njit = functools.partial(numba.njit, cache=True, fastmath=False, nogil=True)
 
 _FINGERPRINT = "rubdiag-sources.sha256"
+
+
+@functools.cache
+def fresh_cache(package: str | Path) -> bool:
+    """:func:`drop_stale_cache` once per process, under an exclusive lock shared by every
+    process (parallel workers starting together must not delete a cache another has just
+    rebuilt). Call before a package's first kernel call. Returns True when it was dropped."""
+    package = Path(package)
+    with _locked(package / "__pycache__" / "rubdiag-cache.lock"):
+        return drop_stale_cache(package)
+
+
+@contextlib.contextmanager
+def _locked(path: Path):
+    try:
+        path.parent.mkdir(exist_ok=True)
+        handle = open(path, "a")
+    except OSError:                 # a read-only install: Numba caches elsewhere
+        yield
+        return
+    with handle:
+        if fcntl is not None:
+            fcntl.flock(handle, fcntl.LOCK_EX)
+        yield
 
 
 def drop_stale_cache(package: str | Path) -> bool:

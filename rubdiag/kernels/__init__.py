@@ -11,12 +11,19 @@ exceptions. The public door is :mod:`rubdiag.simulate`.
 
 Numba's on-disk cache is keyed on the source file of the *called* kernel only:
 ``newmark_contact`` inlines code from ``contact.py`` and ``sparse_lu.py``, and its cache entry
-would not be invalidated when only those files change. Importing this package therefore
-drops the whole cache when any kernel source changed (:func:`rubdiag._numba.drop_stale_cache`).
+would not be invalidated when only those files change. :func:`ensure_fresh_cache` drops the
+whole cache when any kernel source changed; callers run it before their first kernel call
+(importing the package has no side effect).
 """
 
 from pathlib import Path
 
-from rubdiag._numba import drop_stale_cache
+from rubdiag._numba import fresh_cache
 
-drop_stale_cache(Path(__file__).parent)
+__all__ = ["ensure_fresh_cache"]
+
+
+def ensure_fresh_cache() -> bool:
+    """Drop the kernels' Numba cache if any kernel source changed since it was built (once
+    per process, under a lock shared with other processes). True when it was dropped."""
+    return fresh_cache(Path(__file__).parent)

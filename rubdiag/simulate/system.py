@@ -20,6 +20,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from rubdiag.kernels import ensure_fresh_cache
 from rubdiag.kernels.contact import KIND_ANNULAR, KIND_POINT, OPEN, element_law
 from rubdiag.kernels.newmark import (
     FS,
@@ -448,6 +449,7 @@ def simulate_system(
     -------
     SystemResult
     """
+    ensure_fresh_cache()    # before the first kernel call of this process
     t_start = time.perf_counter()
     # ---- matrices and vectors
     M = _check_matrix("M", M, None)

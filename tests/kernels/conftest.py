@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from rubdiag.kernels import ensure_fresh_cache
 from rubdiag.simulate import simulate_system
 from rubdiag.simulate.testsystems import linear_response, tip_casing_system
 
@@ -29,3 +30,9 @@ def penalty_run():
 def make_rub_run():
     """The :func:`rub_run` factory, for tests that need their own variant."""
     return rub_run
+
+
+@pytest.fixture(scope="session", autouse=True)
+def fresh_kernel_cache():
+    """Kernel tests call kernels directly: drop a stale cache first, as simulate_system does."""
+    ensure_fresh_cache()
