@@ -14,7 +14,7 @@ overdamped (ξ ≈ 2.9) so that nothing would rub. rubdiag uses the standard for
 
 from __future__ import annotations
 
-from rubdiag.model import _check
+from rubdiag import _check
 
 __all__ = ["rayleigh_coefficients"]
 

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse.linalg as spla
 
+from rubdiag import _check
 from rubdiag.modal.critical import with_rayleigh
 from rubdiag.model.rig import Unbalance
 
@@ -19,9 +20,7 @@ __all__ = ["HarmonicResponse", "UnbalanceResponse", "harmonic_response", "unbala
 
 
 def _check_speed(speed: float) -> float:
-    if not np.isfinite(speed) or speed <= 0:
-        raise ValueError(f"speed = {speed!r} is out of range (allowed: > 0 rad/s)")
-    return float(speed)
+    return _check.positive("speed", speed, unit="rad/s")
 
 
 def _solve(model, unbalance: Unbalance, speed: float) -> np.ndarray:

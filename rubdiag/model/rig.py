@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from rubdiag.model import _check
+from rubdiag import _check
 
 __all__ = [
     "Bearing",
@@ -79,8 +79,8 @@ class Shaft:
                                check=_check.non_negative, length=n)
         for i, (do, di) in enumerate(zip(outer, inner, strict=True)):
             if di >= do:
-                raise ValueError(f"Shaft.inner_diameters_m[{i}] = {di!r} is out of range "
-                                 f"(allowed: < outer diameter {do!r})")
+                raise _check.out_of_range(f"Shaft.inner_diameters_m[{i}]", di,
+                                          f"< outer diameter {do:g} m")
         _check.integer("Shaft.first_node", self.first_node, lo=0)
         _set(self, "element_lengths_m", lengths)
         _set(self, "outer_diameters_m", outer)
@@ -282,12 +282,12 @@ class BladeContact:
 
     def __post_init__(self):
         if isinstance(self.blades, int) or not self.blades:
-            raise ValueError(f"BladeContact.blades = {self.blades!r} is out of range "
+            raise ValueError(f"BladeContact.blades = {_check.plain(self.blades)} is out of range "
                              "(allowed: a non-empty list of blade numbers)")
         blades = tuple(_check.integer(f"BladeContact.blades[{i}]", b, lo=1)
                        for i, b in enumerate(self.blades))
         if len(set(blades)) != len(blades):
-            raise ValueError(f"BladeContact.blades = {blades!r} lists a blade twice")
+            raise ValueError(f"BladeContact.blades = {_check.plain(blades)} lists a blade twice")
         _set(self, "blades", blades)
         _check.positive("BladeContact.normal_stiffness_n_m", self.normal_stiffness_n_m)
         if self.tangential_stiffness_n_m is None:
@@ -296,8 +296,7 @@ class BladeContact:
         _check.number("BladeContact.friction_coefficient", self.friction_coefficient,
                       lo=0.0, hi=10.0)
         if not isinstance(self.augmented, bool):
-            raise ValueError(f"BladeContact.augmented = {self.augmented!r} has the wrong type "
-                             "(expected true or false)")
+            raise _check.wrong_type("BladeContact.augmented", self.augmented, "true or false")
         _check.positive("BladeContact.penetration_tolerance_m", self.penetration_tolerance_m)
 
 
@@ -368,8 +367,7 @@ class Loading:
 
     def case(self, case: int) -> Unbalance:
         """The unbalance of the study's case 1 (in phase) or case 2 (out of phase)."""
-        if case not in (1, 2):
-            raise ValueError(f"case = {case!r} is out of range (allowed: 1 or 2)")
+        case = _check.integer("case", case, lo=1, hi=2)
         phases = self.case1_phases_rad if case == 1 else self.case2_phases_rad
         return Unbalance(self.unbalance_kg_m, phases)
 
@@ -393,8 +391,8 @@ class Damping:
             speeds = _check.numbers("Damping.reference_speeds_rad_s",
                                     self.reference_speeds_rad_s, length=2)
             if speeds[0] >= speeds[1]:
-                raise ValueError(f"Damping.reference_speeds_rad_s = {speeds!r} is out of "
-                                 "range (allowed: two increasing speeds)")
+                raise _check.out_of_range("Damping.reference_speeds_rad_s", speeds,
+                                          "two increasing speeds")
             _set(self, "reference_speeds_rad_s", speeds)
 
 

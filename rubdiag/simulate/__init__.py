@@ -7,13 +7,14 @@ models.
 """
 
 from rubdiag.simulate.result import EpisodeLog, SimulationDiverged, SystemResult
-from rubdiag.simulate.run import Run, critical_speed_for_case
+from rubdiag.simulate.run import GapRampInWindow, Run, critical_speed_for_case
 from rubdiag.simulate.simulation import SimulationResult, load_result, response_points, simulate
 from rubdiag.simulate.system import Contacts, HarmonicForce, simulate_system
 
 __all__ = [
     "Contacts",
     "EpisodeLog",
+    "GapRampInWindow",
     "HarmonicForce",
     "Run",
     "SimulationDiverged",

@@ -9,12 +9,17 @@ gives the same arrays, on any machine or Dask worker.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
-from rubdiag.model import _check
+from rubdiag import _check
 from rubdiag.model.rig import BladeContact, Rig, Unbalance
 
-__all__ = ["Run"]
+__all__ = ["GapRampInWindow", "Run", "critical_speed_for_case"]
+
+
+class GapRampInWindow(UserWarning):
+    """The analysis window of a run starts before its gap ramp ends."""
 
 
 @dataclass(frozen=True)
@@ -75,7 +80,7 @@ class Run:
 
     def __post_init__(self):
         if not isinstance(self.rig, Rig):
-            raise ValueError(f"rig = {type(self.rig).__name__} has the wrong type (expected Rig)")
+            raise _check.wrong_type("rig", type(self.rig).__name__, "a Rig")
         _check.number("speed_rad_s", self.speed_rad_s, lo=0.0, hi=1e5, lo_open=True)
         if len(self.unbalance.magnitudes_kg_m) != len(self.rig.discs):
             raise ValueError(f"unbalance has {len(self.unbalance.magnitudes_kg_m)} entries "
@@ -97,12 +102,18 @@ class Run:
                       lo_open=True)
         ratio = 1.0 / (self.output_rate_hz * self.dt_s)
         if abs(ratio - round(ratio)) > 1e-6 * ratio:
-            raise ValueError(f"output_rate_hz = {self.output_rate_hz!r} is out of range "
-                             f"(allowed: 1/dt_s divided by an integer, e.g. "
-                             f"{1.0 / self.dt_s / max(1, round(ratio)):g})")
+            example = 1.0 / self.dt_s / max(1, round(ratio))
+            raise _check.out_of_range("output_rate_hz", self.output_rate_hz,
+                                      f"1/dt_s divided by an integer, e.g. {example:g}")
         if self.gap_ramp_s is None:
             object.__setattr__(self, "gap_ramp_s", min(0.1, 0.5 * self.duration_s))
         _check.number("gap_ramp_s", self.gap_ramp_s, lo=0.0, hi=self.duration_s)
+        if self.contact_law is not None and self.gap_ramp_s > self.discard_s:
+            warnings.warn(
+                f"gap_ramp_s = {self.gap_ramp_s:g} s is longer than discard_s = "
+                f"{self.discard_s:g} s: the analysis window starts while the gap is still "
+                "closing, so its spectra and contact statistics hold the ramp's transient",
+                GapRampInWindow, stacklevel=3)
         if self.contact is not None and self.rig.contact is None:
             raise ValueError("contact is given but the rig has no blade-casing contact "
                              "geometry (blades and casing)")
@@ -127,6 +138,7 @@ class Run:
         or case 2 (out of phase, at the second), with gap ``gap_mm`` (mm)."""
         from rubdiag.model import paper_rig
 
+        case = _check.integer("case", case, lo=1, hi=2)
         rig = paper_rig() if rig is None else rig
         unbalance = rig.unbalance(case)
         if speed_rpm is None:
@@ -143,8 +155,7 @@ def critical_speed_for_case(rig: Rig, case: int) -> float:
     from rubdiag.assembly import assemble
     from rubdiag.modal import critical_speeds
 
-    if case not in (1, 2):
-        raise ValueError(f"case = {case!r} is out of range (allowed: 1 or 2)")
+    case = _check.integer("case", case, lo=1, hi=2)
     speeds = critical_speeds(assemble(rig), n=case)
     if len(speeds) < case:
         raise ValueError(f"the rig has no forward critical speed number {case}")

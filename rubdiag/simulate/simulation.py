@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from rubdiag import _check
 from rubdiag._version import __version__
 from rubdiag.model.io import rig_from_dict, rig_to_dict
 from rubdiag.model.rig import BladeContact, Unbalance
@@ -103,6 +104,8 @@ def simulate(run: Run, progress: Callable[[float, float], None] | None = None,
     from rubdiag.assembly import assemble
     from rubdiag.modal import harmonic_response, with_rayleigh
 
+    if not isinstance(run, Run):
+        raise _check.wrong_type("run", run, "a Run, e.g. Run.paper_case(1, 2.0)")
     start_time = time.perf_counter()
     model = with_rayleigh(assemble(run.rig))
     speed = run.speed_rad_s

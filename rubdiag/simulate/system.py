@@ -20,6 +20,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from rubdiag import _check
 from rubdiag.kernels import ensure_fresh_cache
 from rubdiag.kernels.contact import KIND_ANNULAR, KIND_POINT, OPEN, element_law
 from rubdiag.kernels.newmark import (
@@ -61,7 +62,7 @@ class HarmonicForce:
     omega: np.ndarray
 
     def __post_init__(self):
-        dofs = np.atleast_1d(np.asarray(self.dofs, dtype=np.int64))
+        dofs = _check.indices("force.dofs", np.atleast_1d(self.dofs))
         amp = np.atleast_1d(np.asarray(self.amplitudes, dtype=np.complex128))
         om = np.broadcast_to(np.asarray(self.omega, dtype=np.float64), dofs.shape).copy()
         if not (dofs.ndim == amp.ndim == 1 and dofs.shape == amp.shape):
@@ -136,6 +137,8 @@ class Contacts:
             "mu": np.float64, "radius": np.float64, "augmented": bool, "eps": np.float64,
         }
         for name, dtype in conv.items():
+            if dtype is np.int64:   # refuse float indices rather than truncate them
+                _check.indices(f"contacts.{name}", getattr(self, name))
             arr = np.array(getattr(self, name), dtype=dtype)
             if name in ("dof_a", "dof_b", "normal", "tangent"):
                 arr = arr.reshape(-1, 2)
@@ -158,15 +161,15 @@ class Contacts:
 
     @classmethod
     def empty(cls) -> Contacts:
-        z = np.zeros(0)
-        z2 = np.zeros((0, 2))
-        return cls(z, z2, z2, z2, z2, z, z, z, z, z, z, z)
+        z, z2 = np.zeros(0), np.zeros((0, 2))
+        i, i2 = np.zeros(0, np.int64), np.zeros((0, 2), np.int64)
+        return cls(i, i2, i2, z2, z2, z, z, z, z, z, z, z)
 
     @classmethod
     def _broadcast(cls, kind, dof_a, dof_b, normal, tangent, gap, k_n, k_t, mu, radius,
                    augmented, eps) -> Contacts:
         """Elements of one kind, every per-element argument broadcast over ``dof_a``'s rows."""
-        dof_a = np.asarray(dof_a, dtype=np.int64).reshape(-1, 2)
+        dof_a = _check.indices("dof_a", dof_a).reshape(-1, 2)
         nc = dof_a.shape[0]
 
         def rows(x, dtype):
@@ -177,9 +180,10 @@ class Contacts:
 
         k_n = each(k_n)
         return cls(
-            np.full(nc, kind), dof_a, rows(dof_b, np.int64), rows(normal, np.float64),
-            rows(tangent, np.float64), each(gap), k_n, k_n.copy() if k_t is None else each(k_t),
-            each(mu), each(radius), each(augmented, bool), each(eps),
+            np.full(nc, kind), dof_a, rows(_check.indices("dof_b", dof_b), np.int64),
+            rows(normal, np.float64), rows(tangent, np.float64), each(gap), k_n,
+            k_n.copy() if k_t is None else each(k_t), each(mu), each(radius),
+            each(augmented, bool), each(eps),
         )
 
     @classmethod
@@ -237,7 +241,7 @@ class Contacts:
 # validation helpers
 # --------------------------------------------------------------------------------------------
 def _bad(name: str, value, allowed: str) -> ValueError:
-    return ValueError(f"{name} = {value!r} is not allowed: must be {allowed}")
+    return _check.out_of_range(name, value, allowed)
 
 
 def _check_matrix(name: str, A, n: int | None) -> sp.csr_matrix:
@@ -253,23 +257,8 @@ def _check_matrix(name: str, A, n: int | None) -> sp.csr_matrix:
     return A
 
 
-def _check_scalar(name, value, lo=None, hi=None, lo_open=False, allowed=None):
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise _bad(name, value, allowed or "a real number") from None
-    ok = math.isfinite(x)
-    if ok and lo is not None:
-        ok = x > lo if lo_open else x >= lo
-    if ok and hi is not None:
-        ok = x <= hi
-    if not ok:
-        if allowed is None:
-            lo_s = "-inf" if lo is None else f"{lo:g}"
-            hi_s = "inf" if hi is None else f"{hi:g}"
-            allowed = f"finite, in {'(' if lo_open else '['}{lo_s}, {hi_s}]"
-        raise _bad(name, value, allowed)
-    return x
+def _check_scalar(name, value, lo=None, hi=None, lo_open=False, allowed=None) -> float:
+    return _check.number(name, value, lo=lo, hi=hi, lo_open=lo_open, allowed=allowed)
 
 
 def _check_contacts(ct: Contacts, n: int) -> None:
@@ -506,9 +495,7 @@ def simulate_system(
     n_out = int(tick_total // out_ticks) + 1
     if record_dofs is None:
         record_dofs = np.arange(n, dtype=np.int64)
-    record_dofs = np.ascontiguousarray(np.asarray(record_dofs, dtype=np.int64).reshape(-1))
-    if record_dofs.size and (record_dofs.min() < 0 or record_dofs.max() >= n):
-        raise _bad("record_dofs", record_dofs.tolist(), f"DOF indices in [0, {n})")
+    record_dofs = _check.indices("record_dofs", record_dofs, n)
     if n_out * max(record_dofs.size, 1) > 5e8:
         raise ValueError(
             f"output of {n_out} samples x {record_dofs.size} DOFs is too large: "
@@ -517,9 +504,9 @@ def simulate_system(
     omega = _check_scalar("omega", omega)
     gamma = _check_scalar("gamma", gamma, 0.5, 1.0)
     beta_nm = 0.25 * (gamma + 0.5) ** 2
-    max_newton = int(_check_scalar("max_newton", max_newton, 0, allowed="an integer >= 0"))
-    max_augment = int(_check_scalar("max_augment", max_augment, 0, allowed="an integer >= 0"))
-    grow_after = int(_check_scalar("grow_after", grow_after, 1, allowed="an integer >= 1"))
+    max_newton = _check.integer("max_newton", max_newton, lo=0)
+    max_augment = _check.integer("max_augment", max_augment, lo=0)
+    grow_after = _check.integer("grow_after", grow_after, lo=1)
     newton_tol = _check_scalar("newton_tol", newton_tol, 0.0, lo_open=True)
     augment_boost = _check_scalar("augment_boost", augment_boost, 0.0, 1.0)
     gap_jump = _check_scalar("gap_jump", gap_jump, 0.0, lo_open=True)
@@ -527,7 +514,7 @@ def simulate_system(
         contact_stiffness_ratio = _check_scalar(
             "contact_stiffness_ratio", contact_stiffness_ratio, 0.0, lo_open=True
         )
-    episode_capacity = int(_check_scalar("episode_capacity", episode_capacity, 1))
+    episode_capacity = _check.integer("episode_capacity", episode_capacity, lo=1)
     if gap_ramp is None:
         t_ramp = 0.0
         g_start = contacts.gap.copy()
