@@ -1,6 +1,6 @@
 # Two commands for a fresh machine (Python 3.11, pip, make):
-#   make run    set up .venv and run the main job (the study's Table 2 and Figures 5-10)
-#   make test   set up .venv and run the test suite
+#   make run    set up .venv with what running needs and run the main job (Table 2, Figs 5-10)
+#   make test   add the test tools (and Dask) to .venv, check the layers, run the test suite
 PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
@@ -8,25 +8,31 @@ OUT ?= out
 
 .PHONY: run test test-slow lint bench clean
 
-$(BIN)/rubdiag: pyproject.toml
+# one stamp per set of dependencies: `make run` never installs the test tools
+$(VENV)/.runtime: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e '.[dev]'
+	$(BIN)/python -m pip install --quiet -e .
 	touch $@
 
-run: $(BIN)/rubdiag
+$(VENV)/.dev: $(VENV)/.runtime
+	$(BIN)/python -m pip install --quiet -e '.[dev,dask]'
+	touch $@
+
+run: $(VENV)/.runtime
 	$(BIN)/rubdiag table2 --out $(OUT)
 
-test: $(BIN)/rubdiag
+test: $(VENV)/.dev
+	$(BIN)/lint-imports
 	$(BIN)/python -m pytest -n 2 --dist loadfile
 
-test-slow: $(BIN)/rubdiag
+test-slow: $(VENV)/.dev
 	$(BIN)/python -m pytest -n 2 --dist loadfile -m slow
 
-lint: $(BIN)/rubdiag
+lint: $(VENV)/.dev
 	$(BIN)/ruff check .
 
-bench: $(BIN)/rubdiag
+bench: $(VENV)/.runtime
 	$(BIN)/python benchmarks/bench_modal.py
 	$(BIN)/python benchmarks/bench_kernel.py
 	$(BIN)/python benchmarks/bench_table2.py
