@@ -9,7 +9,9 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import re
 import sys
+import warnings
 
 from rubdiag._version import __version__
 
@@ -18,8 +20,19 @@ _COMMAND_MODULES = ("rubdiag.cli.paper", "rubdiag.cli.linear", "rubdiag.cli.simu
                     "rubdiag.cli.signal")
 
 
+# argparse takes "-1e-5" or "-inf" for an option (its own pattern knows only "-1" and
+# "-1.5") and answers "expected one argument": every spelling of a negative float is a value.
+_NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-(inf|infinity|nan)$",
+                              re.IGNORECASE)
+
+
 class _Parser(argparse.ArgumentParser):
-    """ArgumentParser whose usage errors are one line and exit status 2."""
+    """ArgumentParser whose usage errors are one line and exit status 2, and which reads
+    negative numbers in any float spelling as values (then refused by range checks)."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = _NEGATIVE_NUMBER
 
     def error(self, message: str):
         self.exit(2, f"{self.prog}: error: {message}\n")
@@ -41,20 +54,42 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
+    with warnings.catch_warnings():   # restores the caller's warning display afterwards
+        warnings.showwarning = _one_line_warning(args.command)
+        return _run(args)
+
+
+def _run(args) -> int:
     try:
         return int(args.func(args) or 0)
-    except (ValueError, FileNotFoundError, IsADirectoryError, PermissionError) as exc:
-        message = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-        print(f"rubdiag {args.command}: error: {message}", file=sys.stderr)
-        return 2
     except BrokenPipeError:   # e.g. `rubdiag features x.csv | head`: the reader left
         import os
 
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
+    except (ValueError, OSError) as exc:   # OSError: files (missing, a folder, no access …)
+        print(f"rubdiag {args.command}: error: {_one_line(exc)}", file=sys.stderr)
+        return 2
     except KeyboardInterrupt:
         print(f"rubdiag {args.command}: interrupted", file=sys.stderr)
         return 130
+
+
+def _one_line_warning(command: str):
+    """Warnings as one line on stderr, as errors are (not Python's file:line + source)."""
+    def show(message, category, filename, lineno, file=None, line=None):
+        text = str(message).splitlines()[0] if str(message) else category.__name__
+        print(f"rubdiag {command}: warning: {text}", file=sys.stderr if file is None else file)
+    return show
+
+
+def _one_line(exc: Exception) -> str:
+    """The first line of an error message; ``[Errno 2] No such file or directory: 'x'``
+    becomes ``x: No such file or directory``."""
+    if isinstance(exc, OSError) and exc.strerror and exc.filename is not None:
+        return f"{exc.filename}: {exc.strerror}"
+    text = str(exc)
+    return text.splitlines()[0] if text else type(exc).__name__
 
 
 if __name__ == "__main__":  # pragma: no cover

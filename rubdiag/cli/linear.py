@@ -62,15 +62,15 @@ def register(sub) -> None:
 
 
 def _rig(path):
-    from rubdiag.model import load_rig, paper_rig
+    from rubdiag.cli._paths import load_rig
 
-    return paper_rig() if path is None else load_rig(path)
+    return load_rig(path)
 
 
 def _positive(name: str, value):
-    if not value > 0:
-        raise ValueError(f"{name} = {value!r} is out of range (allowed: > 0)")
-    return value
+    from rubdiag import _check
+
+    return _check.positive(name, value)
 
 
 def _modal(args) -> int:
@@ -108,6 +108,7 @@ def _campbell(args) -> int:
     import numpy as np
 
     from rubdiag.assembly import assemble
+    from rubdiag.cli._paths import output_folder
     from rubdiag.modal import campbell
     from rubdiag.plotting.modal import campbell_figure
 
@@ -115,9 +116,9 @@ def _campbell(args) -> int:
     _positive("--n-speeds", args.n_speeds)
     _positive("--n-modes", args.n_modes)
     model = assemble(_rig(args.rig))
+    output_folder(args.out)
     result = campbell(model, np.linspace(0.0, args.max_speed_rpm * RPM, args.n_speeds),
                       n_modes=args.n_modes)
-    args.out.mkdir(parents=True, exist_ok=True)
     result.to_frame().to_csv(args.out / "campbell.csv", index=False)
     campbell_figure(result, title=f"Campbell diagram: {model.rig.name}").savefig(
         args.out / "campbell.png", dpi=150)
@@ -129,19 +130,20 @@ def _unbalance(args) -> int:
     import numpy as np
 
     from rubdiag.assembly import assemble
+    from rubdiag.cli._paths import output_folder
     from rubdiag.modal import critical_speeds, harmonic_response, unbalance_response
     from rubdiag.plotting.modal import deflection_figure, unbalance_figure
 
     _positive("--max-speed-rpm", args.max_speed_rpm)
     _positive("--n-speeds", args.n_speeds)
     rig = _rig(args.rig)
+    output_folder(args.out)
     model = assemble(rig)
     unbalance = rig.unbalance(args.case)
     speeds = np.linspace(args.max_speed_rpm * RPM / args.n_speeds, args.max_speed_rpm * RPM,
                          args.n_speeds)
     response = unbalance_response(model, speeds, unbalance, points=((11, "y"),))
     crit = critical_speeds(model, n=2)
-    args.out.mkdir(parents=True, exist_ok=True)
     stem = f"case{args.case}"
     response.to_frame().to_csv(args.out / f"unbalance_{stem}.csv", index=False)
     unbalance_figure({f"case {args.case}": response}, critical_rpm=crit / RPM,
@@ -160,11 +162,20 @@ def _unbalance(args) -> int:
 
 
 def _calibrate(args) -> int:
+    import math
+
+    from rubdiag.cli._paths import output_file
     from rubdiag.modal import calibrate
     from rubdiag.model import save_rig
 
-    for t in args.targets_rpm:
-        _positive("--targets-rpm", t)
+    targets = args.targets_rpm
+    for t in targets:
+        if not (t > 0 and math.isfinite(t)):
+            raise ValueError(f"--targets-rpm {t:g} is out of range (allowed: finite, > 0)")
+    if targets != sorted(set(targets)):   # strictly ascending
+        raise ValueError(f"--targets-rpm {' '.join(f'{t:g}' for t in targets)} must be "
+                         "strictly ascending (rpm)")
+    output_file(args.out)
     result = calibrate(_rig(args.rig), [t * RPM for t in args.targets_rpm], knobs=args.knobs)
     save_rig(result.rig, args.out)
     for name, scale in zip(result.knobs, result.scales, strict=True):

@@ -38,7 +38,7 @@ def register(sub) -> None:
 def _table2(args) -> int:
     import time
 
-    from rubdiag.model import load_rig
+    from rubdiag.cli._paths import load_rig, output_folder
     from rubdiag.paper import table2
     from rubdiag.simulate import SimulationDiverged
 
@@ -46,6 +46,7 @@ def _table2(args) -> int:
         raise ValueError(f"--jobs = {args.jobs} is out of range (allowed: >= 1)")
     start = time.perf_counter()
     options = {} if args.rig is None else {"rig": load_rig(args.rig)}
+    output_folder(args.out)
     try:
         table = table2(args.out, jobs=args.jobs, duration_s=args.duration_s,
                        discard_s=args.discard_s, figures=not args.no_figures, **options)
@@ -59,11 +60,11 @@ def _table2(args) -> int:
 
 
 def _plot(args) -> int:
+    from rubdiag.cli._paths import input_file, load_result, output_folder
     from rubdiag.plotting.run import save_run_figures
-    from rubdiag.simulate import load_result
 
-    if not args.result.is_file():
-        raise FileNotFoundError(f"no such result file: {args.result}")
+    input_file(args.result, None, "a result file")   # a typo must not leave a new folder
+    output_folder(args.out)
     result = load_result(args.result)
     paths = save_run_figures(result, args.out, stem=args.result.stem)
     print("wrote " + ", ".join(str(p) for p in paths), file=sys.stderr)

@@ -25,7 +25,9 @@ def register(subparsers) -> None:
             "Order lines (0.5x ... 8x, peak amplitude in the signal's unit, frequency in Hz, "
             "phase in degrees), 1/3-order lines, sidebands n x +/- delta (Hz), broadband RMS "
             "around n x and the strongest combination pair fa + fb = m x. Absent lines have "
-            "amplitude 0 and NaN frequency; features above Nyquist are NaN."
+            "amplitude 0 and NaN frequency; features above Nyquist are NaN. Prints a "
+            "summary in words per channel (per run for a simulation result), then every "
+            "feature; --csv and --json write the features only."
         ),
     )
     p.add_argument("input", metavar="INPUT", help=_INPUT_HELP)
@@ -35,6 +37,10 @@ def register(subparsers) -> None:
         "--json", action="store_true", help="print a JSON list, one object per channel"
     )
     out.add_argument("--csv", metavar="FILE", help="write the table to a CSV file")
+    out.add_argument(
+        "--summary", action="store_true",
+        help="print only the summary in words, not the table of every feature after it",
+    )
     p.set_defaults(func=_features)
 
     p = subparsers.add_parser(
@@ -82,7 +88,7 @@ def _load(path, args):
         # window, at the run's speed unless --speed-rpm says otherwise
         import pandas as pd
 
-        from rubdiag.simulate import load_result
+        from rubdiag.cli._paths import load_result
 
         result = load_result(path)
         frame, fs = pd.DataFrame(run_signals(result)), result.fs
@@ -96,12 +102,15 @@ def _load(path, args):
 
 
 def _features(args) -> int:
+    from rubdiag.cli._paths import load_result, output_file
     from rubdiag.runs import is_result, run_features
 
+    if args.csv:
+        output_file(args.csv, "--csv")
     if is_result(args.input):
         # a simulation result: one row for the run, as rubdiag.features(result) gives it
         # (shaft_/blade_/casing_ spectra and the contact statistics)
-        table = run_features(args.input)
+        table = run_features(load_result(args.input))
         table.insert(0, "source", [args.input])
     else:
         _, _, table = _load(args.input, args)
@@ -116,17 +125,73 @@ def _features(args) -> int:
         table.to_csv(args.csv, index=False)
         print(f"wrote {len(table)} row(s) to {args.csv}")
     else:
-        with _pandas_display():
-            print(table.set_index(table.columns[0]).T.to_string())   # channel or source
+        print("\n".join(summary_lines(table)))
+        if not args.summary:
+            what = "run" if "source" in table.columns else "channel"
+            print(f"\nall {table.shape[1] - 1} features per {what} (amplitudes in the "
+                  "signal's unit, frequencies in Hz, phases in degrees; absent line: amplitude "
+                  "0; NaN: not measurable):")
+            with _pandas_display():
+                print(table.set_index(table.columns[0]).T.to_string())   # channel or source
     return 0
+
+
+def summary_lines(table) -> list[str]:
+    """A few lines per row of a feature table, in words: the rub signatures found
+    (:func:`rubdiag.paper.describe.describe_spectrum`), the 1× line and the RMS; for a
+    simulation result also its contact statistics."""
+    from rubdiag.paper.describe import describe_spectrum
+
+    lines = []
+    for row in table.to_dict(orient="records"):
+        if "source" not in row:                       # a measured channel
+            one = _amplitude(row, "")
+            if one != "absent":
+                one += f" at {row['freq_1x_hz']:.2f} Hz"
+            lines.append(f"{row['channel']}: {row['speed_rpm']:.0f} rpm, RMS {row['rms']:.4g}, "
+                         f"1× {one}")
+            lines.append(f"  {describe_spectrum(row, prefixes=('',))}")
+            continue
+        lines.append(f"{row['source']}: {row['label'] or 'run'}, {row['speed_rpm']:.0f} rpm, "
+                     f"{row['window_s']:.3g} s analysed, dt = {row['dt_s']:g} s")
+        signals = [(p, name) for p, name in (("shaft", "shaft"), ("blade", "blade tip"),
+                                             ("casing", "casing")) if f"{p}_rms" in row]
+        lines.append("  1× (RMS): " + ", ".join(
+            f"{name} {_amplitude(row, p, 1e6, ' um')} ({row[f'{p}_rms'] * 1e6:.4g} um)"
+            for p, name in signals))
+        rotor = [(p, name) for p, name in signals if p != "casing"]
+        if rotor:   # as Table 2 describes a run: the lines of shaft and blade together
+            lines.append(f"  {' and '.join(name for _, name in rotor)}: "
+                         f"{describe_spectrum(row, prefixes=tuple(p for p, _ in rotor))}")
+        if ("casing", "casing") in signals:
+            lines.append(f"  casing: {describe_spectrum(row, prefixes=('casing',))}")
+        if "contact1_max_force_n" in row:
+            lines.append(
+                f"  contact 1: max force {row['contact1_max_force_n']:.1f} N, min "
+                f"{row['contact1_min_force_n']:.1f} N; entries sliding "
+                f"{row['contact1_sliding_entries']:.0f} / sticking "
+                f"{row['contact1_sticking_entries']:.0f}; sticking share "
+                f"{row['contact1_sticking_share']:.2f}")
+        if "contacts_max_force_n" in row:
+            lines.append(f"  all contacts: max force {row['contacts_max_force_n']:.1f} N, "
+                         f"{row['contacts_n_episodes']:.0f} episodes")
+    return lines
+
+
+def _amplitude(row, prefix: str, scale: float = 1.0, unit: str = "") -> str:
+    key = f"{prefix}_amp_1x" if prefix else "amp_1x"
+    return f"{row[key] * scale:.4g}{unit}" if row.get(key, 0) > 0 else "absent"
 
 
 def _compare(args) -> int:
     import numpy as np
     import pandas as pd
 
+    from rubdiag.cli._paths import output_file
     from rubdiag.signal import amplitude_spectrum
 
+    if args.out:
+        output_file(args.out)
     loaded = {"A": _load(args.a, args), "B": _load(args.b, args)}
     ta, tb = loaded["A"][2], loaded["B"][2]
     common = [c for c in ta["channel"] if c in set(tb["channel"])]

@@ -27,10 +27,14 @@ def register(sub) -> None:
                    help="start left out of the statistics (s, default 0.3)")
     p.add_argument("--dt-s", type=float, default=1e-5,
                    help="largest time step (s, default 1e-5; halved down to dt/64 as needed)")
+    p.add_argument("--output-rate-hz", type=float,
+                   help="waveform sampling rate (Hz, default 10000; 1/dt divided by an "
+                   "integer); contact events are logged at every step whatever the rate")
     p.add_argument("--mu", type=float,
                    help="friction coefficient (default: the rig's; 0.4 for the paper rig)")
     p.add_argument("--rig", type=Path, help="rig TOML file (default: the study's paper rig)")
-    p.add_argument("--out", type=Path, help="save the result (.npz) here")
+    p.add_argument("--out", type=Path, help="save the result (.npz) here; the folder must "
+                   "exist")
     p.add_argument("--json", action="store_true", help="print one JSON object (SI units)")
     p.set_defaults(func=_simulate)
 
@@ -52,25 +56,34 @@ def progress_printer(label: str, every_s: float = 2.0):
 def _simulate(args) -> int:
     import dataclasses
 
-    from rubdiag.model import load_rig, paper_rig
-    from rubdiag.simulate import Run, SimulationDiverged, simulate
+    from rubdiag.cli._paths import load_rig, output_file
+    from rubdiag.simulate import Run, SimulationDiverged, response_points, simulate
 
-    rig = paper_rig() if args.rig is None else load_rig(args.rig)
-    options = dict(duration_s=args.duration_s, discard_s=args.discard_s, dt_s=args.dt_s)
+    out = None
+    if args.out is not None:   # before any work: a long run must not end in "no such folder"
+        out = output_file(args.out if args.out.suffix == ".npz"
+                          else args.out.with_suffix(".npz"))
+    if not 0.0 < args.gap_mm <= 100.0:
+        raise ValueError(f"--gap-mm = {args.gap_mm:g} is out of range (allowed: > 0 and "
+                         "<= 100)")
+    rig = load_rig(args.rig)
+    options = dict(duration_s=args.duration_s, discard_s=args.discard_s, dt_s=args.dt_s,
+                   output_rate_hz=args.output_rate_hz)
     if args.mu is not None:
         if rig.contact is None:
             raise ValueError("--mu needs a rig with blade-casing contacts")
         options["contact"] = dataclasses.replace(rig.contact, friction_coefficient=args.mu)
     run = Run.paper_case(args.case, args.gap_mm, speed_rpm=args.speed_rpm, rig=rig, **options)
+    _check_output_size(run, len(response_points(rig)))
     try:
         result = simulate(run, progress=progress_printer(f"case {args.case}"))
     except SimulationDiverged as exc:
-        if args.out is not None:
-            path = exc.result.save(args.out)
+        if out is not None:
+            path = exc.result.save(out)
             print(f"partial result saved to {path}", file=sys.stderr)
         raise ValueError(str(exc)) from None
-    if args.out is not None:
-        result.save(args.out)
+    if out is not None:
+        result.save(out)
     summary = result.summary()
     if args.json:
         print(json.dumps(summary))
@@ -85,6 +98,20 @@ def _simulate(args) -> int:
     if "casing_max_y_m" in summary:
         print(f"casing max y {summary['casing_max_y_m'] * 1e6:.1f} um, shaft max y "
               f"{summary['shaft_max_y_m'] * 1e3:.3f} mm")
-    if args.out is not None:
-        print(f"saved {args.out}")
+    if out is not None:
+        print(f"saved {out}")
     return 0
+
+
+#: Most recorded values (samples x channels) a run may hold: simulate_system's own limit,
+#: checked here too so that the advice names the command's options.
+MAX_OUTPUT_VALUES = 5e8
+
+
+def _check_output_size(run, n_channels: int) -> None:
+    n_samples = int(run.duration_s / run.output_dt_s) + 1
+    if n_samples * max(n_channels, 1) > MAX_OUTPUT_VALUES:
+        raise ValueError(
+            f"--duration-s {run.duration_s:g} at --output-rate-hz {run.output_rate_hz:g} gives "
+            f"{n_samples} samples x {n_channels} channels, too large an output (at most "
+            f"{MAX_OUTPUT_VALUES:g} values): lower --output-rate-hz or shorten --duration-s")

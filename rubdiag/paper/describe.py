@@ -26,8 +26,16 @@ def _get(row, key: str) -> float:
     return float(value) if value is not None else math.nan
 
 
+def _key(prefix: str, key: str) -> str:
+    """Column ``key`` of a signal: ``shaft_amp_1x``, or ``amp_1x`` for the prefix ''."""
+    return f"{prefix}_{key}" if prefix else key
+
+
 def describe_spectrum(row, prefixes=("shaft", "blade")) -> str:
     """A short text of the rub signatures in a run's feature row.
+
+    ``prefixes`` name the signals whose columns count (``shaft_amp_1x`` …); ``("",)``
+    describes a row of :func:`rubdiag.signal.features`, whose columns have no prefix.
 
     Lists the dominant order, present harmonics 2×…8×, broadband peaks around n× (the RMS
     level around n× at least :data:`BROADBAND_FACTOR` times that around (n − 1)× and
@@ -40,10 +48,10 @@ def describe_spectrum(row, prefixes=("shaft", "blade")) -> str:
     orders = ["1x", "2x", "3x", "4x", "5x", "6x", "7x", "8x", *_HALF_ORDERS]
 
     def present(key):
-        return any(_get(row, f"{p}_{key}") > 0 for p in prefixes)
+        return any(_get(row, _key(p, key)) > 0 for p in prefixes)
 
     def largest(key):
-        values = [v for v in (_get(row, f"{p}_{key}") for p in prefixes) if math.isfinite(v)]
+        values = [v for v in (_get(row, _key(p, key)) for p in prefixes) if math.isfinite(v)]
         return max(values, default=0.0)
 
     strongest = max(orders, key=lambda k: largest(f"amp_{k}"))
@@ -54,12 +62,12 @@ def describe_spectrum(row, prefixes=("shaft", "blade")) -> str:
     if harmonics:
         parts.append(", ".join(k.replace("x", "×") for k in harmonics))
     for n in range(2, 8):
-        if any(_get(row, f"{p}_bb_{n}x_rms") > BROADBAND_FACTOR * max(
-                _get(row, f"{p}_bb_{n - 1}x_rms"), _get(row, f"{p}_bb_{n + 1}x_rms"))
+        if any(_get(row, _key(p, f"bb_{n}x_rms")) > BROADBAND_FACTOR * max(
+                _get(row, _key(p, f"bb_{n - 1}x_rms")), _get(row, _key(p, f"bb_{n + 1}x_rms")))
                for p in prefixes):
             parts.append(f"broadband peak around {n}×")
     for n in range(1, 9):
-        deltas = [_get(row, f"{p}_sb_{n}x_delta_hz") for p in prefixes]
+        deltas = [_get(row, _key(p, f"sb_{n}x_delta_hz")) for p in prefixes]
         deltas = [d for d in deltas if math.isfinite(d)]
         if deltas:
             parts.append(f"{n}× ± {deltas[0]:.1f} Hz sidebands")
@@ -67,9 +75,9 @@ def describe_spectrum(row, prefixes=("shaft", "blade")) -> str:
     if halves:
         parts.append(", ".join(_fraction(k) for k in halves))
     for p in prefixes:
-        fa, fb = _get(row, f"{p}_combo_fa_hz"), _get(row, f"{p}_combo_fb_hz")
+        fa, fb = _get(row, _key(p, "combo_fa_hz")), _get(row, _key(p, "combo_fb_hz"))
         if math.isfinite(fa) and math.isfinite(fb):
-            m = int(_get(row, f"{p}_combo_order"))
+            m = int(_get(row, _key(p, "combo_order")))
             parts.append(f"combination {fa:.1f} Hz + {fb:.1f} Hz = {m}×")
             break
     return "; ".join(parts) if parts else "no significant line"

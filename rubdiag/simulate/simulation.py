@@ -7,8 +7,8 @@ and integrates with :func:`~rubdiag.simulate.system.simulate_system`.
 Result files (``result.save(path)``, ``load_result(path)``) are NumPy ``.npz`` archives:
 every array of the result under its field name (``system.<field>``, ``episodes.<field>``)
 plus ``meta``, a JSON document with the rubdiag version, the run description (the rig as in
-its TOML file, SI units) and the scalar fields. Written atomically (temporary file, then
-rename).
+its TOML file, SI units) and the scalar fields. Written atomically (a temporary file in the
+same folder, then renamed); the folder must exist.
 """
 
 from __future__ import annotations
@@ -16,6 +16,7 @@ from __future__ import annotations
 import dataclasses
 import itertools
 import json
+import os
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -267,9 +268,19 @@ class SimulationResult:
         meta = {"format": "rubdiag.simulation-result", "format_version": FORMAT_VERSION,
                 "rubdiag_version": self.version, "points": list(self.points),
                 "wall_s": self.wall_s, "run": _run_to_dict(self.run), "system": scalars}
-        tmp = path.with_name(path.name + ".tmp.npz")
-        np.savez_compressed(tmp, meta=np.array(json.dumps(meta)), **arrays)
-        tmp.replace(path)
+        if path.is_dir():
+            raise IsADirectoryError(f"{path}: is a folder; give a file name")
+        if not path.parent.is_dir():   # say so before writing, naming the file asked for
+            raise FileNotFoundError(f"{path}: the folder {path.parent} does not exist")
+        # a temporary file of this process in the same folder, renamed when complete: a
+        # reader never sees half a file, and parallel writers never share a temporary file
+        tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp.npz")
+        try:
+            np.savez_compressed(tmp, meta=np.array(json.dumps(meta)), **arrays)
+            tmp.replace(path)
+        except BaseException:
+            tmp.unlink(missing_ok=True)
+            raise
         return path
 
 

@@ -1,4 +1,4 @@
-"""The linear-analysis commands, run as a user would (a subprocess for the error paths)."""
+"""The linear-analysis commands (their bad inputs are in test_errors.py)."""
 
 import json
 import subprocess
@@ -57,30 +57,6 @@ def test_calibrate_writes_a_rig_that_hits_the_targets(tmp_path):
 
     crit = critical_speeds(assemble(load_rig(out)), n=2) * 30 / np.pi
     np.testing.assert_allclose(crit, [1400, 5500], rtol=1e-3)
-
-
-@pytest.mark.parametrize("args,match", [
-    (["modal", "--rig", "missing.toml"], "No such file"),
-    (["unbalance", "--case", "3"], "invalid choice"),
-    (["campbell", "--n-speeds", "0"], "--n-speeds = 0 is out of range"),
-    (["calibrate", "--knobs", "spin"], "knob 'spin' is not allowed"),
-])
-def test_bad_input_one_line_exit_2(args, match):
-    result = run(*args)
-    assert result.returncode == 2
-    assert match in result.stderr
-    assert len(result.stderr.strip().splitlines()) == 1
-    assert "Traceback" not in result.stderr
-
-
-def test_bad_rig_file_one_line(tmp_path):
-    bad = tmp_path / "bad.toml"
-    bad.write_text("[shaft]\nelement_lengths_m = [-0.1]\nouter_diameters_m = 0.01\n"
-                   "[[bearings]]\nnode = 3\nk_y_n_m = 1.0\nk_z_n_m = 1.0\n")
-    result = run("modal", "--rig", str(bad))
-    assert result.returncode == 2
-    assert "Shaft.element_lengths_m[0] = -0.1 is out of range (allowed: > 0)" in result.stderr
-    assert len(result.stderr.strip().splitlines()) == 1
 
 
 def test_every_command_has_help_with_units():
