@@ -8,6 +8,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+from rubdiag.plotting._ticks import decade_labels
+
 __all__ = ["campbell_figure", "deflection_figure", "unbalance_figure"]
 
 _RPM = 30.0 / np.pi
@@ -25,9 +27,14 @@ def campbell_figure(campbell, title: str = "Campbell diagram"):
     fwd = (campbell.whirl_ratio > 1e-3) & rotor
     bwd = (campbell.whirl_ratio < -1e-3) & rotor
     grid = np.broadcast_to(rpm[:, None], f_hz.shape)
-    ax.scatter(grid[~rotor], f_hz[~rotor], s=6, color="0.6", label="casing / blade modes")
-    ax.scatter(grid[fwd], f_hz[fwd], s=12, marker="^", color=_FORWARD, label="forward whirl")
-    ax.scatter(grid[bwd], f_hz[bwd], s=12, marker="v", color=_BACKWARD, label="backward whirl")
+    ax.scatter(grid[~rotor], f_hz[~rotor], s=6, color="0.6", label="casing / blade modes",
+               zorder=2)
+    # forward and backward whirl nearly coincide on a stiff rotor: the backward markers are
+    # small and filled, the forward ones larger, hollow and drawn on top, so both show
+    ax.scatter(grid[bwd], f_hz[bwd], s=10, marker="v", color=_BACKWARD, zorder=3,
+               label="backward whirl")
+    ax.scatter(grid[fwd], f_hz[fwd], s=42, marker="^", facecolors="none",
+               edgecolors=_FORWARD, linewidths=1.1, zorder=4, label="forward whirl")
     ax.plot(rpm, rpm / 60.0, "k--", lw=1, label="1×")
     top = float(np.nanmax(f_hz)) * 1.05
     for cs in campbell.critical_speeds:
@@ -48,9 +55,10 @@ def unbalance_figure(responses: dict, critical_rpm=(), title="Unbalance response
     for label, resp in responses.items():
         ax.semilogy(resp.speeds * _RPM, np.abs(resp.amplitudes[:, 0]) * 1e3, lw=1.6,
                     label=label)
-    for cs in critical_rpm:
-        ax.axvline(cs, color="0.5", ls=":", lw=1)
+    for i, cs in enumerate(critical_rpm):
+        ax.axvline(cs, color="0.5", ls=":", lw=1, label=None if i else "critical speeds")
     ax.set(xlabel="speed (rpm)", ylabel="amplitude (mm)", title=title)
+    decade_labels(ax.yaxis)
     ax.grid(alpha=0.3, which="both")
     ax.legend()
     return fig
@@ -59,18 +67,23 @@ def unbalance_figure(responses: dict, critical_rpm=(), title="Unbalance response
 def deflection_figure(model, responses: dict, title="Deflected shape at the critical speeds"):
     """Orbit semi-major axis (mm) along the shaft for labelled HarmonicResponse objects,
     with bearings and discs marked."""
-    fig, ax = plt.subplots(figsize=(7.5, 4), constrained_layout=True)
+    fig, ax = plt.subplots(figsize=(7.5, 4.5), constrained_layout=True)
     x_mm = model.shaft_x_m * 1e3
     for label, resp in responses.items():
         _, _, major = resp.shaft_deflection()
         ax.plot(x_mm, major * 1e3, "o-", ms=3, label=label)
     rig = model.rig
     first = rig.shaft.first_node
-    for b in rig.bearings:
-        ax.axvline(x_mm[b.node - first], color="k", lw=2, alpha=0.4)
-    for d in rig.discs:
-        ax.axvline(x_mm[d.node - first], color="tab:green", lw=6, alpha=0.25)
+    for kind, items, style in (("bearing", rig.bearings, dict(color="k", lw=2, alpha=0.4)),
+                               ("disc", rig.discs, dict(color="tab:green", lw=6, alpha=0.25))):
+        nodes = [item.node for item in items]
+        for i, node in enumerate(nodes):
+            plural = "s" if len(nodes) > 1 else ""
+            label = (f"{kind}{plural} (node{plural} {', '.join(str(n) for n in nodes)})"
+                     if i == 0 else None)
+            ax.axvline(x_mm[node - first], label=label, **style)
     ax.set(xlabel="axial position (mm)", ylabel="orbit semi-major axis (mm)", title=title)
     ax.grid(alpha=0.3)
-    ax.legend()
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncols=2, fontsize="small",
+              frameon=False)
     return fig
