@@ -7,44 +7,20 @@ combination search and the scikit-learn transformer all read from its result.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from rubdiag.signal._checks import check_fs, check_resolution, check_signals, check_speed
 from rubdiag.signal.lines import block_bins, line_mask, noise_floor
+from rubdiag.signal.options import Options
 from rubdiag.signal.orders import HALF_ORDERS, HARMONICS, THIRD_ORDERS, OrderLines, order_lines
+from rubdiag.signal.records import check_fs, check_resolution, check_signals, check_speed
 from rubdiag.signal.sidebands import Sidebands, broadband_rms, sidebands
 from rubdiag.signal.spectrum import _Spectra, _spectra
-from rubdiag.signal.speed import _dominant_hz
+from rubdiag.signal.speed import MIN_SPEED_CONFIDENCE, dominant_line, speed_confidence
 
 #: Width of a noise-floor block, in orders.
 FLOOR_WIDTH_ORDERS = 0.5
-
-
-@dataclass(frozen=True)
-class Options:
-    """Settings of the feature engine (see :func:`rubdiag.signal.features`)."""
-
-    band: float = 0.03
-    threshold: float = 5.0
-    window: object = "hann"
-    nperseg: int | None = None
-    detrend: object = "constant"
-    min_revolutions: float = 10.0
-    combo_tol_hz: float | None = None
-
-    def __post_init__(self):
-        if not (math.isfinite(self.band) and 0.0 < self.band < 0.25):
-            raise ValueError(f"band must lie in (0, 0.25) orders, got {self.band!r}")
-        if not (math.isfinite(self.threshold) and self.threshold >= 1.0):
-            raise ValueError(f"threshold must be a finite factor >= 1, got {self.threshold!r}")
-        if not (math.isfinite(self.min_revolutions) and self.min_revolutions >= 0.0):
-            raise ValueError(f"min_revolutions must be >= 0, got {self.min_revolutions!r}")
-        tol = self.combo_tol_hz
-        if tol is not None and not (math.isfinite(tol) and tol > 0.0):
-            raise ValueError(f"combo_tol_hz must be positive, got {tol!r}")
 
 
 @dataclass(frozen=True)
@@ -53,6 +29,7 @@ class Analysis:
 
     spec: _Spectra
     f1_hz: np.ndarray  # (n_rows,)
+    speed_confidence: np.ndarray  # (n_rows,) of a guessed speed; NaN where it was given
     floor: np.ndarray  # (n_rows, n_bins) local median amplitude
     mask: np.ndarray  # (n_rows, n_bins) significant lines
     half: OrderLines  # k = 0.5 … 8
@@ -64,23 +41,31 @@ class Analysis:
 
 
 def analyse(
-    X, fs: float, speed_rpm=None, options: Options | None = None, *, checked: bool = False
+    X, fs: float, speed_rpm=None, options: Options | None = None, *, checked: bool = False,
+    labels=None,
 ) -> Analysis:
     """Analyse the rows of ``X`` (n_rows, n_samples) sampled at ``fs`` Hz.
 
-    ``speed_rpm`` is a number, one number per row, or None (each row's strongest line is
-    taken as 1×). ``checked=True`` skips the checks of ``X`` (the caller made them).
+    ``speed_rpm`` is a number, one number per row, or None: each row's strongest line is
+    taken as 1×, and a row whose line stands less than :data:`MIN_SPEED_CONFIDENCE` above
+    the noise floor raises (``labels`` name the rows). ``checked=True`` skips the checks of
+    ``X`` (the caller made them); every row must move (no still rows: they have no lines).
     """
     opts = Options() if options is None else options
     fs = check_fs(fs)
-    X = np.asarray(X, dtype=np.float64) if checked else check_signals(X)
+    X = np.asarray(X, dtype=np.float64) if checked else check_signals(X)[0]
     spec = _spectra(X, fs, opts.window, opts.nperseg, None, None, opts.detrend)
     if speed_rpm is None:
-        f1 = _dominant_hz(spec)
+        f1, p = dominant_line(spec)
     else:
         f1 = check_speed(speed_rpm, X.shape[0])
-    check_resolution(f1, fs, spec.nperseg, opts.min_revolutions)
     floor = noise_floor(spec.amplitude, block_bins(FLOOR_WIDTH_ORDERS * f1, spec.df))
+    if speed_rpm is None:
+        confidence = speed_confidence(spec.amplitude, floor, p)
+        _check_guess(f1, confidence, labels)
+    else:
+        confidence = np.full(X.shape[0], np.nan)
+    check_resolution(f1, fs, spec.nperseg, opts.min_revolutions)
     mask = line_mask(spec.amplitude, floor, opts.threshold, spec.kernel)
     half = order_lines(spec, mask, HALF_ORDERS, f1, opts.band)
     third = order_lines(spec, mask, THIRD_ORDERS, f1, opts.band)
@@ -90,6 +75,7 @@ def analyse(
     return Analysis(
         spec=spec,
         f1_hz=f1,
+        speed_confidence=confidence,
         floor=floor,
         mask=mask,
         half=half,
@@ -99,3 +85,17 @@ def analyse(
         rms=X.std(axis=1),
         options=opts,
     )
+
+
+def _check_guess(f1_hz: np.ndarray, confidence: np.ndarray, labels) -> None:
+    """Raise when a guessed speed's line does not stand out of the noise."""
+    weak = ~(confidence >= MIN_SPEED_CONFIDENCE)
+    if weak.any():
+        i = int(np.flatnonzero(weak)[0])
+        where = "" if labels is None else f" of {labels[i]}"
+        raise ValueError(
+            f"speed_rpm was not given and cannot be guessed: the strongest line{where} "
+            f"({f1_hz[i]:.4g} Hz, {60 * f1_hz[i]:.5g} rpm) stands only "
+            f"speed_confidence = {confidence[i]:.3g} times above the noise floor (allowed: "
+            f">= {MIN_SPEED_CONFIDENCE:g}); it looks like noise. Give speed_rpm or a tacho signal"
+        )

@@ -14,7 +14,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from rubdiag.signal.analysis import Analysis, Options, analyse
+from rubdiag.signal.analysis import Analysis, analyse
+from rubdiag.signal.options import Options
+from rubdiag.signal.records import check_fs, check_signals, check_speed
 
 #: Lines per row that take part in the batch search (the strongest candidates).
 MAX_LINES = 24
@@ -39,13 +41,13 @@ def combination_pairs(
     fs: float,
     speed_rpm: float | None = None,
     *,
-    band: float = 0.03,
-    threshold: float = 5.0,
-    window="hann",
-    nperseg: int | None = None,
-    detrend="constant",
-    min_revolutions: float = 10.0,
-    combo_tol_hz: float | None = None,
+    band: float = Options.band,
+    threshold: float = Options.threshold,
+    window=Options.window,
+    nperseg: int | None = Options.nperseg,
+    detrend=Options.detrend,
+    min_revolutions: float = Options.min_revolutions,
+    combo_tol_hz: float | None = Options.combo_tol_hz,
 ) -> list[CombinationPair]:
     """All combination pairs of a signal, strongest first.
 
@@ -56,12 +58,19 @@ def combination_pairs(
     -------
     list of CombinationPair
         ``(fa_hz, fb_hz, order, amp_a, amp_b)``, sorted by the weaker amplitude, descending;
-        empty when the signal holds no pair.
+        empty when the signal holds no pair (a still signal holds no line at all).
     """
+    opts = Options(band=band, threshold=threshold, window=window, nperseg=nperseg,
+                   detrend=detrend, min_revolutions=min_revolutions, combo_tol_hz=combo_tol_hz)
     if np.ndim(x) != 1:
         raise ValueError("combination_pairs takes one signal (a 1-D array)")
-    opts = Options(band, threshold, window, nperseg, detrend, min_revolutions, combo_tol_hz)
-    an = analyse(np.asarray(x)[np.newaxis, :], fs, speed_rpm, opts)
+    X, still = check_signals(x, "x")
+    if still[0]:
+        check_fs(fs)
+        if speed_rpm is not None:
+            check_speed(speed_rpm, 1)
+        return []
+    an = analyse(X, fs, speed_rpm, opts, checked=True)
     f, amp, ok = candidate_lines(an, max_lines=None)
     good, score = pair_matrix(an, f, amp, ok)
     ia, ib = np.nonzero(good[0])

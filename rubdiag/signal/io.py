@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from rubdiag.signal._checks import check_fs
+from rubdiag.signal.records import check_fs
 
 TIME_COLUMNS = ("t", "time", "time_s", "t_s")
 SUFFIXES = (".csv", ".txt", ".npz", ".parquet", ".pq")

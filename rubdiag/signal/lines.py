@@ -12,7 +12,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from rubdiag.signal._checks import check_fs, check_signals
+from rubdiag import _check
+from rubdiag.signal.options import Options
+from rubdiag.signal.records import check_fs, check_signals
 from rubdiag.signal.spectrum import _spectra
 
 #: Lines weaker than this fraction of the strongest bin are never significant.
@@ -24,11 +26,11 @@ MIN_FLOOR_BINS = 8
 def spectral_lines(
     x,
     fs: float,
-    window="hann",
-    nperseg: int | None = None,
-    detrend="constant",
+    window=Options.window,
+    nperseg: int | None = Options.nperseg,
+    detrend=Options.detrend,
     *,
-    threshold: float = 5.0,
+    threshold: float = Options.threshold,
     floor_width_hz: float | None = None,
 ):
     """Significant lines of a signal with exact frequency, amplitude and phase.
@@ -42,7 +44,7 @@ def spectral_lines(
     window, nperseg, detrend
         As for :func:`amplitude_spectrum` (default: whole record, Hann window).
     threshold : float
-        A line must exceed ``threshold`` times the local median amplitude (default 5).
+        A line must exceed ``threshold`` times the local median amplitude.
     floor_width_hz : float, optional
         Width of the noise-floor blocks in Hz; default 1/40 of ``fs / 2`` (at least 8 bins).
 
@@ -54,17 +56,20 @@ def spectral_lines(
         Peak amplitudes (unit of ``x``), corrected for the line's offset from the bin.
     phase : ndarray
         Phases in degrees of ``cos(2π f t + phase)`` with ``t = 0`` at the first sample.
+        All three are empty for a still signal (every sample equal): it has no line.
     """
     fs = check_fs(fs)
-    X = check_signals(x, "x")
+    X, still = check_signals(x, "x")
     if X.shape[0] != 1:
         raise ValueError("spectral_lines takes one signal (a 1-D array)")
-    spec = _spectra(X, fs, window, nperseg, None, None, detrend)
-    width = fs / 80.0 if floor_width_hz is None else float(floor_width_hz)
-    if not np.isfinite(width) or width <= 0.0:
-        raise ValueError(f"floor_width_hz must be positive, got {floor_width_hz!r}")
+    width = (fs / 80.0 if floor_width_hz is None
+             else _check.positive("floor_width_hz", floor_width_hz, "Hz"))
+    opts = Options(threshold=threshold, window=window, nperseg=nperseg, detrend=detrend)
+    spec = _spectra(X, fs, opts.window, opts.nperseg, None, None, opts.detrend)
+    if still[0]:
+        return np.empty(0), np.empty(0), np.empty(0)
     floor = noise_floor(spec.amplitude, block_bins(np.array([width]), spec.df))
-    mask = line_mask(spec.amplitude, floor, threshold, spec.kernel)
+    mask = line_mask(spec.amplitude, floor, opts.threshold, spec.kernel)
     p = np.flatnonzero(mask[0])[np.newaxis, :]
     f, amp, phase = spec.kernel.refine(spec.amplitude, spec.first, p, spec.df)
     return f[0], amp[0], phase[0]
@@ -112,9 +117,6 @@ def line_mask(
     there. The first two and last two bins never hold a line (exact estimates need both
     neighbours).
     """
-    threshold = float(threshold)
-    if not np.isfinite(threshold) or threshold < 1.0:
-        raise ValueError(f"threshold must be a finite factor >= 1, got {threshold!r}")
     a = amplitude
     mask = np.zeros(a.shape, dtype=bool)
     if a.shape[1] < 5:

@@ -15,7 +15,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.signal
 
-from rubdiag.signal._checks import MIN_SAMPLES, check_fs
+from rubdiag import _check
+from rubdiag.signal.records import MIN_SAMPLES, check_fs
 
 # Bins from a line over which its sidelobes are checked against weaker local maxima.
 _SIDELOBE_BINS = 16
@@ -80,9 +81,9 @@ def amplitude_spectrum(
     fs = check_fs(fs)
     arr = np.asarray(x, dtype=np.float64)
     if arr.ndim == 0:
-        raise ValueError("x must be an array of samples, got a scalar")
+        raise _check.wrong_type("x", x, "an array of samples, not a scalar")
     if arr.size == 0:
-        raise ValueError("x is empty")
+        raise ValueError(f"x is empty (allowed: at least {MIN_SAMPLES} samples)")
     if not np.isfinite(arr).all():
         raise ValueError("x contains NaN or inf")
     moved = np.moveaxis(arr, axis, -1)
@@ -107,17 +108,12 @@ class _Spectra:
 
 
 def _segment_params(n: int, nperseg, noverlap, nfft) -> tuple[int, int, int]:
-    nperseg = n if nperseg is None else int(nperseg)
-    if nperseg < MIN_SAMPLES:
-        raise ValueError(f"nperseg must be at least {MIN_SAMPLES}, got {nperseg}")
+    nperseg = n if nperseg is None else _check.integer("nperseg", nperseg, lo=MIN_SAMPLES)
     if nperseg > n:
-        raise ValueError(f"nperseg = {nperseg} is longer than the record ({n} samples)")
-    noverlap = nperseg // 2 if noverlap is None else int(noverlap)
-    if not 0 <= noverlap < nperseg:
-        raise ValueError(f"noverlap must satisfy 0 <= noverlap < nperseg, got {noverlap}")
-    nfft = nperseg if nfft is None else int(nfft)
-    if nfft < nperseg:
-        raise ValueError(f"nfft = {nfft} must not be shorter than nperseg = {nperseg}")
+        raise _check.out_of_range("nperseg", nperseg, f"<= {n}, the record's length")
+    noverlap = (nperseg // 2 if noverlap is None
+                else _check.integer("noverlap", noverlap, lo=0, hi=nperseg - 1))
+    nfft = nperseg if nfft is None else _check.integer("nfft", nfft, lo=nperseg)
     return nperseg, noverlap, nfft
 
 
@@ -145,7 +141,8 @@ def _detrend(seg: np.ndarray, detrend) -> np.ndarray:
         return scipy.signal.detrend(seg, axis=-1, type="linear")
     if callable(detrend):
         return np.asarray(detrend(seg), dtype=np.float64)
-    raise ValueError(f"detrend must be 'constant', 'linear', False or a callable, got {detrend!r}")
+    raise ValueError(f"detrend = {_check.plain(detrend)} is not allowed (allowed: 'constant', "
+                     "'linear', False or a callable)")
 
 
 def _spectra(

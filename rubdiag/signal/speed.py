@@ -1,11 +1,25 @@
-"""Running speed of a record: from a once-per-revolution tacho or from the dominant line."""
+"""Running speed of a record: from a once-per-revolution tacho or from the dominant line.
+
+A speed guessed from the dominant line comes with its *confidence*: the line's amplitude over
+the local noise floor at its frequency (:func:`speed_confidence`). White, pink or brown noise
+alone gives at most about 5 (the largest of many noise bins over their median); a real 1×
+line stands far higher. Below :data:`MIN_SPEED_CONFIDENCE` the feature table refuses the
+guess rather than report the frequency of a noise peak as the running speed. The confidence
+says that a line stands out, not that it is 1×: a signal whose 2× is stronger than its 1×
+still needs its speed given.
+"""
 
 from __future__ import annotations
 
 import numpy as np
 
-from rubdiag.signal._checks import check_fs, check_signals
+from rubdiag.signal.lines import REL_FLOOR
+from rubdiag.signal.records import RecordTooShort, check_fs, check_signals
 from rubdiag.signal.spectrum import _Spectra, _spectra
+
+#: Least confidence (line amplitude over the local noise floor) of a guessed speed: 10,
+#: i.e. 20 dB, twice what the strongest of a million noise bins reaches.
+MIN_SPEED_CONFIDENCE = 10.0
 
 
 def tacho_speed(pulses, fs: float) -> float:
@@ -29,7 +43,7 @@ def tacho_speed(pulses, fs: float) -> float:
         Speed in rpm.
     """
     fs = check_fs(fs)
-    x = check_signals(pulses, "tacho signal")
+    x, _ = check_signals(pulses, "tacho signal")
     if x.shape[0] != 1:
         raise ValueError("the tacho signal must be 1-D")
     x = x[0]
@@ -59,19 +73,35 @@ def dominant_speed(x, fs: float, window="hann", nperseg: int | None = None, detr
     Returns
     -------
     float or ndarray
-        Speed in rpm (one per row for 2-D input).
+        Speed in rpm (one per row for 2-D input); NaN for a still signal (no line at all).
+        :func:`rubdiag.signal.features` reports how far the line stands above the noise
+        (``speed_confidence``) and refuses a guess that does not stand out.
     """
     fs = check_fs(fs)
-    X = check_signals(x, "x")
-    rpm = 60.0 * _dominant_hz(_spectra(X, fs, window, nperseg, None, None, detrend))
+    X, still = check_signals(x, "x")
+    f1, _ = dominant_line(_spectra(X, fs, window, nperseg, None, None, detrend))
+    rpm = np.where(still, np.nan, 60.0 * f1)
     return float(rpm[0]) if np.ndim(x) == 1 else rpm
 
 
-def _dominant_hz(spec: _Spectra) -> np.ndarray:
-    """Exact frequency (Hz) of the strongest bin of each row, DC and edges excluded."""
+def dominant_line(spec: _Spectra) -> tuple[np.ndarray, np.ndarray]:
+    """Exact frequency (Hz) and bin of the strongest bin of each row, DC and edges excluded."""
     a = spec.amplitude
     if a.shape[1] < 5:
-        raise ValueError("the record is too short to find a dominant line")
+        raise RecordTooShort(f"the record is too short to find a dominant line: "
+                             f"{a.shape[1]} frequency bins (allowed: at least 5)")
     p = 2 + np.argmax(a[:, 2:-2], axis=1)
     f, _, _ = spec.kernel.refine(a, None, p, spec.df)
-    return f
+    return f, p
+
+
+def speed_confidence(amplitude: np.ndarray, floor: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """Amplitude of bin ``p`` of each row over the noise ``floor`` there.
+
+    The floor is taken no lower than :data:`REL_FLOOR` of the line (round-off level), so a
+    noise-free line has confidence ``1 / REL_FLOOR`` = 1e6, not infinity.
+    """
+    rows = np.arange(amplitude.shape[0])
+    line = amplitude[rows, p]
+    with np.errstate(invalid="ignore"):     # a row without any line: NaN
+        return line / np.maximum(floor[rows, p], REL_FLOOR * line)

@@ -4,6 +4,13 @@ Columns (``<k>`` is an order label such as ``1x``, ``1p5x``, ``0p33x``; ``<n>`` 
 
 ``speed_rpm``
     Running speed used (given, from the tacho, or from the dominant line), rpm.
+``speed_confidence``
+    How far the line taken as 1× stands above the noise when the speed was guessed from the
+    dominant line: its amplitude over the local noise floor at its frequency (the local
+    median level lines are judged against; at most 1e6, the round-off level). Noise alone
+    reaches about 5; a guess below :data:`~rubdiag.signal.speed.MIN_SPEED_CONFIDENCE` (10)
+    is refused with a ValueError. NaN when the speed was given (``speed_rpm``, a tacho) or
+    the channel is still: nothing was guessed.
 ``rms``
     RMS of the (detrended) signal, unit of the signal.
 ``amp_<k>``, ``freq_<k>_hz``, ``phase_<k>_deg`` for k = 0.5, 1, 1.5, …, 8
@@ -34,6 +41,22 @@ Absent and unmeasurable features
   revolutions or fewer with the Hann window): **every** column of it is NaN, amplitudes too.
 * ``bb_*_rms`` is measured whenever its band lies below Nyquist (NaN above it, or when a
   present line's main lobe covers the whole band of a record of a few revolutions).
+
+Still channels
+--------------
+A channel whose samples are all equal (a dead sensor, a casing no blade touched) is valid
+input with no line at all: every line is absent (:func:`still_features`: amplitudes, ``rms``
+and levels 0, locations NaN), ``speed_rpm`` is the given speed (NaN when it was to be
+guessed: there is nothing to guess from) and ``speed_confidence`` NaN. The rule is the same
+for :func:`features`, :func:`prefixed_features`, :func:`feature_matrix` and
+:class:`~rubdiag.signal.RubFeatures`; the other rows of a batch are analysed as usual, and an
+input whose every channel is still gives every row absent, without an exception.
+
+Layout
+------
+Arrays hold one channel per row, time along the last axis; DataFrames and files one channel
+per column. An array with more rows than samples that is too short to analyse is most likely
+transposed: the error says so.
 """
 
 from __future__ import annotations
@@ -44,11 +67,20 @@ from collections.abc import Mapping
 import numpy as np
 import pandas as pd
 
-from rubdiag.signal._checks import check_fs, check_resolution, check_signals, check_speed
-from rubdiag.signal.analysis import Analysis, Options, analyse
+from rubdiag import _check
+from rubdiag.signal.analysis import Analysis, analyse
 from rubdiag.signal.combinations import strongest_pair
 from rubdiag.signal.io import read_signals
+from rubdiag.signal.options import Options
 from rubdiag.signal.orders import HALF_ORDERS, HARMONICS, THIRD_ORDERS, order_label
+from rubdiag.signal.records import (
+    RecordTooShort,
+    check_fs,
+    check_resolution,
+    check_signals,
+    check_speed,
+    transposed_hint,
+)
 from rubdiag.signal.speed import tacho_speed
 
 # Rows analysed together: bounds the memory of the batch path.
@@ -60,8 +92,11 @@ _HALF = [order_label(k) for k in HALF_ORDERS]
 _THIRD = [order_label(k) for k in THIRD_ORDERS]
 _FRACTIONAL_HALF = np.array([abs(k - round(k)) > 0.25 for k in HALF_ORDERS])
 
+#: Columns that describe the record's speed rather than its lines.
+SPEED_NAMES = ("speed_rpm", "speed_confidence")
+
 FEATURE_NAMES: tuple[str, ...] = (
-    "speed_rpm",
+    *SPEED_NAMES,
     "rms",
     *(f"amp_{k}" for k in _HALF),
     *(f"freq_{k}_hz" for k in _HALF),
@@ -82,13 +117,18 @@ FEATURE_NAMES: tuple[str, ...] = (
 )
 
 
+_RMS = FEATURE_NAMES.index("rms")
+
+
 def feature_names() -> list[str]:
     """Names of the feature columns, in table order (without ``channel``)."""
     return list(FEATURE_NAMES)
 
 
 def _columns(an: Analysis) -> dict[str, np.ndarray]:
-    cols: dict[str, np.ndarray] = {"speed_rpm": 60.0 * an.f1_hz, "rms": an.rms}
+    cols: dict[str, np.ndarray] = {
+        "speed_rpm": 60.0 * an.f1_hz, "speed_confidence": an.speed_confidence, "rms": an.rms,
+    }
     half, third, sb = an.half, an.third, an.sidebands
     for j, k in enumerate(_HALF):
         cols[f"amp_{k}"] = half.amp[:, j]
@@ -117,27 +157,54 @@ def feature_matrix(
     The batch path: rows are analysed together (vectorised), :data:`_ROWS_PER_CHUNK` at a
     time to bound memory. Columns follow :data:`FEATURE_NAMES`. ``speed_rpm`` is one
     number, one per row, or None (dominant line of each row); ``labels`` name the rows in
-    error messages.
+    error messages. Still rows get :func:`still_features` (module docstring).
     """
-    X = check_signals(X, "signal", labels)
+    return _feature_matrix(X, fs, speed_rpm, options, labels, ("X", "signal"))
+
+
+def _feature_matrix(X, fs, speed_rpm, options, labels, layout) -> np.ndarray:
+    """:func:`feature_matrix`; ``layout`` = (name of X, noun of its rows) for the hint that
+    an array was passed transposed, or None where rows are not the caller's layout."""
+    opts = Options() if options is None else options
     fs = check_fs(fs)
-    n_rows = X.shape[0]
-    speed = np.full(n_rows, np.nan)
+    try:
+        X, still = check_signals(X, "signal" if layout is None else layout[0], labels)
+        return _fill_rows(X, still, fs, speed_rpm, opts, labels)
+    except RecordTooShort as exc:   # X converted: a transposed array reads as a short record
+        shape = np.shape(X)
+        hint = layout is not None and len(shape) == 2 and transposed_hint(shape, *layout)
+        if hint:
+            raise RecordTooShort(f"{hint} (as passed, {exc})") from None
+        raise
+
+
+def _fill_rows(X, still, fs, speed_rpm, opts: Options, labels) -> np.ndarray:
+    """The feature matrix of checked rows: still rows absent, moving rows analysed."""
+    n_rows, n_samples = X.shape
+    out = np.tile(_STILL_ROW, (n_rows, 1))
     if speed_rpm is not None:
-        speed = 60.0 * check_speed(speed_rpm, n_rows)
-    out = np.empty((n_rows, len(FEATURE_NAMES)))
-    if X.shape[1] < MIN_LINE_SAMPLES:
-        # too short to hold a line (reachable only with min_revolutions near 0): unmeasurable
-        check_resolution(speed / 60.0, fs, X.shape[1], (options or Options()).min_revolutions)
-        out.fill(np.nan)
-        out[:, 0] = speed
-        out[:, 1] = X.std(axis=1)
+        out[:, 0] = 60.0 * check_speed(speed_rpm, n_rows)
+    moving = np.flatnonzero(~still)
+    if moving.size == 0:
         return out
-    for start in range(0, n_rows, _ROWS_PER_CHUNK):
-        stop = start + _ROWS_PER_CHUNK
-        part = None if speed_rpm is None else speed[start:stop]
-        cols = _columns(analyse(X[start:stop], fs, part, options, checked=True))
-        out[start:stop] = np.column_stack([cols[name] for name in FEATURE_NAMES])
+    if n_samples < MIN_LINE_SAMPLES:
+        # too short to hold a line (reachable only with min_revolutions near 0): unmeasurable
+        if speed_rpm is None:
+            raise RecordTooShort(
+                f"the record is too short to guess the speed from: {n_samples} samples "
+                f"(allowed: at least {MIN_LINE_SAMPLES}); give speed_rpm")
+        check_resolution(out[moving, 0] / 60.0, fs, n_samples, opts.min_revolutions)
+        out[moving, _RMS:] = np.nan
+        out[moving, _RMS] = X[moving].std(axis=1)
+        return out
+    if labels is None and n_rows > 1:
+        labels = [f"row {i}" for i in range(n_rows)]
+    for start in range(0, moving.size, _ROWS_PER_CHUNK):
+        rows = moving[start : start + _ROWS_PER_CHUNK]
+        part = None if speed_rpm is None else out[rows, 0]
+        names = None if labels is None else [labels[i] for i in rows]
+        cols = _columns(analyse(X[rows], fs, part, opts, checked=True, labels=names))
+        out[rows] = np.column_stack([cols[name] for name in FEATURE_NAMES])
     return out
 
 
@@ -148,13 +215,13 @@ def features(
     *,
     tacho=None,
     columns=None,
-    band: float = 0.03,
-    threshold: float = 5.0,
-    window="hann",
-    nperseg: int | None = None,
-    detrend="constant",
-    min_revolutions: float = 10.0,
-    combo_tol_hz: float | None = None,
+    band: float = Options.band,
+    threshold: float = Options.threshold,
+    window=Options.window,
+    nperseg: int | None = Options.nperseg,
+    detrend=Options.detrend,
+    min_revolutions: float = Options.min_revolutions,
+    combo_tol_hz: float | None = Options.combo_tol_hz,
 ) -> pd.DataFrame:
     """Rub-impact spectral features of one or several channels, one row per channel.
 
@@ -163,27 +230,32 @@ def features(
     signal : path, DataFrame or array_like
         A file (CSV, NPZ, parquet; see :func:`read_signals`), a DataFrame whose columns are
         channels (rows are samples), a 1-D array (one channel) or a 2-D array whose rows are
-        channels (time along the last axis).
+        channels (time along the last axis). A still channel (all samples equal) has every
+        line absent; it raises no error.
     fs : float, optional
         Sampling frequency in Hz; for files it may come from a time column instead.
     speed_rpm : float, optional
         Running speed in rpm. When None: from ``tacho``, else from a channel named
-        ``tacho`` if there is one, else each channel's strongest line is taken as 1×.
+        ``tacho`` if there is one, else each channel's strongest line is taken as 1×: the
+        ``speed_confidence`` column says how far it stands above the noise, and a line
+        that does not stand out (below ``MIN_SPEED_CONFIDENCE``) raises a ValueError.
     tacho : str or array_like, optional
         Name of the once-per-revolution channel, or the pulse train itself (same ``fs``).
         The tacho channel (and a channel named ``tacho``) is never analysed.
     columns : str or list of str, optional
         Channels to analyse (default: all).
     band : float
-        Half-width of the order search band, in orders (default 0.03 = ±3 % of 1×).
+        Half-width of the order search band, in orders (0.03: ±3 % of 1×).
     threshold : float
-        A line is significant above ``threshold`` × the local median level (default 5).
+        A line is significant above ``threshold`` × the local median level.
     window, nperseg, detrend
-        As for :func:`amplitude_spectrum` (default: the whole record, Hann window).
+        As for :func:`amplitude_spectrum` (None: the whole record, one segment).
     min_revolutions : float
-        Fewest revolutions a record (segment) must hold (default 10).
+        Fewest revolutions a record (segment) must hold.
     combo_tol_hz : float, optional
-        Tolerance of f_a + f_b = m× in Hz (default: the resolution ``fs / nperseg``).
+        Tolerance of f_a + f_b = m× in Hz (None: the resolution ``fs / nperseg``).
+
+    The defaults of these settings are those of :class:`~rubdiag.signal.options.Options`.
 
     Returns
     -------
@@ -201,7 +273,8 @@ def features(
     >>> round(float(row["amp_1x"]), 4), round(float(row["amp_1p5x"]), 4), float(row["amp_2x"])
     (1.0, 0.1, 0.0)
     """
-    opts = Options(band, threshold, window, nperseg, detrend, min_revolutions, combo_tol_hz)
+    opts = Options(band=band, threshold=threshold, window=window, nperseg=nperseg,
+                   detrend=detrend, min_revolutions=min_revolutions, combo_tol_hz=combo_tol_hz)
     frame, fs = _channels(signal, fs)
     if isinstance(tacho, str):
         _require(frame, [tacho])
@@ -225,7 +298,9 @@ def features(
     except (TypeError, ValueError):
         raise ValueError("every channel must be numeric") from None
     labels = [f"channel {c!r}" for c in frame.columns]
-    values = feature_matrix(X, fs, speed_rpm, opts, labels)
+    array = not isinstance(signal, str | os.PathLike | pd.DataFrame | pd.Series)
+    layout = ("signal", "channel") if array and np.ndim(signal) == 2 else None
+    values = _feature_matrix(X, fs, speed_rpm, opts, labels, layout)
     table = pd.DataFrame(values, columns=list(FEATURE_NAMES))
     table.insert(0, "channel", list(frame.columns))
     return table
@@ -236,7 +311,8 @@ def prefixed_features(signals: Mapping[str, object], fs: float, speed_rpm: float
 
     The extension point for simulation results: an adapter for
     ``SimulationResult`` calls it with ``{"shaft": …, "blade": …, "casing": …}`` and adds
-    its contact statistics to the row. ``speed_rpm`` is written once, unprefixed.
+    its contact statistics to the row. ``speed_rpm`` is written once, unprefixed (it is
+    given, so there is no ``speed_confidence``).
 
     Parameters
     ----------
@@ -254,35 +330,35 @@ def prefixed_features(signals: Mapping[str, object], fs: float, speed_rpm: float
     pandas.DataFrame
         One row: ``speed_rpm`` then ``<prefix>_<feature>`` for every prefix and feature. A
         signal that never moves (a casing no blade touched) has every line absent
-        (:func:`still_features`); at least one signal must move.
+        (:func:`still_features`), even when no signal moves.
     """
     if not signals:
         raise ValueError("signals is empty: give at least one {prefix: signal}")
     lengths = {name: np.shape(x) for name, x in signals.items()}
     if len(set(lengths.values())) != 1 or len(next(iter(lengths.values()))) != 1:
         raise ValueError(f"signals must be 1-D and of equal length, got shapes {lengths}")
-    arrays = {name: np.asarray(x, dtype=np.float64) for name, x in signals.items()}
-    moving = {name: x for name, x in arrays.items() if np.ptp(x) > 0 or not np.isfinite(x).all()}
-    if not moving:
-        raise ValueError("every signal is constant: there is no spectrum to analyse")
-    values = feature_matrix(np.vstack(list(moving.values())), fs, speed_rpm, Options(**options))
-    computed = dict(zip(moving, values, strict=True))
-    row = {"speed_rpm": values[0, 0]}
-    for prefix in arrays:
-        if prefix in computed:
-            v = computed[prefix]
-            row.update({f"{prefix}_{n}": v[j] for j, n in enumerate(FEATURE_NAMES) if j > 0})
-        else:   # a signal that never moves has no line: all absent
-            row.update({f"{prefix}_{n}": v for n, v in still_features().items()})
+    speed_rpm = _check.positive("speed_rpm", speed_rpm, "rpm")
+    X = np.vstack([np.asarray(x, dtype=np.float64) for x in signals.values()])
+    labels = [f"signal {name!r}" for name in signals]
+    values = feature_matrix(X, fs, speed_rpm, Options(**options), labels)
+    row = {"speed_rpm": speed_rpm}
+    for prefix, v in zip(signals, values, strict=True):
+        row.update({f"{prefix}_{n}": v[j] for j, n in enumerate(FEATURE_NAMES)
+                    if n not in SPEED_NAMES})
     return pd.DataFrame([row])
 
 
 def still_features() -> dict[str, float]:
     """Feature values of a signal that does not move (e.g. a casing never touched): every
-    line absent (amplitudes, ``rms`` and levels 0; locations NaN), as documented above."""
+    line absent (amplitudes, ``rms`` and levels 0; locations NaN), as documented above.
+    The speed columns (:data:`SPEED_NAMES`) are not line features and not included."""
     located = ("freq_", "phase_", "combo_fa", "combo_fb", "combo_order")
     return {name: (np.nan if name.startswith(located) or name.endswith("_delta_hz") else 0.0)
-            for name in FEATURE_NAMES if name != "speed_rpm"}
+            for name in FEATURE_NAMES if name not in SPEED_NAMES}
+
+
+# A still row of the feature matrix: speed and its confidence NaN, then still_features().
+_STILL_ROW = np.array([np.nan, np.nan, *still_features().values()])
 
 
 def _require(frame: pd.DataFrame, names) -> None:
@@ -308,4 +384,4 @@ def _channels(signal, fs) -> tuple[pd.DataFrame, float]:
         return pd.DataFrame({0: arr}), fs
     if arr.ndim == 2:
         return pd.DataFrame(arr.T), fs
-    raise ValueError(f"signal must be 1-D or 2-D, got {arr.ndim} dimensions")
+    raise ValueError(f"signal has {arr.ndim} dimensions (allowed: 1 or 2, rows are channels)")

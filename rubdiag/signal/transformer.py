@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+from dataclasses import fields
+
 import numpy as np
 from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted, validate_data
 
-from rubdiag.signal._checks import MIN_SAMPLES
-from rubdiag.signal.analysis import Options
+from rubdiag import _check
+from rubdiag.signal.options import Options
+from rubdiag.signal.records import MIN_SAMPLES, check_fs, transposed_hint
 from rubdiag.signal.table import FEATURE_NAMES, feature_matrix
 
 
@@ -16,22 +19,25 @@ class RubFeatures(TransformerMixin, BaseEstimator):
 
     Stateless: ``fit`` only checks X and records its width; ``transform`` runs the batch
     path of :func:`rubdiag.signal.feature_matrix` on all rows at once. Output columns are
-    :data:`rubdiag.signal.FEATURE_NAMES` (see :mod:`rubdiag.signal.table` for units and
-    for 0 / NaN meaning absent / unmeasurable); ``set_output(transform="pandas")`` names
-    them.
+    :data:`rubdiag.signal.FEATURE_NAMES` (see :mod:`rubdiag.signal.table` for units, for
+    0 / NaN meaning absent / unmeasurable, and for still rows, whose lines are all absent);
+    ``set_output(transform="pandas")`` names them.
 
     Parameters
     ----------
     fs : float
-        Sampling frequency of every row, Hz.
+        Sampling frequency of every row, Hz. Required: ``fit`` and ``transform`` refuse
+        to guess it (None is only the placeholder scikit-learn's cloning needs).
     speed_rpm : float, optional
-        Running speed in rpm, the same for all rows. None: each row's strongest line is 1×,
+        Running speed in rpm, the same for all rows. None: each row's strongest line is 1×
+        (refused when it does not stand out of the noise, see ``speed_confidence``),
         unless ``speed_col`` is given.
     speed_col : int, optional
         Index of a column of X that holds each row's speed in rpm (per-row speeds); that
         column is not part of the signal.
     band, threshold, window, nperseg, detrend, min_revolutions, combo_tol_hz
-        As for :func:`rubdiag.signal.features`.
+        As for :func:`rubdiag.signal.features`; the defaults are those of
+        :class:`~rubdiag.signal.options.Options`.
 
     Examples
     --------
@@ -47,16 +53,16 @@ class RubFeatures(TransformerMixin, BaseEstimator):
 
     def __init__(
         self,
-        fs: float = 1.0,
+        fs: float | None = None,
         speed_rpm: float | None = None,
         speed_col: int | None = None,
-        band: float = 0.03,
-        threshold: float = 5.0,
-        window="hann",
-        nperseg: int | None = None,
-        detrend="constant",
-        min_revolutions: float = 10.0,
-        combo_tol_hz: float | None = None,
+        band: float = Options.band,
+        threshold: float = Options.threshold,
+        window=Options.window,
+        nperseg: int | None = Options.nperseg,
+        detrend=Options.detrend,
+        min_revolutions: float = Options.min_revolutions,
+        combo_tol_hz: float | None = Options.combo_tol_hz,
     ):
         self.fs = fs
         self.speed_rpm = speed_rpm
@@ -71,6 +77,7 @@ class RubFeatures(TransformerMixin, BaseEstimator):
 
     def fit(self, X, y=None):
         """Check X (n_signals, n_samples) and record its width; returns self."""
+        self._fs()
         X = validate_data(self, X, dtype=np.float64)
         self._split(X)
         self._options()
@@ -81,36 +88,33 @@ class RubFeatures(TransformerMixin, BaseEstimator):
         check_is_fitted(self, "n_features_in_")
         X = validate_data(self, X, dtype=np.float64, reset=False)
         signals, speed = self._split(X)
-        return feature_matrix(signals, self.fs, speed, self._options())
+        return feature_matrix(signals, self._fs(), speed, self._options())
 
     def get_feature_names_out(self, input_features=None):
         """Names of the output columns (the feature table's columns)."""
         check_is_fitted(self, "n_features_in_")
         return np.asarray(FEATURE_NAMES, dtype=object)
 
+    def _fs(self) -> float:
+        if self.fs is None:
+            raise ValueError("RubFeatures needs fs, the sampling frequency in Hz of the rows "
+                             "of X: RubFeatures(fs=...)")
+        return check_fs(self.fs)
+
     def _options(self) -> Options:
-        return Options(
-            self.band,
-            self.threshold,
-            self.window,
-            self.nperseg,
-            self.detrend,
-            self.min_revolutions,
-            self.combo_tol_hz,
-        )
+        return Options(**{f.name: getattr(self, f.name) for f in fields(Options)})
 
     def _split(self, X: np.ndarray):
         """Signals and per-row speeds (or the fixed speed) from X."""
         speed = self.speed_rpm
         if self.speed_col is not None:
-            col = int(self.speed_col)
-            if not -X.shape[1] <= col < X.shape[1]:
-                raise ValueError(f"speed_col = {col} is outside X's {X.shape[1]} columns")
+            col = _check.integer("speed_col", self.speed_col, lo=-X.shape[1], hi=X.shape[1] - 1)
             speed = X[:, col]
             X = np.delete(X, col, axis=1)
         if X.shape[1] < MIN_SAMPLES:
+            hint = transposed_hint(X.shape, "X", "signal")
             raise ValueError(
                 f"RubFeatures needs signals of at least {MIN_SAMPLES} samples; "
-                f"got {X.shape[1]} feature(s)"
+                f"got {X.shape[1]} feature(s)" + (f"; {hint}" if hint else "")
             )
         return X, speed

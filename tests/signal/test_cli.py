@@ -64,7 +64,7 @@ def test_compare_prints_differences_and_writes_figure(tmp_path, synth, capsys):
     [
         (["features", "{missing}"], "no such file"),
         (["features", "{a}", "--speed-rpm", "1500", "--column", "blade"], "'blade' not found"),
-        (["features", "{a}", "--fs", "-3"], "fs must be"),
+        (["features", "{a}", "--fs", "-3"], "fs = -3.0 is out of range (allowed: > 0 Hz)"),
         (["features", "{a}", "--speed-rpm", "600000"], "Nyquist"),
         (["compare", "{a}", "{missing}"], "no such file"),
     ],

@@ -7,14 +7,19 @@ import pandas as pd
 import pytest
 
 from rubdiag.signal import (
+    combination_pairs,
     dominant_speed,
     feature_matrix,
     feature_names,
     features,
     prefixed_features,
     read_signals,
+    spectral_lines,
     tacho_speed,
 )
+from rubdiag.signal.options import Options
+from rubdiag.signal.speed import MIN_SPEED_CONFIDENCE
+from rubdiag.signal.table import still_features
 
 FS = 2000.0
 RPM = 1500.0
@@ -106,7 +111,8 @@ def test_prefixed_features_for_simulation_results(synth):
     assert row["shaft_amp_1x"].iloc[0] == pytest.approx(2e-3, rel=0.01)
     assert row["casing_sb_4x_delta_hz"].iloc[0] == pytest.approx(5.0, abs=0.5)
     assert "shaft_speed_rpm" not in row.columns
-    assert len(row.columns) == 1 + 2 * (len(feature_names()) - 1)
+    assert "speed_confidence" not in row.columns and "shaft_speed_confidence" not in row.columns
+    assert len(row.columns) == 1 + 2 * (len(feature_names()) - 2)
     with pytest.raises(ValueError, match="equal length"):
         prefixed_features({"shaft": shaft, "casing": casing[:-1]}, FS, RPM)
     with pytest.raises(ValueError, match="empty"):
@@ -163,13 +169,17 @@ class TestBadInput:
         ("signal", "fs", "rpm", "message"),
         [
             (np.array([]), FS, RPM, "empty"),
-            (np.full(4000, 1.5), FS, RPM, "constant"),
             (np.r_[np.ones(100), np.nan, np.zeros(3899)], FS, RPM, "NaN or inf"),
             (np.r_[np.ones(100), np.inf, np.zeros(3899)], FS, RPM, "NaN or inf"),
-            (np.sin(np.arange(4000.0)), 0.0, RPM, "fs must be"),
-            (np.sin(np.arange(4000.0)), -FS, RPM, "fs must be"),
+            (np.sin(np.arange(4000.0)), 0.0, RPM, r"fs = 0\.0 is out of range \(allowed: > 0 Hz\)"),
+            (np.sin(np.arange(4000.0)), -FS, RPM, r"fs = -2000\.0 is out of range"),
+            (np.sin(np.arange(4000.0)), np.float64(np.nan), RPM, r"fs = nan is out of range"),
+            (np.sin(np.arange(4000.0)), "2 kHz", RPM, "fs = '2 kHz' has the wrong type"),
             (np.sin(np.arange(4000.0)), FS, 61000.0, "above the Nyquist"),
-            (np.sin(np.arange(4000.0)), FS, -5.0, "speed_rpm must be positive"),
+            (np.sin(np.arange(4000.0)), FS, -5.0,
+             r"speed_rpm = -5\.0 is out of range \(allowed: > 0 rpm\)"),
+            (np.sin(np.arange(4000.0)), FS, np.float64(0.0), r"speed_rpm = 0\.0 is out of range"),
+            (np.sin(np.arange(4000.0)), FS, "fast", "speed_rpm = 'fast' has the wrong type"),
             (np.sin(np.arange(500.0)), FS, RPM, "too short"),
         ],
     )
@@ -195,9 +205,140 @@ class TestBadInput:
 
     @pytest.mark.parametrize(
         ("kwargs", "message"),
-        [({"band": 0.3}, "band"), ({"threshold": 0.5}, "threshold"),
-         ({"combo_tol_hz": -1.0}, "combo_tol_hz"), ({"min_revolutions": -1.0}, "min_revolutions")],
+        [({"band": 0.3}, r"band = 0\.3 is out of range \(allowed: > 0 and < 0\.25 orders\)"),
+         ({"threshold": 0.5}, r"threshold = 0\.5 is out of range \(allowed: >= 1\)"),
+         ({"threshold": "5"}, "threshold = '5' has the wrong type"),
+         ({"combo_tol_hz": -1.0}, r"combo_tol_hz = -1\.0 is out of range \(allowed: > 0 Hz\)"),
+         ({"min_revolutions": -1.0}, r"min_revolutions = -1\.0 is out of range"),
+         ({"nperseg": 1000.0}, r"nperseg = 1000\.0 has the wrong type")],
     )
     def test_bad_options(self, synth, kwargs, message):
         with pytest.raises(ValueError, match=message):
             features(synth([(F1, 1.0)], FS, 2.0), FS, RPM, **kwargs)
+
+
+class TestStillChannels:
+    """A still channel (every sample equal) has every line absent; it never raises."""
+
+    @staticmethod
+    def _assert_still(row, speed_rpm=np.nan):
+        np.testing.assert_equal(row["speed_rpm"], speed_rpm)
+        assert np.isnan(row["speed_confidence"])
+        for name, value in still_features().items():
+            np.testing.assert_equal(row[name], value, err_msg=name)
+
+    @pytest.mark.parametrize("speed", [RPM, None])
+    def test_a_still_channel_among_moving_ones(self, channels, speed):
+        frame = channels.assign(dead=0.7)
+        table = features(frame, FS, speed)
+        assert list(table["channel"]) == ["shaft", "casing", "dead"]
+        self._assert_still(table.iloc[2], RPM)       # given or from the tacho channel
+        reference = features(channels, FS, speed)
+        pd.testing.assert_frame_equal(table.iloc[:2], reference)
+
+    def test_a_still_channel_with_the_speed_to_guess(self, channels):
+        frame = channels[["shaft"]].assign(dead=-2.0)
+        table = features(frame, FS)
+        self._assert_still(table.iloc[1])               # nothing to guess the speed from
+        assert table["speed_rpm"].iloc[0] == pytest.approx(RPM, rel=1e-4)
+
+    @pytest.mark.parametrize("speed", [RPM, None])
+    def test_every_channel_still(self, speed):
+        table = features(np.vstack([np.zeros(4000), np.full(4000, 1e5)]), FS, speed)
+        assert len(table) == 2
+        for i in range(2):
+            self._assert_still(table.iloc[i], RPM if speed else np.nan)
+
+    def test_feature_matrix(self, synth):
+        X = np.vstack([synth([(F1, 1.0)], FS, 2.0), np.full(4000, 3.0)])
+        batch = feature_matrix(X, FS, RPM)
+        assert batch[0, feature_names().index("amp_1x")] == pytest.approx(1.0, rel=1e-3)
+        self._assert_still(dict(zip(feature_names(), batch[1], strict=True)), RPM)
+
+    def test_prefixed_features(self, synth):
+        shaft = synth([(F1, 2e-3)], FS, 2.0)
+        row = prefixed_features({"shaft": shaft, "casing": np.zeros_like(shaft)}, FS, RPM)
+        assert row["shaft_amp_1x"].iloc[0] == pytest.approx(2e-3, rel=0.01)
+        for name, value in still_features().items():
+            np.testing.assert_equal(row[f"casing_{name}"].iloc[0], value, err_msg=name)
+        row = prefixed_features({"shaft": np.ones(4000), "casing": np.zeros(4000)}, FS, RPM)
+        assert row["speed_rpm"].iloc[0] == RPM
+        assert row["shaft_amp_1x"].iloc[0] == 0.0 and np.isnan(row["casing_freq_1x_hz"].iloc[0])
+
+    def test_lines_pairs_and_speed_of_a_still_signal(self):
+        f, amp, phase = spectral_lines(np.full(1000, 2.0), FS)
+        assert f.size == amp.size == phase.size == 0
+        assert combination_pairs(np.zeros(4000), FS, RPM) == []
+        assert np.isnan(dominant_speed(np.zeros(4000), FS))
+
+
+class TestGuessedSpeed:
+    """speed_rpm=None takes the strongest line as 1×, with its confidence."""
+
+    @pytest.mark.parametrize("n", [2000, 20_000, 200_000])
+    @pytest.mark.parametrize("seed", [0, 1, 2])
+    def test_pure_noise_is_refused_naming_the_confidence(self, n, seed):
+        x = np.random.default_rng(seed).standard_normal(n)
+        with pytest.raises(ValueError, match=r"cannot be guessed.*speed_confidence = [0-9.]+ "
+                                             r"times above the noise floor \(allowed: >= 10\)"):
+            features(x, FS)
+
+    def test_uniform_noise_of_the_issue_is_refused(self):
+        with pytest.raises(ValueError, match="speed_confidence"):
+            features(np.random.default_rng(3).random((2, 5000)), fs=5000)
+
+    def test_the_noisy_channel_is_named(self, synth):
+        good = synth([(F1, 1.0), (2 * F1, 0.3)], FS, 2.0, noise=1e-3)
+        noise = np.random.default_rng(4).standard_normal(4000)
+        frame = pd.DataFrame({"shaft": good, "noise": noise})
+        with pytest.raises(ValueError, match="line of channel 'noise'"):
+            features(frame, FS)
+
+    def test_clean_harmonics_pass_with_high_confidence(self, synth):
+        x = synth([(25.0, 1.0), (50.0, 0.4), (75.0, 0.2), (100.0, 0.1)], FS, 2.0, noise=1e-3)
+        row = features(x, FS).iloc[0]
+        assert row["speed_rpm"] == pytest.approx(1500.0, rel=1e-4)
+        assert row["speed_confidence"] > 100 * MIN_SPEED_CONFIDENCE
+
+    def test_confidence_is_the_line_over_the_noise_floor(self, synth):
+        # same noise, line twice as strong: twice the confidence (not a ratio of two lines)
+        conf = [features(synth([(25.0, a), (50.0, 0.5 * a)], FS, 2.0, noise=0.05, seed=5),
+                         FS)["speed_confidence"].iloc[0] for a in (1.0, 2.0)]
+        assert conf[0] > MIN_SPEED_CONFIDENCE
+        assert conf[1] / conf[0] == pytest.approx(2.0, rel=0.02)
+
+    def test_noise_free_line_has_a_finite_confidence(self, synth):
+        conf = features(synth([(25.0, 1.0)], FS, 2.0), FS)["speed_confidence"].iloc[0]
+        assert np.isfinite(conf) and conf >= 1e5
+
+    def test_given_speed_has_no_confidence(self, channels):
+        assert features(channels, FS, RPM)["speed_confidence"].isna().all()
+        assert features(channels, FS)["speed_confidence"].isna().all()      # from the tacho
+
+
+class TestLayout:
+    def test_transposed_array_gets_a_hint(self, channels):
+        X = channels[["shaft", "casing"]].to_numpy()          # (5000, 2): time down the rows
+        hint = (r"signal has 2 samples per channel and 5000 channels: rows are channels "
+                r".*did you mean signal\.T\?")
+        for speed in (RPM, None):
+            with pytest.raises(ValueError, match=hint):
+                features(X, FS, speed)
+        with pytest.raises(ValueError, match=hint.replace("2 samples", "1 sample")):
+            features(channels[["shaft"]].to_numpy(), FS, RPM)  # (5000, 1)
+        assert len(features(X.T, FS, RPM)) == 2
+
+    def test_short_record_with_few_channels_is_too_short(self):
+        with pytest.raises(ValueError, match="the record is too short"):
+            features(np.random.default_rng(0).standard_normal((2, 300)), FS, RPM)
+
+
+def test_numpy_scalars_are_numbers(channels):
+    reference = features(channels, FS, RPM, threshold=2.3)
+    table = features(channels, np.int64(2000), np.int64(1500), threshold=np.float32(2.3),
+                     band=np.float64(0.03), nperseg=np.int64(len(channels)),
+                     min_revolutions=np.int64(10))
+    pd.testing.assert_frame_equal(table, reference, rtol=1e-6)
+    assert Options(threshold=np.float32(2.3)).threshold == pytest.approx(2.3)
+    assert type(Options(threshold=np.float32(2.3)).threshold) is float
+    assert features(channels, FS, np.float32(1500.0))["speed_rpm"].iloc[0] == 1500.0

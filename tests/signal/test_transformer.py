@@ -10,25 +10,15 @@ from sklearn.preprocessing import StandardScaler
 from sklearn.utils.estimator_checks import parametrize_with_checks
 
 from rubdiag.signal import RubFeatures, feature_names, features
+from rubdiag.signal.table import still_features
 
 FS = 1000.0
 
 
-def _expected_failures(estimator):
-    return {
-        "check_estimators_dtypes": (
-            "the check's integer data have constant rows; a constant signal has no spectrum and "
-            "is refused with a ValueError by design"
-        ),
-    }
-
-
 # The checks use 2-20 'samples' per row: min_revolutions=0 lets such rows through (their
 # features are NaN: no line fits in so short a record), so the API contract is still checked.
-@parametrize_with_checks(
-    [RubFeatures(fs=FS, speed_rpm=6000.0, min_revolutions=0.0)],
-    expected_failed_checks=_expected_failures,
-)
+# Their integer data have constant rows: still signals, whose lines are all absent.
+@parametrize_with_checks([RubFeatures(fs=FS, speed_rpm=6000.0, min_revolutions=0.0)])
 def test_sklearn_compatible(estimator, check):
     check(estimator)
 
@@ -82,5 +72,62 @@ def test_bad_input(synth):
         RubFeatures(fs=FS, speed_rpm=1500.0).fit_transform(X[:, :200])
     with pytest.raises(ValueError, match="Nyquist"):
         RubFeatures(fs=FS, speed_rpm=60000.0).fit_transform(X)
-    with pytest.raises(ValueError, match="speed_col"):
+    with pytest.raises(ValueError, match="speed_col = 5000 is out of range"):
         RubFeatures(fs=FS, speed_col=5000).fit(X)
+    with pytest.raises(TypeError, match=r"speed_col = 0\.0 has the wrong type"):
+        RubFeatures(fs=FS, speed_col=0.0).fit(X)
+
+
+class TestFsIsRequired:
+    def test_fit_without_fs_is_refused(self, synth):
+        X = _rows(synth, [1200.0] * 2)
+        assert RubFeatures().get_params()["fs"] is None
+        with pytest.raises(ValueError, match=r"RubFeatures needs fs.*RubFeatures\(fs=\.\.\.\)"):
+            RubFeatures(speed_rpm=1200.0).fit(X)
+
+    def test_transform_without_fs_is_refused(self, synth):
+        X = _rows(synth, [1200.0] * 2)
+        fitted = RubFeatures(fs=FS, speed_rpm=1200.0).fit(X)
+        with pytest.raises(ValueError, match="RubFeatures needs fs"):
+            fitted.set_params(fs=None).transform(X)
+
+    def test_bad_fs_is_named(self, synth):
+        X = _rows(synth, [1200.0] * 2)
+        with pytest.raises(ValueError, match=r"fs = -1000\.0 is out of range \(allowed: > 0 Hz\)"):
+            RubFeatures(fs=-FS, speed_rpm=1200.0).fit(X)
+
+
+def test_still_rows_are_absent_and_the_batch_goes_on(synth):
+    X = _rows(synth, [1200.0] * 3)
+    X[1] = 0.25                                   # a dead sensor in the middle of the batch
+    Z = RubFeatures(fs=FS, speed_rpm=1200.0).fit_transform(X)
+    names = feature_names()
+    still = dict(zip(names, Z[1], strict=True))
+    assert still["speed_rpm"] == 1200.0 and np.isnan(still["speed_confidence"])
+    for name, value in still_features().items():
+        np.testing.assert_equal(still[name], value, err_msg=name)
+    moving = RubFeatures(fs=FS, speed_rpm=1200.0).fit_transform(X[[0, 2]])
+    np.testing.assert_allclose(Z[[0, 2]], moving, equal_nan=True)
+
+
+def test_all_still_rows_give_all_absent_rows():
+    X = np.vstack([np.zeros(2000), np.full(2000, 3.0), np.full(2000, -1e-9)])
+    Z = RubFeatures(fs=FS).fit_transform(X)                # even with the speed to guess
+    names = feature_names()
+    assert np.isnan(Z[:, names.index("speed_rpm")]).all()
+    assert (Z[:, names.index("amp_1x")] == 0.0).all() and (Z[:, names.index("rms")] == 0.0).all()
+
+
+def test_transposed_array_gets_a_hint(synth):
+    X = _rows(synth, [1200.0] * 2)
+    with pytest.raises(ValueError, match=r"X has 2 samples per signal and 2000 signals: "
+                                         r"rows are signals.*did you mean X\.T\?"):
+        RubFeatures(fs=FS, speed_rpm=1200.0).fit_transform(X.T)
+
+
+def test_numpy_scalars_are_numbers(synth):
+    X = _rows(synth, [1200.0] * 2)
+    plain = RubFeatures(fs=FS, speed_rpm=1200.0, threshold=2.5)
+    numpy = RubFeatures(fs=np.int64(1000), speed_rpm=np.float32(1200.0),
+                        threshold=np.float32(2.5), nperseg=np.int64(2000))
+    np.testing.assert_allclose(numpy.fit_transform(X), plain.fit_transform(X), equal_nan=True)
