@@ -9,6 +9,8 @@ scalar ``fs`` entry (Hz). The time column is removed from the channels.
 from __future__ import annotations
 
 import os
+import zipfile
+import zlib
 from pathlib import Path
 
 import numpy as np
@@ -40,6 +42,8 @@ def read_signals(path: str | os.PathLike, fs: float | None = None) -> tuple[pd.D
     """
     path = Path(path)
     suffix = path.suffix.lower()
+    if path.is_dir():
+        raise IsADirectoryError(f"{path}: is a folder, not a signal file")
     if suffix not in SUFFIXES:
         raise ValueError(
             f"{path.name}: unknown file type {suffix or '(none)'!r}; use one of "
@@ -53,16 +57,13 @@ def read_signals(path: str | os.PathLike, fs: float | None = None) -> tuple[pd.D
     elif suffix in (".parquet", ".pq"):
         frame = pd.read_parquet(path)
     else:
-        try:
-            frame = pd.read_csv(path)
-        except pd.errors.EmptyDataError:
-            raise ValueError(f"{path.name}: the file is empty") from None
+        frame = _read_csv(path)
     frame.columns = [str(c).strip() for c in frame.columns]
+    if len(frame) == 0:
+        raise ValueError(f"{path.name}: the file holds no samples")
     for name in frame.columns:
         if not pd.api.types.is_numeric_dtype(frame[name]):
             raise ValueError(f"{path.name}: column {name!r} is not numeric")
-    if len(frame) == 0:
-        raise ValueError(f"{path.name}: the file holds no samples")
     time = next((c for c in frame.columns if c.lower() in TIME_COLUMNS), None)
     time_fs = None
     if time is not None:
@@ -84,9 +85,34 @@ def read_signals(path: str | os.PathLike, fs: float | None = None) -> tuple[pd.D
     return frame.astype(np.float64), fs
 
 
+def _read_csv(path: Path) -> pd.DataFrame:
+    with path.open("rb") as fh:
+        head = fh.read(4096)
+    if b"\0" in head:
+        raise ValueError(f"{path.name}: a binary file, not a text CSV table")
+    try:
+        return pd.read_csv(path)
+    except pd.errors.EmptyDataError:
+        raise ValueError(f"{path.name}: the file is empty") from None
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"{path.name}: not UTF-8 text (byte 0x{exc.object[exc.start]:02x} at "
+                         f"offset {exc.start}); save the CSV as UTF-8") from None
+    except pd.errors.ParserError as exc:
+        reason = str(exc).splitlines()[0].removeprefix("Error tokenizing data. C error: ")
+        raise ValueError(f"{path.name}: not a CSV table ({reason})") from None
+
+
 def _read_npz(path: Path) -> tuple[pd.DataFrame, float | None]:
-    with np.load(path, allow_pickle=False) as data:
-        arrays = {k: np.asarray(data[k]) for k in data.files}
+    if not zipfile.is_zipfile(path):
+        raise ValueError(f"{path.name}: not an NPZ archive (truncated, corrupt or another "
+                         "format)")
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            arrays = {k: np.asarray(data[k]) for k in data.files}
+    except (zipfile.BadZipFile, zlib.error, EOFError, OSError) as exc:
+        raise ValueError(f"{path.name}: corrupt NPZ archive ({exc})") from None
+    except ValueError as exc:   # e.g. an entry holding Python objects (pickles)
+        raise ValueError(f"{path.name}: unreadable NPZ entry ({exc})") from None
     fs = None
     if "fs" in arrays:
         if arrays["fs"].size != 1:

@@ -1,0 +1,253 @@
+"""Every bad input of the command line: one line on stderr naming the problem, exit status 2.
+
+The catalogue of issue 9 (point 3), run in-process through ``rubdiag.cli.main``; new
+commands add their inputs here. Output locations are checked before any work: for those
+entries the expensive functions are replaced by ones that fail the test if they are called.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from rubdiag.cli import main
+
+FS = 2000.0
+# a fast simulate: given speed (no critical-speed search), 20 ms, gap ramp inside the discard
+SIM = ["simulate", "--case", "1", "--speed-rpm", "1500", "--duration-s", "0.02",
+       "--discard-s", "0.01"]
+
+
+@pytest.fixture(scope="module")
+def d(tmp_path_factory):
+    """A folder of bad (and a few good) input files."""
+    from rubdiag.model import paper_rig, save_rig
+    from rubdiag.simulate import Run, simulate
+
+    d = tmp_path_factory.mktemp("inputs")
+    t = np.arange(4000) / FS
+    x = np.sin(2 * np.pi * 25 * t) + 1e-3 * np.random.default_rng(0).standard_normal(t.size)
+    pd.DataFrame({"time": t, "shaft": x}).to_csv(d / "a.csv", index=False)
+    pd.DataFrame({"time": t, "other": x}).to_csv(d / "b.csv", index=False)
+    (d / "empty.csv").write_text("")
+    (d / "header.csv").write_text("time,shaft\n")
+    (d / "onerow.csv").write_text("time,shaft\n0,1\n")
+    pd.DataFrame({"time": t[:20], "shaft": x[:20]}).to_csv(d / "short.csv", index=False)
+    for name, bad in (("nan", np.nan), ("inf", np.inf)):
+        y = x.copy()
+        y[100] = bad
+        pd.DataFrame({"time": t, "shaft": y}).to_csv(d / f"{name}.csv", index=False)
+    pd.DataFrame({"time": np.r_[t[:10], t[10:] + 0.01], "shaft": x}).to_csv(
+        d / "nonuniform.csv", index=False)
+    pd.DataFrame({"time": t, "shaft": "high"}).to_csv(d / "text.csv", index=False)
+    np.savez(d / "plain.npz", shaft=x, fs=FS)
+    (d / "binary.csv").write_bytes((d / "plain.npz").read_bytes())   # zip bytes, NULs
+    (d / "latin1.csv").write_bytes("temp\xe9rature,shaft\n1,2\n".encode("latin-1"))
+    (d / "notzip.npz").write_bytes(b"not a zip")
+    (d / "folder.csv").mkdir()
+    (d / "folder").mkdir()
+    (d / "folder.npz").mkdir()
+    (d / "file").write_text("a file where a folder belongs\n")
+
+    result = simulate(Run.paper_case(2, 2.3, speed_rpm=5700, duration_s=0.02, discard_s=0.01))
+    data = result.save(d / "run.npz").read_bytes()
+    (d / "truncated.npz").write_bytes(data[: len(data) // 2])
+    flipped = bytearray(data)                 # a member's compressed bytes damaged: bad CRC
+    mid = len(flipped) // 2
+    flipped[mid:mid + 64] = bytes(b ^ 0xFF for b in flipped[mid:mid + 64])
+    (d / "corrupt.npz").write_bytes(bytes(flipped))
+
+    save_rig(paper_rig(), d / "paper.toml")
+    toml = (d / "paper.toml").read_text()
+    for name, old, new in (
+            ("node99", "node = 4\n", "node = 99\n"),
+            ("negative_e", "youngs_modulus_pa = 210000000000.0", "youngs_modulus_pa = -2e11"),
+            ("string_density", "density_kg_m3 = 7850.0", 'density_kg_m3 = "heavy"'),
+            ("negative_length", "    0.027669,\n", "    -0.1,\n")):
+        assert old in toml
+        (d / f"{name}.toml").write_text(toml.replace(old, new, 1))
+    (d / "unknown_key.toml").write_text('[shaft]\ncolour = "red"\n')
+    (d / "unknown_table.toml").write_text("[shafts]\nx = 1\n")
+    (d / "syntax.toml").write_text("[shaft\n")
+    return d
+
+
+# (id, argv with {d} for the input folder, message fragment); the fragment names the problem
+CATALOGUE = [
+    # --- output locations: checked (or created) before any work --------------------------
+    ("simulate-out-missing-folder", [*SIM, "--gap-mm", "2.3", "--out", "{d}/new/x.npz"],
+     "the folder {d}/new does not exist"),
+    ("simulate-out-folder", [*SIM, "--gap-mm", "2.3", "--out", "{d}/folder.npz"],
+     "--out {d}/folder.npz: is a folder"),
+    ("features-csv-missing-folder", ["features", "{d}/a.csv", "--csv", "{d}/new/f.csv"],
+     "--csv {d}/new/f.csv: the folder {d}/new does not exist"),
+    ("features-csv-folder", ["features", "{d}/a.csv", "--csv", "{d}/folder"],
+     "--csv {d}/folder: is a folder"),
+    ("compare-out-missing-folder", ["compare", "{d}/a.csv", "{d}/a.csv", "--out",
+                                    "{d}/new/c.png"], "the folder {d}/new does not exist"),
+    ("calibrate-out-missing-folder", ["calibrate", "--out", "{d}/new/rig.toml"],
+     "the folder {d}/new does not exist"),
+    ("campbell-out-file", ["campbell", "--out", "{d}/file"], "--out {d}/file: is a file"),
+    ("table2-out-file", ["table2", "--out", "{d}/file"], "--out {d}/file: is a file"),
+    ("plot-out-file", ["plot", "{d}/run.npz", "--out", "{d}/file"], "--out {d}/file: is a file"),
+    # --- unreadable inputs -----------------------------------------------------------------
+    ("plot-truncated-npz", ["plot", "{d}/truncated.npz"], "truncated.npz: not a rubdiag result"),
+    ("plot-corrupt-npz", ["plot", "{d}/corrupt.npz"], "corrupt.npz: corrupt result file"),
+    ("plot-not-a-zip", ["plot", "{d}/notzip.npz"], "notzip.npz: not a rubdiag result file"),
+    ("plot-plain-npz", ["plot", "{d}/plain.npz"], "plain.npz: not a rubdiag result file"),
+    ("plot-missing", ["plot", "{d}/none.npz"], "{d}/none.npz: no such file"),
+    ("features-truncated-npz", ["features", "{d}/truncated.npz"],
+     "truncated.npz: not an NPZ archive"),
+    ("features-corrupt-result", ["features", "{d}/corrupt.npz"],
+     "corrupt.npz: corrupt result file"),
+    ("features-binary-csv", ["features", "{d}/binary.csv"], "binary.csv: a binary file"),
+    ("features-latin1-csv", ["features", "{d}/latin1.csv"], "latin1.csv: not UTF-8 text"),
+    ("features-folder", ["features", "{d}/folder"], "{d}/folder: is a folder"),
+    ("features-folder-with-suffix", ["features", "{d}/folder.csv"],
+     "{d}/folder.csv: is a folder"),
+    ("rig-folder", ["modal", "--rig", "{d}/folder"], "--rig {d}/folder: is a folder"),
+    ("rig-missing", ["modal", "--rig", "{d}/none.toml"], "--rig {d}/none.toml: no such file"),
+    ("simulate-rig-folder", [*SIM, "--gap-mm", "2.3", "--rig", "{d}/folder"],
+     "--rig {d}/folder: is a folder"),
+    # --- values: in the user's units, options that exist, negative numbers parsed ---------
+    ("calibrate-descending-rpm", ["calibrate", "--targets-rpm", "1500", "1400"],
+     "--targets-rpm 1500 1400 must be strictly ascending (rpm)"),
+    ("calibrate-zero-rpm", ["calibrate", "--targets-rpm", "0", "5700"],
+     "--targets-rpm 0 is out of range"),
+    ("simulate-output-too-large", [*SIM, "--gap-mm", "2.3", "--duration-s", "1e4",
+                                   "--discard-s", "0.3"],
+     "too large an output (at most 5e+08 values): lower --output-rate-hz or shorten "
+     "--duration-s"),
+    ("simulate-output-rate-zero", [*SIM, "--gap-mm", "2.3", "--output-rate-hz", "0"],
+     "output_rate_hz = 0"),
+    ("simulate-negative-dt-e-notation", [*SIM, "--gap-mm", "2.3", "--dt-s", "-1e-5"],
+     "dt_s = -1e-05 is out of range"),
+    ("simulate-negative-inf-gap", [*SIM, "--gap-mm", "-inf"], "--gap-mm = -inf is out of range"),
+    ("features-zero-speed", ["features", "{d}/a.csv", "--speed-rpm", "0"],
+     "speed_rpm = 0.0 is out of range"),                  # a plain number, not np.float64(0.0)
+    # --- already one line before issue 9: they stay so --------------------------------------
+    ("simulate-negative-gap", [*SIM, "--gap-mm", "-1"], "--gap-mm = -1 is out of range"),
+    ("simulate-zero-gap", [*SIM, "--gap-mm", "0"], "--gap-mm = 0 is out of range"),
+    ("simulate-nan-gap", [*SIM, "--gap-mm", "nan"], "--gap-mm = nan is out of range"),
+    ("simulate-text-gap", [*SIM, "--gap-mm", "wide"], "argument --gap-mm: invalid float value"),
+    ("features-missing", ["features", "{d}/none.csv"], "{d}/none.csv: no such file"),
+    ("features-nan", ["features", "{d}/nan.csv"], "contains NaN or inf (first at sample 100)"),
+    ("features-inf", ["features", "{d}/inf.csv"], "contains NaN or inf (first at sample 100)"),
+    ("features-fs-zero", ["features", "{d}/a.csv", "--fs", "0"], "fs = 0.0 is out of range"),
+    ("features-fs-negative", ["features", "{d}/a.csv", "--fs", "-3"],
+     "fs = -3.0 is out of range"),
+    ("features-empty-csv", ["features", "{d}/empty.csv"], "empty.csv: the file is empty"),
+    ("features-header-only", ["features", "{d}/header.csv"], "header.csv: the file holds no "
+     "samples"),
+    ("features-one-row", ["features", "{d}/onerow.csv"], "onerow.csv: time column 'time' needs"),
+    ("features-too-short", ["features", "{d}/short.csv", "--speed-rpm", "1500"],
+     "the record is too short"),
+    ("features-non-uniform-time", ["features", "{d}/nonuniform.csv"],
+     "nonuniform.csv: time column 'time' is not uniformly increasing"),
+    ("features-text-column", ["features", "{d}/text.csv"],
+     "text.csv: column 'shaft' is not numeric"),
+    ("features-above-nyquist", ["features", "{d}/a.csv", "--speed-rpm", "600000"],
+     "is above the Nyquist frequency 1000 Hz"),
+    ("features-unknown-column", ["features", "{d}/a.csv", "--column", "blade"],
+     "column 'blade' not found"),
+    ("features-unknown-tacho", ["features", "{d}/a.csv", "--tacho", "key"],
+     "column 'key' not found"),
+    ("rig-unknown-key", ["modal", "--rig", "{d}/unknown_key.toml"], "unknown key 'shaft.colour'"),
+    ("rig-unknown-table", ["modal", "--rig", "{d}/unknown_table.toml"], "unknown key 'shafts'"),
+    ("rig-toml-syntax", ["modal", "--rig", "{d}/syntax.toml"], "syntax.toml: not valid TOML"),
+    ("rig-bearing-node-99", ["modal", "--rig", "{d}/node99.toml"],
+     "Bearing.node = 99 is not a shaft node"),
+    ("rig-negative-e", ["modal", "--rig", "{d}/negative_e.toml"],
+     "youngs_modulus_pa = -200000000000.0 is out of range"),
+    ("rig-string-density", ["modal", "--rig", "{d}/string_density.toml"],
+     "density_kg_m3 = 'heavy' has the wrong type"),
+    ("rig-negative-length", ["modal", "--rig", "{d}/negative_length.toml"],
+     "element_lengths_m[0] = -0.1 is out of range"),
+    ("simulate-duration-huge", [*SIM, "--gap-mm", "2.3", "--duration-s", "1e9",
+                                "--discard-s", "0.3"],
+     "too large an output"),
+    ("simulate-duration-negative", [*SIM, "--gap-mm", "2.3", "--duration-s", "-1"],
+     "duration_s = -1.0 is out of range"),
+    ("simulate-duration-below-dt", [*SIM, "--gap-mm", "2.3", "--duration-s", "1e-6"],
+     "duration_s = 1e-06 is out of range"),
+    ("simulate-discard-beyond-duration", [*SIM, "--gap-mm", "2.3", "--discard-s", "0.5"],
+     "discard_s = 0.5 is out of range"),
+    ("simulate-dt-zero", [*SIM, "--gap-mm", "2.3", "--dt-s", "0"], "dt_s = 0.0 is out of range"),
+    ("simulate-dt-too-long", [*SIM, "--gap-mm", "2.3", "--dt-s", "0.1"],
+     "duration_s = 0.02 is out of range"),
+    ("simulate-negative-mu", [*SIM, "--gap-mm", "2.3", "--mu", "-0.1"],
+     "friction_coefficient = -0.1 is out of range"),
+    ("simulate-negative-speed", ["simulate", "--case", "1", "--gap-mm", "2.3", "--speed-rpm",
+                                 "-100"], "speed_rpm = -100.0 is out of range"),
+    ("table2-jobs-zero", ["table2", "--jobs", "0", "--out", "{d}/t2"],
+     "--jobs = 0 is out of range"),
+    ("table2-discard-beyond-duration", ["table2", "--duration-s", "0.2", "--out", "{d}/t2"],
+     "discard_s = 0.3 is out of range"),
+    ("campbell-n-speeds-zero", ["campbell", "--n-speeds", "0", "--out", "{d}/c"],
+     "--n-speeds = 0 is out of range"),
+    ("unbalance-case-3", ["unbalance", "--case", "3"], "argument --case: invalid choice: 3"),
+    ("calibrate-unknown-knob", ["calibrate", "--knobs", "banana"], "knob 'banana' is not allowed"),
+    ("modal-n-modes-zero", ["modal", "--n-modes", "0"], "--n-modes = 0 is out of range"),
+    ("compare-missing", ["compare", "{d}/a.csv", "{d}/none.csv"], "{d}/none.csv: no such file"),
+    ("compare-no-common-channel", ["compare", "{d}/a.csv", "{d}/b.csv"],
+     "have no channel in common"),
+]
+
+# entries whose check must come before any work: these functions must not be called
+BEFORE_WORK = {"simulate-out-missing-folder", "simulate-out-folder",
+               "features-csv-missing-folder", "features-csv-folder",
+               "compare-out-missing-folder", "calibrate-out-missing-folder", "campbell-out-file",
+               "table2-out-file", "plot-out-file", "simulate-output-too-large",
+               "simulate-duration-huge"}
+WORK = [("rubdiag.simulate", "simulate"), ("rubdiag.signal", "features"),
+        ("rubdiag.runs", "run_features"), ("rubdiag.modal", "calibrate"),
+        ("rubdiag.modal", "campbell"), ("rubdiag.paper", "table2"),
+        ("rubdiag.plotting.run", "save_run_figures")]
+
+
+def run_main(argv):
+    try:
+        return main(argv)
+    except SystemExit as exc:      # argparse's usage errors
+        return exc.code
+
+
+@pytest.mark.parametrize(("argv", "fragment"), [c[1:] for c in CATALOGUE],
+                         ids=[c[0] for c in CATALOGUE])
+def test_bad_input_is_one_line_and_exit_2(request, d, capsys, monkeypatch, argv, fragment):
+    if request.node.callspec.id in BEFORE_WORK:
+        import importlib
+
+        # import them all first: a module imported under the patch would keep the fake
+        modules = [importlib.import_module(module) for module, _ in WORK]
+        for module, (_, name) in zip(modules, WORK, strict=True):
+            def work(*args, _name=name, **kwargs):
+                raise AssertionError(f"{_name}() ran before the output location was checked")
+            monkeypatch.setattr(module, name, work)
+    argv = [a.format(d=d) for a in argv]
+    code = run_main(argv)
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert err.count("\n") == 1 and err.endswith("\n"), err     # exactly one line
+    assert err.startswith(f"rubdiag {argv[0]}: error: "), err
+    assert fragment.format(d=d) in err
+    assert "Traceback" not in err and "np.float64" not in err and "[Errno" not in err
+    assert not (d / "new").exists()                # a failed command leaves no new folder
+
+
+def test_catalogue_ids_are_unique():
+    ids = [c[0] for c in CATALOGUE]
+    assert len(ids) == len(set(ids)) and BEFORE_WORK <= set(ids)
+
+
+def test_subprocess_smoke():
+    result = subprocess.run([sys.executable, "-m", "rubdiag", "simulate", "--case", "1",
+                             "--gap-mm", "-1"], capture_output=True, text=True)
+    assert result.returncode == 2
+    assert result.stderr == ("rubdiag simulate: error: --gap-mm = -1 is out of range "
+                             "(allowed: > 0 and <= 100)\n")
+    assert result.stdout == ""
