@@ -1,178 +1,121 @@
-"""Cross-check of rubdiag against ROSS (ross-rotordynamics): forward critical speeds (within
-1 %, and to 1e-6), plus undamped natural frequencies at speed and the unbalance response.
+"""rubdiag against ROSS (ross-rotordynamics): forward critical speeds, undamped natural
+frequencies at speed and the complex unbalance response.
 
-Skipped when ROSS is not installed (the project venv does not have it); run with an
-interpreter that has both, e.g. ``/tmp/rossenv/bin/python -m pytest tests/modal/test_ross.py``.
-See benchmarks/compare_ross.py for the same comparison as a script, with timings.
-
-The rotor is the paper rig without blades and casing (24 Timoshenko elements with the
-paper.toml lengths, rigid discs r = 35 mm, t = 15 mm at nodes 11 and 19, bearings
-k_y = 500e6, k_z = 200e6 N/m at nodes 4 and 26), with its solid 10 mm shaft and with a
-thick hollow 40/20 mm shaft on which shear deformation and rotary inertia move the critical
-speeds by several per cent (so that the 1 % bar can tell a model without them apart).
-Axes: rubdiag (x axial; y, z lateral) -> ROSS (z axial; x, y lateral), y -> x, z -> y.
+ROSS's values are stored in data/ross_references.json, written by scripts/ross_references.py
+in an interpreter that has ROSS (see its docstring for the venv); the file records ROSS's
+version, the Python version and the date. Every run compares rubdiag with the stored values;
+where ROSS is installed, ``test_stored_references_are_what_ross_computes`` also recomputes
+them with ROSS, so that the file cannot silently go stale. The rotors (the paper rig's shaft,
+discs and bearings, and a thick hollow 40/20 mm shaft on which shear deformation and rotary
+inertia move the critical speeds by per cents) are described in the script and stored in the
+file with the values.
 """
 
-import dataclasses
-import math
-import warnings
+from __future__ import annotations
+
+import importlib.util
+import json
+from pathlib import Path
 
 import numpy as np
 import pytest
 
-rs = pytest.importorskip("ross")
+from rubdiag.model import paper_rig
 
-from rubdiag.assembly import assemble  # noqa: E402
-from rubdiag.modal import critical_speeds, modes, unbalance_response  # noqa: E402
-from rubdiag.model import Bearing, Damping, Disc, Material, Rig, Shaft, Unbalance  # noqa: E402
-from rubdiag.model import paper_rig as load_paper_rig  # noqa: E402
+ROOT = Path(__file__).resolve().parents[2]
+_spec = importlib.util.spec_from_file_location("ross_references",
+                                               ROOT / "scripts" / "ross_references.py")
+script = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(script)
+STORED = script.load()
 
-RPM = math.pi / 30
-N_CRITICAL = 2
-
-
-def rotor_rig(outer_m: float, inner_m: float) -> Rig:
-    paper = load_paper_rig()
-    shaft = Shaft(paper.shaft.element_lengths_m, outer_m, inner_m, paper.shaft.first_node)
-    return Rig(
-        shaft=shaft,
-        bearings=(Bearing(4, 500e6, 200e6), Bearing(26, 500e6, 200e6)),
-        discs=(Disc(11, outer_radius_m=0.035, thickness_m=0.015),
-               Disc(19, outer_radius_m=0.035, thickness_m=0.015)),
-        material=Material(210e9, 0.3, 7850.0),
-    )
-
-
-def ross_rotor(rig: Rig, **physics):
-    """The same rotor in ROSS; ``physics`` overrides ShaftElement's switches."""
-    mat = rig.material
-    steel = rs.Material(name="rubdiag_steel", rho=mat.density_kg_m3,
-                        E=mat.youngs_modulus_pa, Poisson=mat.poisson_ratio)
-    options = {"shear_effects": True, "rotary_inertia": True, "gyroscopic": True,
-               "shear_method_calc": "cowper", **physics}
-    first = rig.shaft.first_node
-    shaft = [rs.ShaftElement(L=length, idl=di, odl=do, material=steel, **options)
-             for length, do, di in zip(rig.shaft.element_lengths_m,
-                                       rig.shaft.outer_diameters_m,
-                                       rig.shaft.inner_diameters_m, strict=True)]
-    discs = []
-    for disc in rig.discs:
-        m, ip, idiam = disc.inertia(mat.density_kg_m3)   # the same inertias, explicitly
-        discs.append(rs.DiskElement(n=disc.node - first, m=m, Id=idiam, Ip=ip))
-    bearings = [rs.BearingElement(n=b.node - first, kxx=b.k_y_n_m, kyy=b.k_z_n_m,
-                                  cxx=b.c_y_ns_m, cyy=b.c_z_ns_m) for b in rig.bearings]
-    return rs.Rotor(shaft, discs, bearings)
+# Relative tolerance of every comparison here (rubdiag vs stored ROSS, stored vs live ROSS).
+# Both codes use the same Timoshenko element (interdependent interpolation) with Cowper's κ,
+# so they agree to solver precision: measured (ROSS 2.3.0, 2026-11-23) 8e-11 for the critical
+# speeds, 5e-10 for the natural frequencies and 5e-9 for the unbalance response (near the
+# criticals, where it is most sensitive); ROSS against itself, run to run, up to 2e-10 (ARPACK's
+# start vector, the secant iteration). 1e-6 leaves room for other BLAS/LAPACK builds and still
+# tells a changed element apart: Hutchinson's κ instead of Cowper's moves every critical speed
+# by at least 6.6e-5, leaving out shear deformation by at least 2.7e-4 (see
+# test_the_tolerance_tells_other_physics_apart); κ 0.1 % too large in rubdiag fails too (paper
+# shaft 1.2e-6, hollow shaft 2.7e-5, unbalance response 2.5e-2).
+RTOL = 1e-6
 
 
-def lateral_share(rotor, evector) -> float:
-    """Fraction of |q|² of a ROSS eigenvector in its lateral DOFs (x, y, α, β)."""
-    q = evector[: evector.size // 2].reshape(-1, rotor.number_dof)   # [x, y, z, α, β, θ]
-    return float(np.sum(np.abs(q[:, [0, 1, 3, 4]]) ** 2) / np.sum(np.abs(q) ** 2))
+@pytest.fixture(scope="module")
+def ours():
+    return script.rubdiag_values(STORED["inputs"])
 
 
-def ross_forward_critical_speeds(rig: Rig, n: int = N_CRITICAL, **physics) -> np.ndarray:
-    """ROSS's run_critical_speed crossings whose eigenvector whirls forward (rad/s).
-
-    The whirl is the net whirl of ROSS's own eigenvector at the crossing (as rubdiag
-    measures it) rather than ROSS's label, which says "Mixed" for some forward modes.
-    """
-    rotor = ross_rotor(rig, **physics)
-    num_modes = 4 * n + 8
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        result = rotor.run_critical_speed(num_modes=num_modes, rtol=1e-8)
-        forward = []
-        for i, (wn, wd) in enumerate(zip(result.wn(), result.wd(), strict=True)):
-            evector = rotor.run_modal(wd, num_modes).evectors[:, i]
-            q = evector[: evector.size // 2].reshape(-1, rotor.number_dof)
-            x, y = q[:, 0], q[:, 1]
-            if lateral_share(rotor, evector) > 0.5 and np.sum((x * y.conj()).imag) > 0:
-                forward.append(wn)
-    return np.sort(forward)[:n]
+def test_stored_inputs_are_the_scripts():
+    """The file holds the rotors, speeds and ROSS settings the script defines now (else
+    regenerate it: a change there is not covered until ROSS has been run on it)."""
+    assert STORED["inputs"] == json.loads(json.dumps(script.inputs())), (
+        "scripts/ross_references.py changed its inputs; rerun it with ROSS")
 
 
-ROTORS = {"paper-solid-10mm": (0.010, 0.0), "hollow-40-20mm": (0.040, 0.020)}
-
-
-@pytest.fixture(scope="module", params=list(ROTORS))
-def compared(request):
-    rig = rotor_rig(*ROTORS[request.param])
-    ours = critical_speeds(assemble(rig), n=N_CRITICAL)
-    theirs = ross_forward_critical_speeds(rig)
-    return request.param, rig, ours, theirs
-
-
-def test_forward_critical_speeds_match_ross_within_1_percent(compared):
-    name, _, ours, theirs = compared
-    assert len(ours) == N_CRITICAL, ours
-    assert len(theirs) == N_CRITICAL, theirs
-    np.testing.assert_allclose(ours, theirs, rtol=0.01,
-                               err_msg=f"{name}: rubdiag vs ROSS forward critical speeds")
-
-
-def test_same_element_formulation_as_ross(compared):
-    """Both use the Timoshenko element of interdependent interpolation with Cowper's κ, so
-    the speeds agree to solver precision (measured ~1e-10); 1e-6 still catches a change
-    of κ formula (Hutchinson's moves them by ≥ 7e-5)."""
-    name, _, ours, theirs = compared
-    np.testing.assert_allclose(ours, theirs, rtol=1e-6, err_msg=name)
-
-
-def test_ross_without_shear_misses_the_hollow_rotor_by_more_than_1_percent():
-    """The 1 % bar is discriminating: leaving out shear in ROSS moves mode 2 of the thick
-    hollow rotor by ~2.7 %. (On the slender paper shaft it moves it by only ~0.12 %.)"""
-    rig = rotor_rig(*ROTORS["hollow-40-20mm"])
-    ours = critical_speeds(assemble(rig), n=N_CRITICAL)
-    no_shear = ross_forward_critical_speeds(rig, shear_effects=False)
-    assert np.max(np.abs(no_shear / ours - 1.0)) > 0.01
-
-
-def test_paper_shaft_matches_the_preset():
-    """The compared rotor really is the paper rig's shaft, discs and bearings."""
-    paper = load_paper_rig()
-    rig = rotor_rig(*ROTORS["paper-solid-10mm"])
+def test_compared_rotor_is_the_paper_rig():
+    paper = paper_rig()
+    rig = script.rig(STORED["inputs"]["rotors"]["paper-solid-10mm"])
     assert rig.shaft == paper.shaft
-    assert [(b.node, b.k_y_n_m, b.k_z_n_m) for b in rig.bearings] == [
-        (b.node, b.k_y_n_m, b.k_z_n_m) for b in paper.bearings]
     assert rig.discs == paper.discs
     assert rig.material == paper.material
+    assert [(b.node, b.k_y_n_m, b.k_z_n_m) for b in rig.bearings] == [
+        (b.node, b.k_y_n_m, b.k_z_n_m) for b in paper.bearings]
 
 
-@pytest.mark.parametrize("speed_rpm", [0.0, 8000.0])
-def test_undamped_natural_frequencies_match_ross(speed_rpm):
-    """modes(..., damped=False) against ROSS's run_modal: the 6 lowest lateral modes
-    (ROSS's torsional mode, which rubdiag does not model, is left out)."""
-    rig = rotor_rig(*ROTORS["paper-solid-10mm"])
-    ours = modes(assemble(rig), speed_rpm * RPM, n_modes=6, damped=False).damped_frequencies
-    rotor = ross_rotor(rig)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        modal = rotor.run_modal(speed_rpm * RPM, num_modes=20)
-    lateral = [w for i, w in enumerate(modal.wd)
-               if w > 1.0 and lateral_share(rotor, modal.evectors[:, i]) > 0.5]
-    np.testing.assert_allclose(ours, lateral[:6], rtol=1e-6)
+def test_disc_inertias_are_those_given_to_ross():
+    """ROSS gets the closed-form m, Ip, Id of a solid disc; rubdiag computes its own."""
+    spec = STORED["inputs"]["rotors"]["paper-solid-10mm"]
+    rig = script.rig(spec)
+    for disc, stored in zip(rig.discs, spec["discs"], strict=True):
+        np.testing.assert_allclose(
+            disc.inertia(rig.material.density_kg_m3),
+            [stored["mass_kg"], stored["polar_inertia_kg_m2"],
+             stored["diametral_inertia_kg_m2"]], rtol=1e-12)
 
 
-def test_unbalance_response_matches_ross():
-    """Complex unbalance response (amplitude and phase) with bearing damping only, out-of-
-    phase unbalances on both discs, against ROSS's run_unbalance_response: same force
-    convention (F_y = uΩ²e^{iφ}, F_z = −iF_y) and same solution."""
-    rig = dataclasses.replace(
-        rotor_rig(*ROTORS["paper-solid-10mm"]),
-        damping=Damping(0.0, 0.0, (1.0, 2.0)),        # no Rayleigh damping
-        bearings=(Bearing(4, 500e6, 200e6, 2e3, 1e3), Bearing(26, 500e6, 200e6, 2e3, 1e3)))
-    unbalance = Unbalance((1.56e-4, 1.56e-4), (0.3, math.pi + 0.3))
-    speeds = np.array([500.0, 1500.0, 1596.0, 3000.0, 6030.0, 8000.0]) * RPM
-    points = ((11, "y"), (11, "z"), (19, "y"), (19, "z"), (4, "z"))
-    ours = unbalance_response(assemble(rig), speeds, unbalance, points=points).amplitudes
-    rotor = ross_rotor(rig)
-    first = rig.shaft.first_node
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        result = rotor.run_unbalance_response(
-            node=[d.node - first for d in rig.discs],
-            unbalance_magnitude=list(unbalance.magnitudes_kg_m),
-            unbalance_phase=list(unbalance.phases_rad), frequency=speeds)
-    rows = [rotor.number_dof * (node - first) + (0 if d == "y" else 1) for node, d in points]
-    theirs = np.asarray(result.forced_resp)[rows, :].T
-    np.testing.assert_allclose(ours, theirs, rtol=1e-6)
+@pytest.mark.parametrize("quantity", list(script.arrays(STORED["ross"])))
+def test_rubdiag_matches_stored_ross(ours, quantity):
+    np.testing.assert_allclose(script.arrays(ours)[quantity],
+                               script.arrays(STORED["ross"])[quantity], rtol=RTOL,
+                               err_msg=f"{quantity}: rubdiag vs ROSS {STORED['generated']}")
+
+
+def test_the_tolerance_tells_other_physics_apart(ours):
+    """ROSS with Hutchinson's κ or without shear misses every critical speed by more than
+    10 × RTOL; on the thick hollow shaft leaving out shear costs more than 1 % (on the
+    slender paper shaft only 0.12 %: that is why the hollow shaft is compared too)."""
+    mine = ours["forward_critical_speeds_rpm"]
+    for label, rotors in STORED["ross_variants_forward_critical_speeds_rpm"].items():
+        for name, speeds in rotors.items():
+            miss = np.abs(np.asarray(speeds) / mine[name] - 1.0)
+            assert np.min(miss) > 10 * RTOL, (label, name, miss)
+    no_shear = STORED["ross_variants_forward_critical_speeds_rpm"]["no_shear"]["hollow-40-20mm"]
+    assert np.max(np.abs(np.asarray(no_shear) / mine["hollow-40-20mm"] - 1.0)) > 0.01
+
+
+def test_readme_names_the_stored_ross_version_and_date():
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    generated = STORED["generated"]
+    for text in (f"ROSS {generated['ross']}", f"computed {generated['date']}",
+                 "data/ross_references.json"):
+        assert text in readme, f"README.md does not say {text!r} (after regenerating?)"
+
+
+def test_stored_references_are_what_ross_computes():
+    """Only where ROSS is installed (not in the project venv); about a minute."""
+    if importlib.util.find_spec("ross") is None:
+        pytest.skip("ROSS is not installed; run this file in a venv with ROSS to check the "
+                    "stored references against it (scripts/ross_references.py says how)")
+    fresh = script.generate(script.import_ross())
+    assert fresh["inputs"] == STORED["inputs"]
+    for quantity, theirs in script.arrays(STORED["ross"]).items():
+        np.testing.assert_allclose(script.arrays(fresh["ross"])[quantity], theirs,
+                                   rtol=RTOL, err_msg=quantity)
+    variants = STORED["ross_variants_forward_critical_speeds_rpm"]
+    for label, rotors in variants.items():
+        for name, speeds in rotors.items():
+            np.testing.assert_allclose(
+                fresh["ross_variants_forward_critical_speeds_rpm"][label][name], speeds,
+                rtol=RTOL, err_msg=f"{label}, {name}")
