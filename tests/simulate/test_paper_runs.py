@@ -110,6 +110,7 @@ def test_format_1_files_are_converted(case_runs, tmp_path):
         assert covered == closed_samples.size
 
 
+@pytest.mark.filterwarnings("ignore::rubdiag.simulate.GapRampInWindow")   # no features here
 def test_a_run_is_a_pure_function_of_its_picklable_description():
     run = Run.paper_case(2, 1.9, duration_s=0.05, discard_s=0.0, gap_ramp_s=0.01)
     again = pickle.loads(pickle.dumps(run))
@@ -195,6 +196,7 @@ def test_failure_says_when_and_where_and_keeps_the_partial_result(tmp_path):
     assert math.isfinite(back.system.failure_time)
 
 
+@pytest.mark.filterwarnings("ignore::rubdiag.simulate.GapRampInWindow")   # no features here
 def test_fixed_step_at_the_default_dt_gets_through_stick_slip_cycles():
     # the semi-smooth Newton iteration used to cycle between stick and slip here (t ≈ 16 ms)
     run = Run.paper_case(2, 1.9, duration_s=0.08, discard_s=0.0, fixed_step=True,
