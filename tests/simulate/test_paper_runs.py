@@ -58,10 +58,16 @@ def test_contact_law_holds_on_the_paper_rig(case_runs):
 
 
 def test_energy_balance_closes_on_the_paper_rig(case_runs):
+    # the ledger (kinetic + strain + damping + friction − external work) leaves only the
+    # contact's algorithmic energy (penalty contact under Newmark is not exactly energy
+    # conserving): that identity to round-off, and that energy within 1e-3 of the largest
+    # external work at every sample (measured, 1 s runs: case 1 1.9e-4, case 2 9.9e-4)
     for result in case_runs.values():
         sys = result.system
-        residual = sys.energy_balance_residual[-1]
-        assert abs(residual) < 0.02 * sys.work_external[-1]
+        scale = np.abs(sys.work_external).max()
+        residual = sys.energy_balance_residual
+        np.testing.assert_allclose(residual, sys.contact_algorithmic, rtol=0, atol=1e-9 * scale)
+        assert np.abs(residual).max() <= 1e-3 * scale
 
 
 def test_result_file_round_trip(case_runs, tmp_path):
