@@ -2,9 +2,13 @@
 
 import re
 
+import matplotlib.colors
+import matplotlib.image as mpimg
+import numpy as np
 import pandas as pd
 
 from rubdiag.cli import main
+from rubdiag.plotting.run import DPI, FIGSIZE, STATUS_COLOURS
 from rubdiag.simulate import Run, simulate
 
 
@@ -26,7 +30,12 @@ def test_plot_writes_the_six_panel_figure(tmp_path):
     result = simulate(Run.paper_case(2, 2.3, duration_s=0.5, discard_s=0.2))
     path = result.save(tmp_path / "r.npz")
     assert main(["plot", str(path), "--out", str(tmp_path / "figs")]) == 0
-    assert (tmp_path / "figs" / "r.png").stat().st_size > 50_000
+    pixels = mpimg.imread(tmp_path / "figs" / "r.png")
+    # saved at the documented size and resolution, and the status colours are drawn
+    assert pixels.shape[:2] == (round(FIGSIZE[1] * DPI), round(FIGSIZE[0] * DPI))
+    for colour in STATUS_COLOURS.values():
+        rgb = np.array(matplotlib.colors.to_rgb(colour))
+        assert (np.abs(pixels[..., :3] - rgb).max(axis=-1) < 0.02).sum() > 100, colour
 
 
 # 2.0000000000000004, 18.999999999999996: six or more 0s or 9s before the last digit
