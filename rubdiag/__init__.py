@@ -37,6 +37,7 @@ _LAZY = {
     "spectral_lines": "rubdiag.signal",
     "combination_pairs": "rubdiag.signal",
     "contact_statistics": "rubdiag.runs",
+    "Design": "rubdiag.dataset",
     "prefixed_features": "rubdiag.signal",
     "feature_names": "rubdiag.signal",
     "read_signals": "rubdiag.signal",

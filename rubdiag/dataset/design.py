@@ -1,0 +1,419 @@
+"""A dataset design: which runs to make. Frozen, picklable, read from TOML.
+
+A design file has three tables::
+
+    [base]
+    rig = "paper"             # preset name, a rig TOML path, or a rig table (the resolved form)
+    duration_s = 2.3          # Run.duration_s (default 2.3)
+    discard_s = 0.3           # Run.discard_s (default 0.3)
+
+    [sampling]
+    method = "lhs"            # "grid" (default) | "lhs" | "sobol" | "random"
+    n = 200                   # design points; ignored by "grid" (the product of the levels)
+    seed = 7                  # default 0
+    replicates = 1            # start histories per design point (default 1, at most 65)
+
+    [factors]
+    case = [1, 2]                              # a list: levels
+    speed_ratio = {low = 0.8, high = 1.2}      # a table: a continuous range
+    gap_mm = {low = 0.5, high = 4.0, n = 8}    # n: the grid's levels of a range
+
+The factors, their physical ranges and the exclusive pairs are listed in
+:mod:`rubdiag.dataset.factors`. A design needs an unbalance pattern (``case`` or
+``phase_diff_deg``) and a speed (``speed_ratio`` or ``speed_rpm``); a single level
+(``case = [1]``) fixes a factor. ``speed_ratio`` is relative to the case's critical speed, so
+it needs ``case``. Factors not given keep the rig's values (its nominal gap, contact law,
+casing support and unbalance magnitudes). A rig path is relative to the design file's folder.
+
+**Sampling.** ``grid`` makes every combination of the levels (a range gives ``n`` equally
+spaced levels, both ends included), the last factor varying fastest. ``lhs``, ``sobol`` and
+``random`` draw ``n`` points in the unit hypercube (:func:`rubdiag.dataset.sampling.unit_samples`)
+with one axis per factor that varies, in the canonical factor order whatever the order in the
+file; single-level factors take no axis. Coordinate u of a range is ``low + u·(high-low)``;
+of a factor with k levels it is level ``floor(u·k)``, so each level owns 1/k of the axis (with
+``lhs`` and n a multiple of k, exactly n/k points each). Sampling needs at least one range
+(levels alone would repeat points: use ``grid``); ``sobol`` needs n a power of 2.
+
+**Replicates** are start histories as in :mod:`rubdiag.paper.ensemble`: replicate r has
+gap-ramp length ``gap_ramps_s(replicates, duration_s)[r]`` — the standard 0.1 s, then
+-1 %, +1 %, -2 %, +2 % (five replicates are the paper's ensemble), then halving steps inside
+±2 % (:func:`rubdiag.dataset.sampling.ramp_offsets`). ``discard_s`` must be at least the
+longest ramp, so that no analysis window holds the ramp's transient.
+
+**Resolved form.** :meth:`Design.to_dict` / :meth:`Design.to_toml` write everything a run
+depends on: the rig as a table (a rig file may change; a resolved design does not), the
+factors in canonical order with numbers as floats, the grid's point count as ``n``, the
+seed, and the critical speeds that ``speed_ratio`` refers to (``critical_speeds_rad_s``,
+computed once from the rig, so that the resolved design makes bit-identical runs on any
+machine). ``Design.from_toml(d.to_toml()) == d`` and the text round-trips exactly.
+
+Every value is checked when the design is made, before any run, with one-line
+``ValueError`` messages.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import itertools
+import math
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from rubdiag import _check
+from rubdiag.dataset.factors import EXCLUSIVE, FACTORS, Factor
+from rubdiag.dataset.ids import point_id, run_id
+from rubdiag.dataset.sampling import (
+    MAX_REPLICATES,
+    METHODS,
+    check_sobol_n,
+    gap_ramps_s,
+    unit_samples,
+)
+from rubdiag.model.rig import Rig, Unbalance
+from rubdiag.simulate import Run
+
+__all__ = ["Design", "DesignRun"]
+
+_SECTIONS = {
+    "base": ("rig", "duration_s", "discard_s", "critical_speeds_rad_s"),
+    "sampling": ("method", "n", "seed", "replicates"),
+    "factors": tuple(FACTORS),
+}
+
+
+@dataclass(frozen=True)
+class DesignRun:
+    """One run of a design: the design point (factor name -> value, canonical order), the
+    replicate, the :class:`~rubdiag.simulate.Run` they make, and its identities
+    (:mod:`rubdiag.dataset.ids`)."""
+
+    point: dict = field(hash=False)
+    replicate: int
+    run: Run
+    point_id: str
+    run_id: str
+
+
+@dataclass(frozen=True)
+class Design:
+    """Which runs to make (see the module docstring for the TOML form and the rules).
+
+    ``factors`` may be given as a mapping name -> TOML form (a list of levels or
+    ``{"low", "high"[, "n"]}``) or as :class:`~rubdiag.dataset.factors.Factor` objects; it is
+    kept as a tuple of factors in canonical order. ``n`` is the number of design points
+    (required by the sampling methods; for ``grid`` it is set to the product of the levels).
+    ``critical_speeds_rad_s[c-1]`` is case c's reference speed of ``speed_ratio``; computed
+    from the rig when ``None`` and needed.
+    """
+
+    rig: Rig
+    factors: tuple[Factor, ...]
+    method: str = "grid"
+    n: int | None = None
+    seed: int = 0
+    replicates: int = 1
+    duration_s: float = 2.3
+    discard_s: float = 0.3
+    critical_speeds_rad_s: tuple[float, ...] | None = None
+
+    def __post_init__(self):
+        def set_(name, value):
+            object.__setattr__(self, name, value)
+
+        if not isinstance(self.rig, Rig):
+            raise _check.wrong_type("base.rig", type(self.rig).__name__, "a Rig")
+        if self.rig.contact is None:
+            raise ValueError(f"base.rig = {self.rig.name!r} has no blade-casing contact "
+                             "(a dataset needs blades, a casing and [contact])")
+        if self.rig.loading is None:
+            raise ValueError(f"base.rig = {self.rig.name!r} has no [loading] (the unbalance "
+                             "magnitudes and case patterns)")
+        set_("factors", _factors(self.factors))
+        names = {f.name for f in self.factors}
+        _check_combination(names)
+        set_("method", _check.choice("sampling.method", self.method, METHODS))
+        set_("seed", _check.integer("sampling.seed", self.seed, lo=0))
+        set_("replicates", _check.integer("sampling.replicates", self.replicates, lo=1,
+                                          hi=MAX_REPLICATES))
+        duration = _check.positive("base.duration_s", self.duration_s, "s")
+        discard = _check.number("base.discard_s", self.discard_s, lo=0.0, hi=duration,
+                                hi_open=True, unit="s")
+        set_("duration_s", duration)
+        set_("discard_s", discard)
+        longest = max(gap_ramps_s(self.replicates, duration))
+        if discard < longest:
+            raise _check.out_of_range("base.discard_s", discard,
+                                      f">= {longest:g} s, the longest gap ramp of the "
+                                      "replicates")
+        set_("n", self._n())
+        set_("critical_speeds_rad_s", self._critical_speeds())
+
+    def _n(self) -> int:
+        if self.method == "grid":
+            return math.prod(len(f.grid_levels()) for f in self.factors)
+        if self.n is None:
+            raise ValueError(f"sampling.n is missing (method = '{self.method}' needs the "
+                             "number of design points)")
+        n = _check.integer("sampling.n", self.n, lo=1)
+        if not any(f.is_range for f in self.factors):
+            raise ValueError(f"sampling.method = '{self.method}' needs a {{low, high}} "
+                             "factor (levels alone would repeat points; use 'grid')")
+        if self.method == "sobol":
+            check_sobol_n(n)
+        return n
+
+    def _critical_speeds(self) -> tuple[float, ...] | None:
+        speeds = self.critical_speeds_rad_s
+        if speeds is not None:
+            speeds = _check.numbers("base.critical_speeds_rad_s", speeds)
+        by_name = {f.name: f for f in self.factors}
+        if "speed_ratio" not in by_name:
+            return speeds
+        n_cases = max(by_name["case"].levels)     # speed_ratio needs case (checked above)
+        if speeds is None:
+            speeds = _rig_critical_speeds(self.rig, n_cases)
+        elif len(speeds) < n_cases:
+            raise ValueError(f"base.critical_speeds_rad_s has {len(speeds)} entries "
+                             f"(allowed: one per case, at least {n_cases})")
+        return speeds
+
+    # --- reading and writing ---------------------------------------------------------------
+    @classmethod
+    def from_toml(cls, source: str | Path) -> Design:
+        """A design from a TOML file (a :class:`~pathlib.Path`, or a string without ``=``
+        or a line break) or from TOML text (a string with one)."""
+        is_text = isinstance(source, str) and ("\n" in source or "=" in source)
+        if is_text:
+            text, root, prefix = source, None, ""
+        else:
+            path = Path(source)
+            text, root, prefix = path.read_text(encoding="utf-8"), path.parent, f"{path.name}: "
+        try:
+            data = tomllib.loads(text)
+        except tomllib.TOMLDecodeError as exc:
+            raise ValueError(f"{prefix}not valid TOML ({exc})") from None
+        try:
+            return cls.from_dict(data, root=root)
+        except ValueError as exc:
+            raise ValueError(f"{prefix}{exc}") from None
+
+    @classmethod
+    def from_dict(cls, data: Mapping, root: str | Path | None = None) -> Design:
+        """A design from parsed TOML (tables ``base``, ``sampling``, ``factors``); a rig path
+        is relative to ``root`` (default: the working folder)."""
+        if not isinstance(data, Mapping):
+            raise _check.wrong_type("design", data, "a table")
+        for section, value in data.items():
+            if section not in _SECTIONS:
+                raise ValueError(f"unknown table [{section}] (allowed: "
+                                 f"{', '.join(_SECTIONS)})")
+            if not isinstance(value, Mapping):
+                raise _check.wrong_type(section, value, "a table")
+            for key in value:
+                if key not in _SECTIONS[section]:
+                    what = "factor" if section == "factors" else "key"
+                    raise ValueError(f"unknown {what} '{section}.{key}' "
+                                     f"(allowed: {', '.join(_SECTIONS[section])})")
+        base = dict(data.get("base", {}))
+        base["rig"] = _rig(base.get("rig", "paper"), root)
+        factors = tuple(Factor.from_spec(k, v) for k, v in data.get("factors", {}).items())
+        return cls(factors=factors, **base, **data.get("sampling", {}))
+
+    def to_dict(self) -> dict:
+        """The resolved design as plain TOML-ready data (see the module docstring)."""
+        from rubdiag.model.io import rig_to_dict
+
+        base = {"duration_s": self.duration_s, "discard_s": self.discard_s}
+        if self.critical_speeds_rad_s is not None:
+            base["critical_speeds_rad_s"] = list(self.critical_speeds_rad_s)
+        base["rig"] = rig_to_dict(self.rig)
+        return {"base": base,
+                "sampling": {"method": self.method, "n": self.n, "seed": self.seed,
+                             "replicates": self.replicates},
+                "factors": {f.name: f.to_spec() for f in self.factors}}
+
+    def to_toml(self) -> str:
+        """The resolved design as TOML text: ``[base]``, ``[sampling]`` and ``[factors]`` as
+        a person writes them, then the rig as ``[base.rig]``."""
+        import tomli_w
+
+        data = self.to_dict()
+        rig = data["base"].pop("rig")
+        lines = ["# rubdiag dataset design, resolved: everything its runs depend on is written",
+                 "# out (the rig itself, the point count, the seed, speed_ratio's reference",
+                 "# speeds), so that the same runs can be made again anywhere."]
+        for section, table in data.items():
+            lines += ["", f"[{section}]"]
+            lines += [f"{key} = {_toml_value(value)}" for key, value in table.items()]
+        return "\n".join(lines) + "\n\n" + tomli_w.dumps({"base": {"rig": rig}})
+
+    # --- the runs ---------------------------------------------------------------------------
+    @property
+    def n_runs(self) -> int:
+        return self.n * self.replicates
+
+    def points(self) -> list[dict]:
+        """The design points: factor name -> value (canonical order), without replicates."""
+        if self.method == "grid":
+            names = [f.name for f in self.factors]
+            return [dict(zip(names, values, strict=True))
+                    for values in itertools.product(*(f.grid_levels() for f in self.factors))]
+        axes = [f for f in self.factors if not f.is_constant]
+        u = unit_samples(self.method, self.n, len(axes), self.seed)
+        points = []
+        for row in u:
+            coordinate = dict(zip((f.name for f in axes), row.tolist(), strict=True))
+            points.append({f.name: f.levels[0] if f.is_constant else f.from_unit(
+                coordinate[f.name]) for f in self.factors})
+        return points
+
+    def runs(self) -> list[DesignRun]:
+        """Every run of the design, point by point, each point's replicates together. Every
+        run is built (and so checked) here, before any is simulated."""
+        out, seen = [], {}
+        for index, point in enumerate(self.points()):
+            for replicate in range(self.replicates):
+                try:
+                    run = self.run_for(point, replicate)
+                except ValueError as exc:
+                    raise ValueError(f"point {index} ({_describe(point)}): {exc}") from None
+                item = DesignRun(dict(point), replicate, run, point_id(run), run_id(run))
+                if item.run_id in seen:
+                    raise ValueError(f"the design repeats a run: point {index} is point "
+                                     f"{seen[item.run_id]} ({_describe(point)})")
+                seen[item.run_id] = index
+                out.append(item)
+        return out
+
+    def run_for(self, point: Mapping, replicate: int = 0) -> Run:
+        """The :class:`~rubdiag.simulate.Run` of design point ``point`` (factor name ->
+        value, as :meth:`points` gives) and replicate ``replicate``."""
+        replicate = _check.integer("replicate", replicate, lo=0, hi=self.replicates - 1)
+        ramp_s = gap_ramps_s(self.replicates, self.duration_s)[replicate]
+        rig = self.rig
+        loading = rig.loading
+        scale = point.get("unbalance_scale")
+        magnitudes = (loading.unbalance_kg_m if scale is None
+                      else tuple(m * scale for m in loading.unbalance_kg_m))
+        if "case" in point:
+            phases = loading.case(point["case"]).phases_rad
+        else:
+            step = math.radians(point["phase_diff_deg"])
+            phases = tuple(step * (j % 2) for j in range(len(magnitudes)))
+        if "speed_ratio" in point:
+            speed = point["speed_ratio"] * self.critical_speeds_rad_s[point["case"] - 1]
+        else:
+            speed = point["speed_rpm"] * math.pi / 30.0
+        if "casing_stiffness_scale" in point:
+            rig = _scaled_casing(rig, point["casing_stiffness_scale"])
+        gap = point.get("gap_mm")
+        return Run(rig=rig, speed_rad_s=speed, unbalance=Unbalance(magnitudes, phases),
+                   gap_m=None if gap is None else gap * 1e-3, duration_s=self.duration_s,
+                   discard_s=self.discard_s, contact=_contact(rig, point), gap_ramp_s=ramp_s,
+                   label=f"{_describe(point)}, replicate {replicate}")
+
+
+def _factors(factors) -> tuple[Factor, ...]:
+    if isinstance(factors, Mapping):
+        factors = [Factor.from_spec(k, v) for k, v in factors.items()]
+    items = list(factors)
+    for f in items:
+        if not isinstance(f, Factor):
+            raise _check.wrong_type("factors", f, "Factor objects or a table")
+    names = [f.name for f in items]
+    for name in names:
+        if names.count(name) > 1:
+            raise ValueError(f"factors.{name} is given twice")
+    order = list(FACTORS)
+    return tuple(sorted(items, key=lambda f: order.index(f.name)))
+
+
+@functools.lru_cache(maxsize=8)
+def _rig_critical_speeds(rig: Rig, n_cases: int) -> tuple[float, ...]:
+    """The reference speeds of cases 1 … n_cases (an eigenvalue problem each: cached)."""
+    from rubdiag.simulate import critical_speed_for_case
+
+    return tuple(critical_speed_for_case(rig, c) for c in range(1, n_cases + 1))
+
+
+def _check_combination(names: set[str]) -> None:
+    for a, b in EXCLUSIVE:
+        if a in names and b in names:
+            raise ValueError(f"factors.{a} and factors.{b} exclude each other "
+                             "(allowed: one of them)")
+    if not names & {"case", "phase_diff_deg"}:
+        raise ValueError("factors needs case or phase_diff_deg (the unbalance pattern; "
+                         "a single level such as case = [1] fixes it)")
+    if not names & {"speed_ratio", "speed_rpm"}:
+        raise ValueError("factors needs speed_ratio or speed_rpm (a single level such as "
+                         "speed_ratio = [1.0] fixes it)")
+    if "speed_ratio" in names and "case" not in names:
+        raise ValueError("factors.speed_ratio needs case (it is relative to the case's "
+                         "critical speed); with phase_diff_deg give speed_rpm")
+
+
+def _rig(value, root) -> Rig:
+    from rubdiag.model import load_rig, paper_rig, rig_from_dict
+
+    if isinstance(value, Rig):
+        return value
+    if isinstance(value, Mapping):
+        try:
+            return rig_from_dict(dict(value))
+        except ValueError as exc:
+            raise ValueError(f"base.rig: {exc}") from None
+    if not isinstance(value, str):
+        raise _check.wrong_type("base.rig", value, "a preset name, a rig TOML path or a table")
+    if value == "paper":
+        return paper_rig()
+    path = Path(value) if root is None else Path(root) / value
+    if not path.is_file():
+        raise ValueError(f"base.rig = {value!r} is neither a preset nor a file (allowed: "
+                         "\"paper\" or a rig TOML path)")
+    try:
+        return load_rig(path)
+    except ValueError as exc:
+        raise ValueError(f"base.rig: {exc}") from None
+
+
+def _contact(rig: Rig, point: Mapping):
+    """The contact law of a point, or None (the rig's) when no contact factor is given."""
+    law = rig.contact
+    changes = {}
+    if "mu" in point:
+        changes["friction_coefficient"] = point["mu"]
+    if "normal_stiffness_n_m" in point:
+        ratio = law.tangential_stiffness_n_m / law.normal_stiffness_n_m
+        changes["normal_stiffness_n_m"] = point["normal_stiffness_n_m"]
+        changes["tangential_stiffness_n_m"] = point["normal_stiffness_n_m"] * ratio
+    if "contact_stiffness_scale" in point:
+        s = point["contact_stiffness_scale"]
+        changes["normal_stiffness_n_m"] = law.normal_stiffness_n_m * s
+        changes["tangential_stiffness_n_m"] = law.tangential_stiffness_n_m * s
+    return dataclasses.replace(law, **changes) if changes else None
+
+
+def _scaled_casing(rig: Rig, s: float) -> Rig:
+    casing = rig.casing
+    k_rx = casing.support_k_rx_nm_rad
+    casing = dataclasses.replace(casing, support_k_y_n_m=casing.support_k_y_n_m * s,
+                                 support_k_z_n_m=casing.support_k_z_n_m * s,
+                                 support_k_rx_nm_rad=None if k_rx is None else k_rx * s)
+    return dataclasses.replace(rig, casing=casing)
+
+
+def _describe(point: Mapping) -> str:
+    return ", ".join(f"{k} = {v:.6g}" for k, v in point.items())
+
+
+def _toml_value(value) -> str:
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{k} = {_toml_value(v)}" for k, v in value.items()) + "}"
+    if isinstance(value, list):
+        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+    if isinstance(value, str):
+        return f'"{value}"'
+    return repr(value)   # int, or float in its shortest round-trip form (valid TOML)

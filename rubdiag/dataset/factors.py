@@ -1,0 +1,171 @@
+"""The factors a design may vary, and how one factor is given: levels or a range.
+
+A list is always a set of levels (``case = [1, 2]``, ``gap_mm = [1.9, 2.3]``); a table
+``{low, high}`` is a continuous range, which a grid cuts into ``n`` equally spaced levels
+(``{low, high, n}``, both ends included). Every value is checked against the factor's
+physical range when the factor is made.
+
+Factors (``FACTORS``, in their canonical order) and their physical ranges:
+
+- ``case``: the study's unbalance pattern, 1 (in phase) or 2 (out of phase); levels only.
+- ``phase_diff_deg``: the unbalance phase of every second disc along the shaft (deg), the
+  others at 0; 0 is case 1's pattern, 180 case 2's. 0 … 360.
+- ``speed_ratio``: speed / the case's forward critical speed (the 1st for case 1, the 2nd for
+  case 2; see ``Design.critical_speeds_rad_s``). > 0 … 10.
+- ``speed_rpm``: speed (rpm). > 0 … 900000.
+- ``gap_mm``: blade-casing gap g0 (mm). > 0 … 100.
+- ``mu``: friction coefficient μ of the contact law. 0 … 10.
+- ``unbalance_scale``: times the rig's unbalance magnitudes. 0 … 100.
+- ``normal_stiffness_n_m``: contact normal stiffness k_N (N/m); k_T keeps the rig's ratio
+  k_T/k_N. > 0.
+- ``contact_stiffness_scale``: times the rig's contact stiffnesses k_N and k_T. > 0.
+- ``casing_stiffness_scale``: times the casing support stiffnesses (k_y, k_z, and k_rx when
+  the rig sets it; not the dampers). > 0.
+
+Exclusive pairs (``EXCLUSIVE``): ``case``/``phase_diff_deg``, ``speed_ratio``/``speed_rpm``,
+``normal_stiffness_n_m``/``contact_stiffness_scale``.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+
+from rubdiag import _check
+
+__all__ = ["EXCLUSIVE", "FACTORS", "Factor"]
+
+
+def _case(name: str, value) -> int:
+    return _check.integer(name, value, lo=1, hi=2)
+
+
+def _range(lo: float, hi: float | None, *, lo_open: bool, unit: str = ""):
+    if hi is None:
+        return lambda name, value: _check.number(name, value, lo=lo, lo_open=lo_open,
+                                                 unit=unit)
+    return functools.partial(_check.number, lo=lo, hi=hi, lo_open=lo_open, unit=unit)
+
+
+#: name -> check of one value (returns it as int or float). The order is the canonical one:
+#: the order of a design's factors, of the columns of its points and of its sampling axes.
+FACTORS: dict[str, Callable] = {
+    "case": _case,
+    "phase_diff_deg": _range(0.0, 360.0, lo_open=False, unit="deg"),
+    "speed_ratio": _range(0.0, 10.0, lo_open=True),
+    "speed_rpm": _range(0.0, 900_000.0, lo_open=True, unit="rpm"),
+    "gap_mm": _range(0.0, 100.0, lo_open=True, unit="mm"),
+    "mu": _range(0.0, 10.0, lo_open=False),
+    "unbalance_scale": _range(0.0, 100.0, lo_open=False),
+    "normal_stiffness_n_m": _range(0.0, None, lo_open=True, unit="N/m"),
+    "contact_stiffness_scale": _range(0.0, None, lo_open=True),
+    "casing_stiffness_scale": _range(0.0, None, lo_open=True),
+}
+
+#: Factors that say the same thing two ways: a design gives at most one of each pair.
+EXCLUSIVE = (("case", "phase_diff_deg"), ("speed_ratio", "speed_rpm"),
+             ("normal_stiffness_n_m", "contact_stiffness_scale"))
+
+#: Factors that take levels only (a range of them means nothing).
+_LEVELS_ONLY = ("case",)
+_RANGE_KEYS = ("low", "high", "n")
+
+
+@dataclass(frozen=True)
+class Factor:
+    """One factor of a design: ``levels`` (a tuple), or a range ``low`` < ``high`` with an
+    optional number of grid levels ``n`` (>= 2; used by ``method = "grid"`` only)."""
+
+    name: str
+    levels: tuple | None = None
+    low: float | None = None
+    high: float | None = None
+    n: int | None = None
+
+    def __post_init__(self):
+        if self.name not in FACTORS:
+            raise ValueError(f"unknown factor 'factors.{self.name}' "
+                             f"(allowed: {', '.join(FACTORS)})")
+        where = f"factors.{self.name}"
+        check = FACTORS[self.name]
+        if self.levels is not None:
+            if any(v is not None for v in (self.low, self.high, self.n)):
+                raise ValueError(f"{where} has levels and a range (allowed: one of them)")
+            if isinstance(self.levels, str | bytes | Mapping) or not hasattr(
+                    self.levels, "__iter__"):
+                raise _check.wrong_type(where, self.levels, "a list of levels")
+            levels = tuple(check(f"{where}[{i}]", v) for i, v in enumerate(self.levels))
+            if not levels:
+                raise ValueError(f"{where} is empty (allowed: at least one level)")
+            if len(set(levels)) != len(levels):
+                raise ValueError(f"{where} = {_check.plain(levels)} lists a level twice")
+            object.__setattr__(self, "levels", levels)
+            return
+        if self.name in _LEVELS_ONLY:
+            raise _check.wrong_type(where, {"low": self.low, "high": self.high},
+                                    "a list of levels, e.g. [1, 2]")
+        for key in ("low", "high"):
+            if getattr(self, key) is None:
+                raise ValueError(f"{where}.{key} is missing (a range needs low and high)")
+        low = check(f"{where}.low", self.low)
+        high = check(f"{where}.high", self.high)
+        if not low < high:
+            raise _check.out_of_range(f"{where}.low", low, f"< high = {_check.plain(high)}")
+        object.__setattr__(self, "low", low)
+        object.__setattr__(self, "high", high)
+        if self.n is not None:
+            _check.integer(f"{where}.n", self.n, lo=2)
+
+    @classmethod
+    def from_spec(cls, name: str, spec) -> Factor:
+        """A factor from its TOML form: a list of levels or a table ``{low, high[, n]}``."""
+        if name not in FACTORS:
+            return cls(name)        # raises: the unknown-factor message
+        if isinstance(spec, Mapping):
+            unknown = sorted(set(spec) - set(_RANGE_KEYS))
+            if unknown:
+                raise ValueError(f"unknown key 'factors.{name}.{unknown[0]}' "
+                                 f"(allowed: {', '.join(_RANGE_KEYS)})")
+            return cls(name, **spec)
+        if isinstance(spec, list | tuple):
+            return cls(name, levels=tuple(spec))
+        raise _check.wrong_type(f"factors.{name}", spec,
+                                "a list of levels or a table {low, high}")
+
+    def to_spec(self):
+        """The TOML form: a list of levels, or ``{low, high[, n]}``."""
+        if self.levels is not None:
+            return list(self.levels)
+        spec = {"low": self.low, "high": self.high}
+        return spec if self.n is None else {**spec, "n": self.n}
+
+    @property
+    def is_range(self) -> bool:
+        return self.levels is None
+
+    @property
+    def is_constant(self) -> bool:
+        """A single level: the same value in every point, and no sampling axis."""
+        return self.levels is not None and len(self.levels) == 1
+
+    def grid_levels(self) -> tuple:
+        """The values a grid takes: the levels, or ``n`` equally spaced values of the
+        range, both ends included."""
+        if self.levels is not None:
+            return self.levels
+        if self.n is None:
+            raise ValueError(f"factors.{self.name}.n is missing (method = 'grid' needs the "
+                             "number of levels of each {low, high} factor)")
+        step = (self.high - self.low) / (self.n - 1)
+        return tuple([self.low + i * step for i in range(self.n - 1)] + [self.high])
+
+    def from_unit(self, u: float):
+        """The value at unit-interval coordinate ``u`` in [0, 1): ``low + u·(high - low)``
+        for a range; for k levels, level ``floor(u·k)`` — each level owns an equal share of
+        the interval, in the order the levels are listed."""
+        if self.levels is None:
+            return self.low + u * (self.high - self.low)
+        k = len(self.levels)
+        return self.levels[min(math.floor(u * k), k - 1)]
