@@ -13,8 +13,8 @@ knob                           values
 ``augmentation``               **off**; on with eps = 50, 20, 10 µm
 ``casing_support``             **distributed**, point (the support node opposite
                                contact 1, rubdiag's default for a point support)
-``dt``                         2e-5, **1e-5**, 5e-6 s (largest step; halved where
-                               needed)
+``dt``                         2e-5, **1e-5**, 5e-6 s (largest step; the variable
+                               step never halves it on the paper rig)
 ``window``                     1.3, **2.3**, 4.3 s simulated (0.3 s discarded); and
                                4.3 s with 2.3 s discarded (the default 2 s window,
                                but late)

@@ -221,7 +221,8 @@ def to_markdown(table: pd.DataFrame) -> str:
             f"{r.paper_shaft_blade_spectrum_features} |")
     first = table.iloc[0]
     note = (f"\nOurs in **bold**, then the study's. Statistics over {first.window_s:g} s after "
-            f"discarding the first {first.discard_s:g} s; dt = {first.dt_s:g} s (halved where "
-            "needed). Minimum force: smallest per-episode peak over episodes of at least 2 "
-            "steps.\n")
+            f"discarding the first {first.discard_s:g} s; dt = {first.dt_s:g} s (the variable "
+            "step may halve it; on the paper rig it never does). Minimum force: smallest "
+            "per-episode peak over episodes of at least 2 steps (not converged in dt: see "
+            "README, Time-step convergence).\n")
     return header + "\n".join(lines) + "\n" + note
