@@ -54,7 +54,9 @@ import numpy as np
 
 PATH = Path(__file__).resolve().parents[1] / "data" / "ross_references.json"
 RPM = math.pi / 30.0            # rad/s per rpm
-N_CRITICAL = 2                  # forward critical speeds per rotor
+# forward critical speeds per rotor: the paper shaft's 3rd and 4th were not fitted to anything
+N_CRITICAL = {"paper-solid-10mm": 4, "hollow-40-20mm": 2}
+N_CRITICAL_VARIANTS = 2         # per rotor, for ROSS's other-physics variants
 
 E, NU, RHO = 210e9, 0.3, 7850.0
 DISC_NODES, DISC_RADIUS_M, DISC_THICKNESS_M = (11, 19), 0.035, 0.015
@@ -102,10 +104,13 @@ def inputs() -> dict:
         "rotors": {"paper-solid-10mm": rotor(),
                    "hollow-40-20mm": rotor(0.040, 0.020),
                    "paper-bearing-dampers": rotor(bearing_damping_ns_m=(2e3, 1e3))},
-        "critical_speeds": {"rotors": ["paper-solid-10mm", "hollow-40-20mm"],
-                            "n_forward": N_CRITICAL},
+        "critical_speeds": {"rotors": list(N_CRITICAL), "n_forward": N_CRITICAL,
+                            "n_forward_variants": N_CRITICAL_VARIANTS},
         "natural_frequencies": {"rotor": "paper-solid-10mm", "speeds_rpm": [0.0, 8000.0],
                                 "n_lateral": 6},
+        # undamped; at every shaft node u_y then u_z (ROSS x, y), see mode_shape()
+        "mode_shapes": {"rotor": "paper-solid-10mm", "speeds_rpm": [0.0, 8000.0],
+                        "n_lateral": 4, "directions": ["y", "z"]},
         "unbalance_response": {"rotor": "paper-bearing-dampers",
                                "magnitudes_kg_m": [1.56e-4, 1.56e-4],   # out of phase
                                "phases_rad": [0.3, math.pi + 0.3],
@@ -147,7 +152,7 @@ def rubdiag_values(inp: dict) -> dict:
     rotors = inp["rotors"]
     crit = inp["critical_speeds"]
     out = {"forward_critical_speeds_rpm": {
-        name: list(critical_speeds(assemble(rig(rotors[name])), n=crit["n_forward"]) / RPM)
+        name: list(critical_speeds(assemble(rig(rotors[name])), n=crit["n_forward"][name]) / RPM)
         for name in crit["rotors"]}}
 
     nat = inp["natural_frequencies"]
@@ -155,6 +160,16 @@ def rubdiag_values(inp: dict) -> dict:
     out["natural_frequencies_rad_s"] = [
         list(modes(model, speed * RPM, n_modes=nat["n_lateral"], damped=False).damped_frequencies)
         for speed in nat["speeds_rpm"]]
+
+    shp = inp["mode_shapes"]
+    spec = rotors[shp["rotor"]]
+    model = assemble(rig(spec))
+    nodes = range(spec["first_node"], spec["first_node"] + len(spec["element_lengths_m"]) + 1)
+    rows = [model.dofs.index(node, d) for d in shp["directions"] for node in nodes]
+    shapes = [[mode_shape(column) for column in
+               modes(model, speed * RPM, n_modes=shp["n_lateral"], damped=False).shapes[rows].T]
+              for speed in shp["speeds_rpm"]]
+    out["mode_shapes"] = _parts(shapes)
 
     unb = inp["unbalance_response"]
     response = unbalance_response(
@@ -168,6 +183,43 @@ def rubdiag_values(inp: dict) -> dict:
 def _polar(response) -> dict:
     """A complex (speeds × points) array as plain amplitude and phase lists."""
     return {"amplitude_m": np.abs(response).tolist(), "phase_rad": np.angle(response).tolist()}
+
+
+def mode_shape(values) -> np.ndarray:
+    """A mode's lateral translations (u_y at every shaft node, then u_z) scaled to unit
+    largest modulus, that entry real positive (the first of equal moduli: on this symmetric
+    rotor mirror nodes tie, so compare shapes up to a phase, see :func:`shape_agreement`)."""
+    v = np.asarray(values, dtype=complex)
+    return v / v[np.argmax(np.abs(v))]
+
+
+def _parts(shapes) -> dict:
+    """Complex shapes (speeds × modes × entries) as plain real and imaginary lists."""
+    a = np.asarray(shapes)
+    return {"real": a.real.tolist(), "imag": a.imag.tolist()}
+
+
+def shapes(values: dict) -> np.ndarray:
+    """The stored mode shapes, complex (speeds × modes × entries)."""
+    parts = values["mode_shapes"]
+    return np.asarray(parts["real"]) + 1j * np.asarray(parts["imag"])
+
+
+def shape_agreement(ours, theirs) -> tuple[np.ndarray, np.ndarray]:
+    """(1 − MAC, largest entry-wise difference after the best phase) of each pair of shapes
+    (speeds × modes × entries; theirs with unit largest modulus).
+
+    MAC = |a^H b|² / (a^H a · b^H b) is 1 for proportional shapes whatever the complex scale.
+    Entry-wise: ours is scaled by the complex c minimising ‖c·ours − theirs‖ (the
+    least-squares phase and size), then max |c·ours − theirs| over the entries.
+    """
+    a, b = np.asarray(ours), np.asarray(theirs)
+    ab = np.sum(a.conj() * b, axis=-1)
+    aa = np.sum(np.abs(a) ** 2, axis=-1)
+    bb = np.sum(np.abs(b) ** 2, axis=-1)
+    mac = np.abs(ab) ** 2 / (aa * bb)
+    c = ab / aa
+    return 1.0 - mac, np.max(np.abs(c[..., None] * a - b), axis=-1)
 
 
 def arrays(values: dict) -> dict[str, np.ndarray]:
@@ -299,9 +351,10 @@ def ross_values(rs, inp: dict) -> tuple[dict, dict]:
     speeds in rpm)."""
     rotors = inp["rotors"]
     crit = inp["critical_speeds"]
-    n = crit["n_forward"]
     out = {"forward_critical_speeds_rpm": {
-        name: ross_forward_rpm(rs, rotors[name], n) for name in crit["rotors"]}}
+        name: ross_forward_rpm(rs, rotors[name], crit["n_forward"][name])
+        for name in crit["rotors"]}}
+    n = crit["n_forward_variants"]
     variants = {label: {name: ross_forward_rpm(rs, rotors[name], n, **physics)
                         for name in crit["rotors"]}
                 for label, physics in inp["ross_settings"]["variants"].items()}
@@ -309,15 +362,26 @@ def ross_values(rs, inp: dict) -> tuple[dict, dict]:
     nat = inp["natural_frequencies"]
     spec = rotors[nat["rotor"]]
     rotor = ross_rotor(rs, spec)
-    out["natural_frequencies_rad_s"] = []
+    shp = inp["mode_shapes"]
+    assert shp["rotor"] == nat["rotor"] and set(shp["speeds_rpm"]) <= set(nat["speeds_rpm"])
+    # rubdiag y -> ROSS x (dof 0 of each node), z -> y (dof 1); all nodes are shaft nodes
+    offsets = [0 if d == "y" else 1 for d in shp["directions"]]
+    out["natural_frequencies_rad_s"], mode_shapes = [], []
     for speed in nat["speeds_rpm"]:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             modal = rotor.run_modal(speed * RPM, num_modes=MODAL_NUM_MODES)
         # lateral modes only: rubdiag models no torsion (nor the axial rigid-body mode)
-        lateral = [float(w) for i, w in enumerate(modal.wd) if w > 1.0
+        lateral = [i for i, w in enumerate(modal.wd) if w > 1.0
                    and net_whirl(modal.evectors[:, i], rotor.number_dof)[1] > 0.5]
-        out["natural_frequencies_rad_s"].append(lateral[: nat["n_lateral"]])
+        out["natural_frequencies_rad_s"].append(
+            [float(modal.wd[i]) for i in lateral[: nat["n_lateral"]]])
+        if speed in shp["speeds_rpm"]:
+            ev = np.asarray(modal.evectors)
+            q = ev[: ev.shape[0] // 2].reshape(-1, rotor.number_dof, ev.shape[1])
+            mode_shapes.append([mode_shape(np.concatenate([q[:, k, i] for k in offsets]))
+                                for i in lateral[: shp["n_lateral"]]])
+    out["mode_shapes"] = _parts(mode_shapes)
 
     unb = inp["unbalance_response"]
     spec = rotors[unb["rotor"]]
@@ -378,6 +442,10 @@ def print_agreement(stored: dict) -> None:
           f"(stored {stored['generated']['date']}), largest relative difference:")
     for key, d in largest_differences(rubdiag_values(stored["inputs"]), stored["ross"]).items():
         print(f"  {key:<50} {d:.1e}")
+    one_minus_mac, entrywise = shape_agreement(shapes(rubdiag_values(stored["inputs"])),
+                                               shapes(stored["ross"]))
+    print(f"  {'mode shapes: 1 - MAC':<50} {np.max(one_minus_mac):.1e}")
+    print(f"  {'mode shapes: entry-wise (unit max, best phase)':<50} {np.max(entrywise):.1e}")
 
 
 def main(argv=None) -> int:
