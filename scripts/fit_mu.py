@@ -440,6 +440,48 @@ def render(runs: pd.DataFrame, summ: pd.DataFrame, preset_mu: float) -> str:
     return text
 
 
+#: claims.csv ids of the case-2 / case-1 ratios: (quantity, intensity) -> id
+RATIO_CLAIMS = {("force", "light"): "C2i", ("force", "serious"): "C2j",
+                ("casing", "light"): "C2a", ("casing", "serious"): "C2b"}
+
+
+def _relative_tolerance(claim_id: str) -> float:
+    """The '±15 %' of a claim of data/claims.csv, as 0.15."""
+    table = pd.read_csv(DATA / "claims.csv").set_index("id")
+    tol = str(table.loc[claim_id, "tolerance"]).replace(" ", "")
+    if not (tol.startswith("±") and tol.endswith("%")):
+        raise ValueError(f"{claim_id}: tolerance {tol!r} is not a relative band")
+    return float(tol[1:-1]) / 100
+
+
+def validated(runs: pd.DataFrame, summ: pd.DataFrame, preset: float) -> str:
+    """The README's *Validated* items: the claims held out of split A (fitted on case 1
+    alone) scored at its μ*, and at the preset μ for comparison."""
+    star = results(runs, summ, preset)["A"]["mu_star"]
+    at = summ.set_index("mu")
+    ref = study()
+    text = ""
+    for q, short in zip(NUMBERS, ("force", "casing"), strict=True):
+        parts = []
+        for i in ("light", "serious"):
+            claim = RATIO_CLAIMS[(short, i)]
+            study_ratio = ref[(2, i, q)] / ref[(1, i, q)]
+            tol = _relative_tolerance(claim)
+            ours = at.loc[star, f"ratio_{short}_{i}"]
+            verdict = "holds" if abs(ours / study_ratio - 1) <= tol else "does not hold"
+            parts.append(f"{i} {ours:.1f} against {study_ratio:.1f} ± {100 * tol:.0f} % "
+                         f"({claim}: {verdict}; {at.loc[preset, f'ratio_{short}_{i}']:.1f} "
+                         f"at μ = {preset:g})")
+        what = "contact-1 maximum force" if short == "force" else "casing maximum"
+        text += f"- Case 2 / case 1, {what}: {'; '.join(parts)}.\n"
+    shares = ", ".join(f"{c} {_share(at.loc[star, c])}" for c in CLAIMS)
+    text += (f"- Spectral and contact-status claims, share of the runs each is about in which "
+             f"it holds: {shares}; mean {_share(at.loc[star, 'claims'])} "
+             f"({_share(at.loc[preset, 'claims'])} at μ = {preset:g}).\n")
+    return (f"Scored at μ = {star:g}, split A's μ* (fitted on the case-1 numbers alone, "
+            f"\"How μ was chosen\"; 5 start histories):\n\n" + text)
+
+
 def preset_mu() -> float:
     from rubdiag.model import paper_rig
 
@@ -456,15 +498,19 @@ def main(argv=None) -> int:
                         help="scan only these μ (default: 0.1 … 0.6 in steps of 0.05)")
     parser.add_argument("--table", action="store_true",
                         help="print the README block from the stored files; run nothing")
+    parser.add_argument("--validated", action="store_true",
+                        help="print the README's Validated items from the stored files; "
+                             "run nothing")
     args = parser.parse_args(argv)
-    if not args.table:
+    if not (args.table or args.validated):
         scan(tuple(args.mu) if args.mu else MUS, args.jobs, args.out_dir)
     runs = load_runs(args.out_dir)
     if runs.empty:
         log(f"nothing stored in {args.out_dir / RUNS_FILE}")
         return 1
     summ = pd.read_csv(args.out_dir / SUMMARY_FILE)
-    print(render(runs, summ, preset_mu()), end="")
+    show = validated if args.validated else render
+    print(show(runs, summ, preset_mu()), end="")
     return 0
 
 

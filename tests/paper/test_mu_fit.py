@@ -30,6 +30,10 @@ _BLOCK = re.search(r"<!-- mu-fit -->\n(?P<body>.*?)<!-- /mu-fit -->",
                    (ROOT / "README.md").read_text(encoding="utf-8"), re.DOTALL)
 
 
+_VALIDATED = re.search(r"<!-- mu-validated -->\n(?P<body>.*?)<!-- /mu-validated -->",
+                       (ROOT / "README.md").read_text(encoding="utf-8"), re.DOTALL)
+
+
 def readme_block() -> str:
     assert _BLOCK is not None, "README.md has no <!-- mu-fit --> block (How μ was chosen)"
     return _BLOCK["body"]
@@ -53,6 +57,30 @@ def test_summary_is_the_stored_runs_summary():
 def test_readme_block_is_what_the_stored_data_say():
     # the table, μ*, the held-out scores and the preset μ, as `fit_mu.py --table` prints them
     assert readme_block() == script.render(RUNS, SUMMARY, script.preset_mu())
+
+
+def test_readme_validated_items_are_what_the_stored_data_say():
+    assert _VALIDATED is not None, "README.md has no <!-- mu-validated --> block (Validated)"
+    assert _VALIDATED["body"] == script.validated(RUNS, SUMMARY, script.preset_mu())
+
+
+def test_validated_ratios_recomputed_by_hand():
+    """The held-out case-2 / case-1 ratios at split A's μ*, from the runs and the claims
+    table's tolerance, without the script's helpers."""
+    star = script.results(RUNS, SUMMARY, script.preset_mu())["A"]["mu_star"]
+    study = paper_values().set_index(["case", "intensity"])
+    claims = pd.read_csv(script.DATA / "claims.csv").set_index("id")
+    at = RUNS[np.isclose(RUNS["mu"], star)]
+    for claim, q, intensity in (("C2i", "contact1_max_force_n", "light"),
+                                ("C2b", "casing_max_y_um", "serious")):
+        med = {c: np.median(at.loc[(at["case"] == c) & (at["intensity"] == intensity), q])
+               for c in (1, 2)}
+        ours = med[2] / med[1]
+        theirs = study.loc[(2, intensity), q] / study.loc[(1, intensity), q]
+        tol = float(claims.loc[claim, "tolerance"].strip("±% ")) / 100
+        verdict = "holds" if abs(ours / theirs - 1) <= tol else "does not hold"
+        assert f"{ours:.1f} against {theirs:.1f} ± {100 * tol:.0f} % ({claim}: {verdict};" \
+            in _VALIDATED["body"]
 
 
 def test_split_a_recomputed_by_hand():
