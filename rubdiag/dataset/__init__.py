@@ -11,8 +11,11 @@ imports it.
 
 from rubdiag.dataset.design import Design, DesignRun
 from rubdiag.dataset.factors import FACTORS, Factor
+from rubdiag.dataset.generate import generate, pending_runs
 from rubdiag.dataset.ids import SCHEMA_VERSION, canonical_run, point_id, run_id
+from rubdiag.dataset.labels import LabelRules, label_run, labels_from_measures
 from rubdiag.dataset.sampling import MAX_REPLICATES, gap_ramps_s
+from rubdiag.dataset.store import load
 
 __all__ = [
     "FACTORS",
@@ -21,8 +24,14 @@ __all__ = [
     "Design",
     "DesignRun",
     "Factor",
+    "LabelRules",
     "canonical_run",
     "gap_ramps_s",
+    "generate",
+    "label_run",
+    "labels_from_measures",
+    "load",
+    "pending_runs",
     "point_id",
     "run_id",
 ]

@@ -13,6 +13,10 @@ A design file has three tables::
     seed = 7                  # default 0
     replicates = 1            # start histories per design point (default 1, at most 65)
 
+    [labels]                  # optional: the label thresholds (rubdiag.dataset.labels)
+    severity_threshold = 1.37 # interference ratio from which a rub is serious
+    full_contact_share = 0.95 # share of the window in contact from which a rub is full
+
     [factors]
     case = [1, 2]                              # a list: levels
     speed_ratio = {low = 0.8, high = 1.2}      # a table: a continuous range
@@ -65,6 +69,7 @@ from pathlib import Path
 from rubdiag import _check
 from rubdiag.dataset.factors import EXCLUSIVE, FACTORS, Factor
 from rubdiag.dataset.ids import point_id, run_id
+from rubdiag.dataset.labels import LabelRules
 from rubdiag.dataset.sampling import (
     MAX_REPLICATES,
     METHODS,
@@ -75,12 +80,16 @@ from rubdiag.dataset.sampling import (
 from rubdiag.model.rig import Rig, Unbalance
 from rubdiag.simulate import Run
 
-__all__ = ["Design", "DesignRun"]
+__all__ = ["MIN_REVOLUTIONS", "Design", "DesignRun"]
+
+#: Revolutions the analysis window must hold (the spectral features' default minimum).
+MIN_REVOLUTIONS = 10.0
 
 _SECTIONS = {
     "base": ("rig", "duration_s", "discard_s", "critical_speeds_rad_s"),
     "sampling": ("method", "n", "seed", "replicates"),
     "factors": tuple(FACTORS),
+    "labels": ("severity_threshold", "full_contact_share"),
 }
 
 
@@ -118,6 +127,7 @@ class Design:
     duration_s: float = 2.3
     discard_s: float = 0.3
     critical_speeds_rad_s: tuple[float, ...] | None = None
+    labels: LabelRules = field(default_factory=LabelRules)
 
     def __post_init__(self):
         def set_(name, value):
@@ -131,6 +141,10 @@ class Design:
         if self.rig.loading is None:
             raise ValueError(f"base.rig = {self.rig.name!r} has no [loading] (the unbalance "
                              "magnitudes and case patterns)")
+        if isinstance(self.labels, Mapping):
+            set_("labels", LabelRules(**self.labels))
+        if not isinstance(self.labels, LabelRules):
+            raise _check.wrong_type("labels", self.labels, "a LabelRules or a table")
         set_("factors", _factors(self.factors))
         names = {f.name for f in self.factors}
         _check_combination(names)
@@ -220,7 +234,8 @@ class Design:
         base = dict(data.get("base", {}))
         base["rig"] = _rig(base.get("rig", "paper"), root)
         factors = tuple(Factor.from_spec(k, v) for k, v in data.get("factors", {}).items())
-        return cls(factors=factors, **base, **data.get("sampling", {}))
+        return cls(factors=factors, **base, **data.get("sampling", {}),
+                   labels=LabelRules(**data.get("labels", {})))
 
     def to_dict(self) -> dict:
         """The resolved design as plain TOML-ready data (see the module docstring)."""
@@ -233,7 +248,8 @@ class Design:
         return {"base": base,
                 "sampling": {"method": self.method, "n": self.n, "seed": self.seed,
                              "replicates": self.replicates},
-                "factors": {f.name: f.to_spec() for f in self.factors}}
+                "factors": {f.name: f.to_spec() for f in self.factors},
+                "labels": self.labels.to_dict()}
 
     def to_toml(self) -> str:
         """The resolved design as TOML text: ``[base]``, ``[sampling]`` and ``[factors]`` as
@@ -309,6 +325,13 @@ class Design:
             speed = point["speed_rpm"] * math.pi / 30.0
         if "casing_stiffness_scale" in point:
             rig = _scaled_casing(rig, point["casing_stiffness_scale"])
+        revolutions = (self.duration_s - self.discard_s) * speed / (2 * math.pi)
+        if revolutions < MIN_REVOLUTIONS:
+            raise ValueError(
+                f"the analysis window (base.duration_s - base.discard_s = "
+                f"{self.duration_s - self.discard_s:g} s) holds {revolutions:.3g} revolutions "
+                f"at {speed * 30 / math.pi:.6g} rpm (allowed: at least {MIN_REVOLUTIONS:g}, "
+                "for the spectral features)")
         gap = point.get("gap_mm")
         return Run(rig=rig, speed_rad_s=speed, unbalance=Unbalance(magnitudes, phases),
                    gap_m=None if gap is None else gap * 1e-3, duration_s=self.duration_s,

@@ -129,10 +129,12 @@ def simulate(run: Run, progress: Callable[[float, float], None] | None = None,
             output_dt=run.output_dt_s, record_dofs=record, gap_ramp=gap_ramp, omega=speed,
             progress=progress, raise_on_failure=True)
     except SimulationDiverged as exc:
+        exc.result.extra["linear_approach_m"] = approach
         partial = SimulationResult(run, points, exc.result, time.perf_counter() - start_time)
         if raise_on_failure:
             raise SimulationDiverged(str(exc), partial) from None
         return partial
+    system.extra["linear_approach_m"] = approach
     return SimulationResult(run, points, system, time.perf_counter() - start_time)
 
 
@@ -199,6 +201,14 @@ class SimulationResult:
                              f"{', '.join(self.points)})") from None
         q = self.system.q[:, j]
         return q[self.window] if windowed else q
+
+    @property
+    def linear_approach_m(self) -> float:
+        """The largest radial approach of the linear (contact-free) unbalance response over
+        all contact elements (m): where the gap ramp starts, and, over g0, how deep the
+        rotor would reach into the casing if nothing stopped it. NaN for results saved
+        before it was recorded."""
+        return float(self.system.extra.get("linear_approach_m", float("nan")))
 
     def window_episodes(self) -> EpisodeLog:
         """Contact episodes that start inside the analysis window."""

@@ -1,0 +1,155 @@
+"""The column map (``columns.csv``) and the dataset card (``README.md``) of a dataset folder.
+
+Both are derived from the stored rows and the design, rewritten atomically at the end of
+every job, so they describe what the folder holds.
+"""
+
+from __future__ import annotations
+
+import datetime
+import io
+import re
+
+import numpy as np
+import pandas as pd
+
+from rubdiag._version import __version__
+from rubdiag.dataset.factors import FACTORS
+from rubdiag.dataset.ids import SCHEMA_VERSION
+from rubdiag.dataset.labels import LABELS, MEASURES, RUB_STATES, SEVERITIES
+from rubdiag.dataset.rows import ID_COLUMNS, PROVENANCE
+
+__all__ = ["column_map", "write_card"]
+
+_CHANNEL = re.compile(r"^(shaft|blade|casing|contact\d+|contacts)_(.+)$")
+# unit by name ending, longest first
+_SUFFIX_UNITS = (("_per_rev", "1/rev"), ("_per_s", "1/s"), ("_n_m", "N/m"), ("_rpm", "rpm"),
+                 ("_deg", "deg"), ("_hz", "Hz"), ("_mm", "mm"), ("_um", "µm"),
+                 ("_j", "J"), ("_n", "N"), ("_m", "m"), ("_s", "s"))
+# spectral amplitudes are in the unit of the signal: the responses are displacements (m)
+_AMPLITUDE = re.compile(r"^(amp_|rms$|bb_\d+x_rms$|sb_\d+x_(lower|upper)$|combo_amp_)")
+
+
+def _unit(feature: str) -> str:
+    if _AMPLITUDE.match(feature):
+        return "m"
+    for suffix, unit in _SUFFIX_UNITS:
+        if feature.endswith(suffix):
+            return unit
+    return "1"
+
+
+def column_map(columns) -> pd.DataFrame:
+    """One row per column: ``column``, ``group`` (id, factor, run, measure, label, feature,
+    provenance), ``channel`` (shaft, blade, casing, contact<k>, contacts, or empty),
+    ``feature`` (the name without the channel) and ``unit`` ("1": dimensionless or a count;
+    empty for text)."""
+    rows = []
+    for name in columns:
+        channel, feature = "", name
+        if name in ID_COLUMNS:
+            group = "id"
+        elif name == "speed_rpm":       # the run's speed, also when a factor set it
+            group = "run"
+        elif name in FACTORS:
+            group = "factor"
+        elif name in MEASURES:
+            group = "measure"
+        elif name in LABELS:
+            group = "label"
+        elif name in PROVENANCE:
+            group = "provenance"
+        else:
+            group = "feature"
+            match = _CHANNEL.match(name)
+            if match:
+                channel, feature = match.groups()
+        text = name in ("run_id", "point_id", "rub_state", "severity", "rubdiag_version",
+                        "status", "message") or name == "rub"
+        unit = "" if text else _unit(feature)
+        if name in ("case", "replicate", "interference_ratio", "contact_time_fraction",
+                    "sticking_share", "n_rub_episodes") or name.endswith("_scale"):
+            unit = "1"
+        rows.append({"column": name, "group": group, "channel": channel, "feature": feature,
+                     "unit": unit})
+    return pd.DataFrame(rows)
+
+
+def write_card(folder, design) -> None:
+    """Write ``columns.csv`` and ``README.md`` of ``folder`` (a DatasetFolder)."""
+    from rubdiag.dataset.store import atomic_write_text, load
+
+    rows = load(folder.root)
+    columns = column_map(rows.columns)
+    buffer = io.StringIO()
+    columns.to_csv(buffer, index=False, lineterminator="\n")
+    atomic_write_text(folder.root / "columns.csv", buffer.getvalue())
+    atomic_write_text(folder.root / "README.md", card_text(rows, design, columns))
+
+
+def _counts(rows: pd.DataFrame, column: str, order) -> str:
+    ok = rows[rows["status"] == "ok"]
+    counts = ok[column].astype(str).value_counts() if len(ok) else pd.Series(dtype=int)
+    return ", ".join(f"{value} {int(counts.get(str(value), 0))}" for value in order)
+
+
+def card_text(rows: pd.DataFrame, design, columns: pd.DataFrame) -> str:
+    """The dataset card (Markdown)."""
+    n_done = len(rows)
+    status = rows["status"].value_counts() if n_done else pd.Series(dtype=int)
+    factors = "\n".join(f"- `{f.name}`: {_spec(f)}" for f in design.factors)
+    wall = rows["wall_s"].to_numpy(float) if n_done else np.array([])
+    if wall.size:
+        q = np.percentile(wall, [0, 10, 50, 90, 100])
+        wall_text = (f"min {q[0]:.2f} s, p10 {q[1]:.2f}, median {q[2]:.2f}, p90 {q[3]:.2f}, "
+                     f"max {q[4]:.2f} s; total {wall.sum() / 60:.1f} min of worker time")
+    else:
+        wall_text = "no run yet"
+    groups = columns.groupby("group", sort=False)["column"].count()
+    return f"""# rubdiag dataset
+
+Made with rubdiag {__version__} (run-id schema {SCHEMA_VERSION}) on
+{datetime.date.today().isoformat()}. `design.toml` is the resolved design: the same design
+makes the same runs, bit for bit, on any machine and any number of workers.
+
+## Design
+
+Sampling: {design.method}, {design.n} design points × {design.replicates} replicate(s) =
+{design.n_runs} runs (seed {design.seed}); {design.duration_s:g} s simulated per run, the
+first {design.discard_s:g} s discarded. Factors:
+
+{factors}
+
+Labels (rubdiag.dataset.labels): severity threshold {design.labels.severity_threshold:g}
+(interference ratio; calibrated on the study's four cells), full rub from a contact-time
+share of {design.labels.full_contact_share:g}.
+
+## Counts
+
+Stored: {n_done} of {design.n_runs} runs; status: {_status(status)}.
+Among the ok runs: rub {_counts(rows, 'rub', (True, False)) if n_done else '-'};
+rub_state {_counts(rows, 'rub_state', RUB_STATES) if n_done else '-'};
+severity {_counts(rows, 'severity', SEVERITIES) if n_done else '-'}.
+
+Wall time per run: {wall_text}.
+
+## Columns
+
+{len(columns)} columns ({', '.join(f'{g} {n}' for g, n in groups.items())}); `columns.csv`
+gives each one's group, channel, feature and unit. Read the rows with
+`rubdiag.dataset.load(DIR)` (one row per run) or `pandas.read_parquet(DIR / "features")`.
+Group splits by `point_id`: replicates of a design point are near-copies.
+"""
+
+
+def _status(counts: pd.Series) -> str:
+    if counts.empty:
+        return "none"
+    return ", ".join(f"{k} {int(v)}" for k, v in counts.items())
+
+
+def _spec(factor) -> str:
+    if factor.levels is not None:
+        return "levels " + ", ".join(f"{v:g}" for v in factor.levels)
+    n = f", {factor.n} grid levels" if factor.n is not None else ""
+    return f"{factor.low:g} … {factor.high:g}{n}"

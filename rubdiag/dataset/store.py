@@ -1,0 +1,213 @@
+"""A dataset folder that a crash cannot corrupt.
+
+Layout of ``DIR``:
+
+``design.toml``
+    The resolved design (:meth:`Design.to_toml`); written first, atomically. A later job
+    into the same folder must bring the same design.
+``dataset.json``
+    The format: ``schema_version`` (:data:`~rubdiag.dataset.ids.SCHEMA_VERSION`, the one
+    the run ids were made with) and, once a run has succeeded, ``columns``: every column
+    with its Arrow type, the same in every chunk.
+``features/part-NNNNNN.parquet``
+    The rows, in chunks. Each chunk is written to a hidden temporary file in the same
+    folder and renamed (atomic on POSIX and Windows), so a chunk is either complete or
+    absent, whenever the job is killed. Hidden and temporary files are ignored by every
+    reader (``pandas.read_parquet(DIR / "features")`` included) and removed by the next
+    job.
+``columns.csv``, ``README.md``
+    The column map (name, group, unit) and the dataset card, rewritten at the end of a job.
+
+A run id appears in at most one chunk, except for a moment while failed runs are retried:
+the new row is written first, then the chunks holding the old one are rewritten without it.
+:func:`load` keeps the newest row of a run id (the highest chunk number), so a crash in
+between still gives every run once.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+import pandas as pd
+import pyarrow as pa
+import pyarrow.parquet as pq
+
+from rubdiag.dataset.ids import SCHEMA_VERSION
+
+__all__ = ["DatasetFolder", "load"]
+
+_FORMAT = "rubdiag.dataset"
+_CHUNK_PREFIX, _CHUNK_SUFFIX = "part-", ".parquet"
+
+
+def _atomic_write_bytes(path: Path, data: bytes) -> None:
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        with open(tmp, "wb") as f:
+            f.write(data)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+
+
+def atomic_write_text(path: Path, text: str) -> None:
+    _atomic_write_bytes(Path(path), text.encode("utf-8"))
+
+
+class DatasetFolder:
+    """The files of one dataset folder (see the module docstring)."""
+
+    def __init__(self, root: str | Path):
+        self.root = Path(root)
+        self.chunks_dir = self.root / "features"
+
+    # --- opening ---------------------------------------------------------------------------
+    def check_writable(self, design_toml: str) -> None:
+        """Refuse, before anything is written, a folder that cannot take this design: a
+        file in the way, another design, another schema version."""
+        if self.root.exists() and not self.root.is_dir():
+            raise ValueError(f"--out {self.root}: is a file (allowed: a new or empty folder, "
+                             "or the folder of this design)")
+        if self.root.is_dir():
+            existing = self.root / "design.toml"
+            if existing.is_file():
+                self._check_same(existing.read_text(encoding="utf-8"), design_toml)
+            elif any(self.root.iterdir()):
+                raise ValueError(f"--out {self.root}: is not empty and holds no dataset "
+                                 "(allowed: a new or empty folder, or the folder of this "
+                                 "design)")
+        parent = self.root if self.root.is_dir() else _existing_parent(self.root)
+        if not os.access(parent, os.W_OK):
+            raise ValueError(f"--out {self.root}: {parent} is not writable")
+
+    def _check_same(self, stored_toml: str, design_toml: str) -> None:
+        meta = self.meta()
+        stored_schema = meta.get("schema_version")
+        if stored_schema != SCHEMA_VERSION:
+            raise ValueError(f"--out {self.root}: made with run-id schema version "
+                             f"{stored_schema}, this rubdiag uses {SCHEMA_VERSION} (its run "
+                             "ids would differ; use a new folder)")
+        if stored_toml != design_toml:
+            import tomllib
+
+            where = _first_difference(tomllib.loads(stored_toml), tomllib.loads(design_toml))
+            raise ValueError(f"--out {self.root}: holds another design ({where}); use a new "
+                             "folder or the same design")
+
+    def create(self, design_toml: str) -> None:
+        """Make the folder (or reuse it), write the design and the format, and remove what
+        an interrupted job left half-written."""
+        self.chunks_dir.mkdir(parents=True, exist_ok=True)
+        if not (self.root / "design.toml").is_file():
+            atomic_write_text(self.root / "design.toml", design_toml)
+        if not (self.root / "dataset.json").is_file():
+            self.write_meta({"format": _FORMAT, "schema_version": SCHEMA_VERSION})
+        for leftover in self.chunks_dir.glob(".*.tmp"):
+            leftover.unlink(missing_ok=True)
+
+    # --- format ----------------------------------------------------------------------------
+    def meta(self) -> dict:
+        path = self.root / "dataset.json"
+        return json.loads(path.read_text(encoding="utf-8")) if path.is_file() else {}
+
+    def write_meta(self, meta: dict) -> None:
+        atomic_write_text(self.root / "dataset.json", json.dumps(meta, indent=1) + "\n")
+
+    def schema(self) -> pa.Schema | None:
+        columns = self.meta().get("columns")
+        if not columns:
+            return None
+        return pa.schema([(name, pa.type_for_alias(kind)) for name, kind in columns])
+
+    def set_schema(self, schema: pa.Schema) -> None:
+        """Fix the columns (from the first successful row) and rewrite the chunks written
+        before (failed rows only) with them."""
+        meta = self.meta()
+        meta["columns"] = [(f.name, str(f.type)) for f in schema]
+        self.write_meta(meta)
+        for path in self.chunk_paths():
+            if pq.read_schema(path) != schema:
+                self._rewrite(path, pq.read_table(path).to_pylist(), schema)
+
+    # --- chunks ----------------------------------------------------------------------------
+    def chunk_paths(self) -> list[Path]:
+        if not self.chunks_dir.is_dir():
+            return []
+        return sorted(p for p in self.chunks_dir.iterdir()
+                      if p.name.startswith(_CHUNK_PREFIX) and p.name.endswith(_CHUNK_SUFFIX))
+
+    def _next_path(self) -> Path:
+        paths = self.chunk_paths()
+        last = int(paths[-1].name[len(_CHUNK_PREFIX):-len(_CHUNK_SUFFIX)]) if paths else 0
+        return self.chunks_dir / f"{_CHUNK_PREFIX}{last + 1:06d}{_CHUNK_SUFFIX}"
+
+    def write_chunk(self, rows: list[dict], schema: pa.Schema) -> Path:
+        path = self._next_path()
+        self._rewrite(path, rows, schema)
+        return path
+
+    def _rewrite(self, path: Path, rows: list[dict], schema: pa.Schema) -> None:
+        table = pa.Table.from_pylist(rows, schema=schema)
+        sink = pa.BufferOutputStream()
+        pq.write_table(table, sink, compression="zstd")
+        _atomic_write_bytes(path, sink.getvalue().to_pybytes())
+
+    def stored_status(self) -> dict[str, str]:
+        """run_id -> status of every stored row (the newest per run id)."""
+        out = {}
+        for path in self.chunk_paths():
+            table = pq.read_table(path, columns=["run_id", "status"])
+            out.update(zip(table["run_id"].to_pylist(), table["status"].to_pylist(),
+                           strict=True))
+        return out
+
+    def drop_superseded(self, run_ids: set[str], newest: Path) -> None:
+        """Remove the rows of ``run_ids`` from every chunk before ``newest``."""
+        for path in self.chunk_paths():
+            if path >= newest:
+                continue
+            table = pq.read_table(path)
+            keep = [r for r in table.to_pylist() if r["run_id"] not in run_ids]
+            if len(keep) == table.num_rows:
+                continue
+            if keep:
+                self._rewrite(path, keep, table.schema)
+            else:
+                path.unlink()
+
+
+def load(root: str | Path) -> pd.DataFrame:
+    """The rows of a dataset folder, one per run (ordered as written)."""
+    folder = DatasetFolder(root)
+    if not (folder.root / "design.toml").is_file():
+        raise ValueError(f"{folder.root}: not a rubdiag dataset folder (no design.toml)")
+    frames = [pq.read_table(p).to_pandas() for p in folder.chunk_paths()]
+    if not frames:
+        return pd.DataFrame()
+    rows = pd.concat(frames, ignore_index=True)
+    return rows.drop_duplicates("run_id", keep="last").reset_index(drop=True)
+
+
+def _existing_parent(path: Path) -> Path:
+    for parent in path.absolute().parents:
+        if parent.exists():
+            return parent
+    return Path.cwd()
+
+
+def _first_difference(a, b, where: str = "") -> str:
+    """The first key path at which two parsed designs differ, with both values."""
+    if isinstance(a, dict) and isinstance(b, dict):
+        for key in list(a) + [k for k in b if k not in a]:
+            if key not in a or key not in b:
+                return f"{where}{key} is {'missing' if key not in a else a[key]!r} there, " \
+                       f"{'missing' if key not in b else b[key]!r} here"
+            if a[key] != b[key]:
+                return _first_difference(a[key], b[key], f"{where}{key}.")
+    where = where.rstrip(".")
+    return f"{where} is {a!r} there, {b!r} here"
