@@ -164,6 +164,19 @@ class Design:
                                       "replicates")
         set_("n", self._n())
         set_("critical_speeds_rad_s", self._critical_speeds())
+        self._check_window()
+
+    def _check_window(self) -> None:
+        """The analysis window must hold MIN_REVOLUTIONS at the slowest speed of the design
+        (checked from the factors' bounds, without building the runs)."""
+        by_name = {f.name: f for f in self.factors}
+        if "speed_rpm" in by_name:
+            slowest = _lowest(by_name["speed_rpm"]) * math.pi / 30.0
+        else:
+            cases = by_name["case"].levels
+            slowest = _lowest(by_name["speed_ratio"]) * min(
+                self.critical_speeds_rad_s[c - 1] for c in cases)
+        _check_revolutions(self.duration_s - self.discard_s, slowest)
 
     def _n(self) -> int:
         if self.method == "grid":
@@ -325,18 +338,26 @@ class Design:
             speed = point["speed_rpm"] * math.pi / 30.0
         if "casing_stiffness_scale" in point:
             rig = _scaled_casing(rig, point["casing_stiffness_scale"])
-        revolutions = (self.duration_s - self.discard_s) * speed / (2 * math.pi)
-        if revolutions < MIN_REVOLUTIONS:
-            raise ValueError(
-                f"the analysis window (base.duration_s - base.discard_s = "
-                f"{self.duration_s - self.discard_s:g} s) holds {revolutions:.3g} revolutions "
-                f"at {speed * 30 / math.pi:.6g} rpm (allowed: at least {MIN_REVOLUTIONS:g}, "
-                "for the spectral features)")
+        _check_revolutions(self.duration_s - self.discard_s, speed)
         gap = point.get("gap_mm")
         return Run(rig=rig, speed_rad_s=speed, unbalance=Unbalance(magnitudes, phases),
                    gap_m=None if gap is None else gap * 1e-3, duration_s=self.duration_s,
                    discard_s=self.discard_s, contact=_contact(rig, point), gap_ramp_s=ramp_s,
                    label=f"{_describe(point)}, replicate {replicate}")
+
+
+def _lowest(factor: Factor) -> float:
+    return min(factor.levels) if factor.levels is not None else factor.low
+
+
+def _check_revolutions(window_s: float, speed_rad_s: float) -> None:
+    revolutions = window_s * speed_rad_s / (2 * math.pi)
+    if revolutions < MIN_REVOLUTIONS * (1 - 1e-12):
+        raise ValueError(
+            f"the analysis window (base.duration_s - base.discard_s = {window_s:g} s) holds "
+            f"{revolutions:.3g} revolutions at {speed_rad_s * 30 / math.pi:.6g} rpm, the "
+            f"design's slowest speed (allowed: at least {MIN_REVOLUTIONS:g}, for the spectral "
+            "features)")
 
 
 def _factors(factors) -> tuple[Factor, ...]:

@@ -95,8 +95,9 @@ class DatasetFolder:
         if stored_toml != design_toml:
             import tomllib
 
-            where = _first_difference(tomllib.loads(stored_toml), tomllib.loads(design_toml))
-            raise ValueError(f"--out {self.root}: holds another design ({where}); use a new "
+            found = _differences(tomllib.loads(stored_toml), tomllib.loads(design_toml))
+            shown = "; ".join(found[:3]) + (f"; {len(found) - 3} more" if len(found) > 3 else "")
+            raise ValueError(f"--out {self.root}: holds another design ({shown}); use a new "
                              "folder or the same design")
 
     def create(self, design_toml: str) -> None:
@@ -200,14 +201,16 @@ def _existing_parent(path: Path) -> Path:
     return Path.cwd()
 
 
-def _first_difference(a, b, where: str = "") -> str:
-    """The first key path at which two parsed designs differ, with both values."""
+def _differences(a, b, where: str = "") -> list[str]:
+    """Every key path at which two parsed designs differ, with both values."""
     if isinstance(a, dict) and isinstance(b, dict):
+        out = []
         for key in list(a) + [k for k in b if k not in a]:
             if key not in a or key not in b:
-                return f"{where}{key} is {'missing' if key not in a else a[key]!r} there, " \
-                       f"{'missing' if key not in b else b[key]!r} here"
-            if a[key] != b[key]:
-                return _first_difference(a[key], b[key], f"{where}{key}.")
-    where = where.rstrip(".")
-    return f"{where} is {a!r} there, {b!r} here"
+                there = "missing" if key not in a else repr(a[key])
+                here = "missing" if key not in b else repr(b[key])
+                out.append(f"{where}{key} is {there} there, {here} here")
+            elif a[key] != b[key]:
+                out += _differences(a[key], b[key], f"{where}{key}.")
+        return out
+    return [f"{where.rstrip('.')} is {a!r} there, {b!r} here"]

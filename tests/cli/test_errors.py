@@ -73,7 +73,42 @@ def d(tmp_path_factory):
     (d / "unknown_key.toml").write_text('[shaft]\ncolour = "red"\n')
     (d / "unknown_table.toml").write_text("[shafts]\nx = 1\n")
     (d / "syntax.toml").write_text("[shaft\n")
+
+    good = DESIGN.format(factors='gap_mm = [1.9, 4.0]')
+    (d / "design.toml").write_text(good)
+    for name, text in (
+            ("design_unknown_factor", DESIGN.format(factors='colour = ["red"]')),
+            ("design_unknown_key", good.replace("[sampling]", "[sampling]\nsize = 3")),
+            ("design_low_above_high", DESIGN.format(factors="gap_mm = {low = 4.0, high = 0.5}")),
+            ("design_n_zero", good.replace('method = "grid"', 'method = "lhs"\nn = 0')),
+            ("design_mu_negative", DESIGN.format(factors="mu = {low = -1.0, high = 0.5}")),
+            ("design_case_and_phase", DESIGN.format(factors="phase_diff_deg = [90.0]")),
+            ("design_short_window", good.replace("case = [2]", "case = [1]"))):
+        (d / f"{name}.toml").write_text(text)
+    from rubdiag.dataset import Design
+    from rubdiag.dataset.store import DatasetFolder
+
+    other = Design.from_toml(DESIGN.format(factors="gap_mm = [2.3]"))
+    DatasetFolder(d / "other_dataset").create(other.to_toml())
+    (d / "not_a_dataset").mkdir()
+    (d / "not_a_dataset" / "notes.txt").write_text("mine\n")
     return d
+
+
+# a small dataset design: case 2 (0.2 s hold 17 revolutions), speed_ratio 1, one factor more
+DESIGN = """[base]
+rig = "paper"
+duration_s = 0.3
+discard_s = 0.1
+
+[sampling]
+method = "grid"
+
+[factors]
+case = [2]
+speed_ratio = [1.0]
+{factors}
+"""
 
 
 # (id, argv with {d} for the input folder, message fragment); the fragment names the problem
@@ -195,6 +230,39 @@ CATALOGUE = [
     ("compare-missing", ["compare", "{d}/a.csv", "{d}/none.csv"], "{d}/none.csv: no such file"),
     ("compare-no-common-channel", ["compare", "{d}/a.csv", "{d}/b.csv"],
      "have no channel in common"),
+    # --- dataset (issue 11, point 8): nothing simulated, nothing written --------------------
+    ("dataset-design-missing", ["dataset", "{d}/none.toml", "--out", "{d}/new"],
+     "{d}/none.toml: no such file"),
+    ("dataset-unknown-factor", ["dataset", "{d}/design_unknown_factor.toml", "--out",
+                                "{d}/new"], "unknown factor 'factors.colour'"),
+    ("dataset-unknown-key", ["dataset", "{d}/design_unknown_key.toml", "--out", "{d}/new"],
+     "unknown key 'sampling.size'"),
+    ("dataset-low-above-high", ["dataset", "{d}/design_low_above_high.toml", "--out",
+                                "{d}/new"], "factors.gap_mm.low = 4.0 is out of range"),
+    ("dataset-n-zero", ["dataset", "{d}/design_n_zero.toml", "--out", "{d}/new"],
+     "sampling.n = 0 is out of range"),
+    ("dataset-mu-negative", ["dataset", "{d}/design_mu_negative.toml", "--out", "{d}/new"],
+     "factors.mu.low = -1.0 is out of range"),
+    ("dataset-case-and-phase", ["dataset", "{d}/design_case_and_phase.toml", "--out",
+                                "{d}/new"],
+     "factors.case and factors.phase_diff_deg exclude each other"),
+    ("dataset-short-window", ["dataset", "{d}/design_short_window.toml", "--out", "{d}/new"],
+     "holds 5 revolutions at 1500 rpm, the design's slowest speed (allowed: at least 10"),
+    ("dataset-out-file", ["dataset", "{d}/design.toml", "--out", "{d}/file"],
+     "--out {d}/file: is a file"),
+    ("dataset-out-other-design", ["dataset", "{d}/design.toml", "--out", "{d}/other_dataset"],
+     "--out {d}/other_dataset: holds another design (sampling.n is 1 there, 2 here; "
+     "factors.gap_mm is [2.3] there, [1.9, 4.0] here)"),
+    ("dataset-out-not-a-dataset", ["dataset", "{d}/design.toml", "--out", "{d}/not_a_dataset"],
+     "is not empty and holds no dataset"),
+    ("dataset-out-missing", ["dataset", "{d}/design.toml"], "--out is required"),
+    ("dataset-jobs-zero", ["dataset", "{d}/design.toml", "--out", "{d}/new", "--jobs", "0"],
+     "--jobs = 0 is out of range"),
+    ("dataset-jobs-and-scheduler", ["dataset", "{d}/design.toml", "--out", "{d}/new",
+                                    "--jobs", "2", "--scheduler", "tcp://127.0.0.1:1"],
+     "--jobs and --scheduler exclude each other"),
+    ("dataset-run-timeout-negative", ["dataset", "{d}/design.toml", "--out", "{d}/new",
+                                      "--run-timeout", "-1"], "--run-timeout = -1 is out of range"),
 ]
 
 # entries whose check must come before any work: these functions must not be called
@@ -202,11 +270,12 @@ BEFORE_WORK = {"simulate-out-missing-folder", "simulate-out-folder",
                "features-csv-missing-folder", "features-csv-folder",
                "compare-out-missing-folder", "calibrate-out-missing-folder", "campbell-out-file",
                "table2-out-file", "plot-out-file", "simulate-output-too-large",
-               "simulate-duration-huge"}
+               "simulate-duration-huge", *(c[0] for c in CATALOGUE if c[0].startswith("dataset"))}
 WORK = [("rubdiag.simulate", "simulate"), ("rubdiag.signal", "features"),
         ("rubdiag.runs", "run_features"), ("rubdiag.modal", "calibrate"),
         ("rubdiag.modal", "campbell"), ("rubdiag.paper", "table2"),
-        ("rubdiag.plotting.run", "save_run_figures")]
+        ("rubdiag.plotting.run", "save_run_figures"), ("rubdiag.dataset", "generate"),
+        ("rubdiag.dataset.rows", "make_row")]
 
 
 def run_main(argv):
@@ -237,6 +306,10 @@ def test_bad_input_is_one_line_and_exit_2(request, d, capsys, monkeypatch, argv,
     assert fragment.format(d=d) in err
     assert "Traceback" not in err and "np.float64" not in err and "[Errno" not in err
     assert not (d / "new").exists()                # a failed command leaves no new folder
+    assert sorted(p.name for p in (d / "not_a_dataset").iterdir()) == ["notes.txt"]
+    assert sorted(p.name for p in (d / "other_dataset").iterdir()) == [
+        "dataset.json", "design.toml", "features"]
+    assert not any((d / "other_dataset" / "features").iterdir())
 
 
 def test_catalogue_ids_are_unique():

@@ -353,7 +353,8 @@ BAD = [
     (edit("base", duration=2.3),
      r"unknown key 'base.duration' \(allowed: rig, duration_s, discard_s, "
      r"critical_speeds_rad_s\)"),
-    ({**GOOD, "noise": {}}, r"unknown table \[noise\] \(allowed: base, sampling, factors, labels\)"),
+    ({**GOOD, "noise": {}},
+     r"unknown table \[noise\] \(allowed: base, sampling, factors, labels\)"),
     (edit("factors", mu={"low": 0.1, "high": 0.5, "step": 0.1}),
      r"unknown key 'factors.mu.step' \(allowed: low, high, n\)"),
     (edit("factors", mu={"low": 0.5, "high": 0.1}),
