@@ -1,7 +1,8 @@
 """Assembly layer: element matrices and the global sparse M, K, C, G of a rig."""
 
-from rubdiag.assembly.assemble import BladeContactGeometry, Model, assemble
+from rubdiag.assembly.assemble import BladeContactGeometry, Model, assemble, dof_map
 from rubdiag.assembly.damping import rayleigh_coefficients
 from rubdiag.assembly.dofs import DofMap
 
-__all__ = ["BladeContactGeometry", "DofMap", "Model", "assemble", "rayleigh_coefficients"]
+__all__ = ["BladeContactGeometry", "DofMap", "Model", "assemble", "dof_map",
+           "rayleigh_coefficients"]

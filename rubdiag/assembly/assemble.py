@@ -152,6 +152,17 @@ class Model:
         )
 
 
+def dof_map(rig: Rig) -> DofMap:
+    """The DOF names of ``rig``'s model, without assembling it."""
+    blades, casing = rig.blades, rig.casing
+    return DofMap.build(
+        rig.shaft.nodes,
+        n_blades=blades.count if blades else 0,
+        n_blade_stations=blades.n_elements if blades else 0,
+        n_casing=casing.n_elements if casing else 0,
+    )
+
+
 def assemble(rig: Rig) -> Model:
     """Assemble the global sparse matrices of ``rig``.
 
@@ -159,12 +170,7 @@ def assemble(rig: Rig) -> Model:
     ``Model.rayleigh`` is None until :func:`rubdiag.modal.with_rayleigh` computes it.
     """
     blades, casing = rig.blades, rig.casing
-    dofs = DofMap.build(
-        rig.shaft.nodes,
-        n_blades=blades.count if blades else 0,
-        n_blade_stations=blades.n_elements if blades else 0,
-        n_casing=casing.n_elements if casing else 0,
-    )
+    dofs = dof_map(rig)
     n = dofs.n_dof
     M, Ks, G, Kd, Cd = (_Triplets(n) for _ in range(5))
     _add_shaft(rig, dofs, M, Ks, G)

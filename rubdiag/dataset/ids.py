@@ -32,7 +32,7 @@ import warnings
 import numpy as np
 
 from rubdiag.simulate import GapRampInWindow, Run
-from rubdiag.simulate.simulation import _run_to_dict
+from rubdiag.simulate.simulation import run_to_dict
 
 __all__ = ["SCHEMA_VERSION", "canonical_run", "point_id", "run_id"]
 
@@ -53,7 +53,7 @@ def canonical_run(run: Run) -> dict:
     with warnings.catch_warnings():   # the run warned when it was made; replace re-checks
         warnings.simplefilter("ignore", GapRampInWindow)
         run = dataclasses.replace(run, contact=run.contact_law, label="")
-    data = _run_to_dict(run)
+    data = run_to_dict(run)
     del data["label"]
     return data
 

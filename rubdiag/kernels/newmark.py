@@ -217,6 +217,14 @@ def _record(
 
 
 @njit
+def _record_sensors(idx, q, v, a, sen_dof, out_sq, out_sv, out_sa):
+    for r in range(sen_dof.shape[0]):
+        out_sq[idx, r] = q[sen_dof[r]]
+        out_sv[idx, r] = v[sen_dof[r]]
+        out_sa[idx, r] = a[sen_dof[r]]
+
+
+@njit
 def _log_segment(sg_f, sg_i, istate, e, status, t_start, t_end):
     k = istate[I_N_SEGMENTS]
     sg_f[k, 0] = t_start
@@ -236,6 +244,7 @@ def newmark_contact(
     aug_k,
     fpar, ipar,
     rec_dof, out_q, out_fn, out_ft, out_st, out_gap, out_slip, out_en,
+    sen_dof, out_sq, out_sv, out_sa,
     q, v, a, mv, kq, pc, dc, cf, ci,
     ep_f, ep_i, sg_f, sg_i, lv_t, lv_l, tot, mx, lvl_count, istate, fstate,
     wn, wc, wcn, wm, jac, iwork, ciw,
@@ -276,6 +285,10 @@ def newmark_contact(
     * work: ``wn`` (6, n), ``wc`` (5, 2n_c), ``wcn`` (3, n_c), ``wm`` (2n_c, 2n_c),
       ``jac`` (n_c, 4), ``iwork`` (5 n_c) int, ``ciw`` (7, n_c) — nothing is allocated
       inside the loop.
+    * sensors: ``sen_dof`` (n_s) int; ``out_sq``, ``out_sv``, ``out_sa`` (n_sen_out, n_s)
+      displacement, velocity and acceleration of those DOFs — the integrator's own state,
+      not differences — every ``ipar[8]`` ticks (a multiple of the largest step, so the
+      samples are step ends).
     """
     n = q.shape[0]
     nc = c_kind.shape[0]
@@ -296,6 +309,7 @@ def newmark_contact(
     aug_strict = ipar[7] != 0
     tick_end = ipar[5]
     out_ticks = ipar[6]
+    sen_ticks = ipar[8]
     top = n_lev - 1
     tick_dt = dt0 / (1 << top)
     ep_cap = ep_f.shape[0]
@@ -324,6 +338,9 @@ def newmark_contact(
                 istate[I_TICK] // out_ticks, q, v, mv, kq, rec_dof, cf, ci, fstate,
                 out_q, out_fn, out_ft, out_st, out_gap, out_slip, out_en,
             )
+        if istate[I_TICK] % sen_ticks == 0:
+            _record_sensors(istate[I_TICK] // sen_ticks, q, v, a, sen_dof, out_sq, out_sv,
+                            out_sa)
         istate[I_SAMPLE0_DONE] = 1
 
     while istate[I_TICK] < tick_end:
@@ -629,4 +646,6 @@ def newmark_contact(
                 tick_new // out_ticks, q, v, mv, kq, rec_dof, cf, ci, fstate,
                 out_q, out_fn, out_ft, out_st, out_gap, out_slip, out_en,
             )
+        if tick_new % sen_ticks == 0:
+            _record_sensors(tick_new // sen_ticks, q, v, a, sen_dof, out_sq, out_sv, out_sa)
     return STATUS_DONE

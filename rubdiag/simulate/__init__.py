@@ -8,6 +8,7 @@ models.
 
 from rubdiag.simulate.result import EpisodeLog, SimulationDiverged, SystemResult
 from rubdiag.simulate.run import GapRampInWindow, Run, critical_speed_for_case
+from rubdiag.simulate.sensors import Sensor, default_sensors
 from rubdiag.simulate.simulation import SimulationResult, load_result, response_points, simulate
 from rubdiag.simulate.system import Contacts, HarmonicForce, simulate_system
 
@@ -17,10 +18,12 @@ __all__ = [
     "GapRampInWindow",
     "HarmonicForce",
     "Run",
+    "Sensor",
     "SimulationDiverged",
     "SimulationResult",
     "SystemResult",
     "critical_speed_for_case",
+    "default_sensors",
     "load_result",
     "response_points",
     "simulate",

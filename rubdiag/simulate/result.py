@@ -147,6 +147,9 @@ class SystemResult:
     ``augment_iterations`` / ``augment_iterations_max`` (multiplier updates).
 
     Final state: ``t_final`` (s), ``q_final``, ``v_final``, ``a_final`` (n,).
+    Sensor stream (empty unless ``sensor_dofs`` were given): ``sensor_dofs`` (n_s,),
+    ``sensor_dt`` (s, = dt), ``sensor_q``, ``sensor_v``, ``sensor_a`` (n_sen, n_s):
+    displacement, velocity and acceleration at ``t = k sensor_dt`` from the integrator.
     ``extra``: diagnostics (``setup_seconds``, ``kernel_seconds`` wall times, ``lu_nnz`` and
     ``lu_ordering`` of the factorization per level).
     Outcome: ``status`` (0 success, 1 no convergence at the smallest step, 2 non-finite state),
@@ -202,6 +205,11 @@ class SystemResult:
     message: str
     failure_time: float = float("nan")
     failure_element: int = 0
+    sensor_dofs: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    sensor_dt: float = float("nan")
+    sensor_q: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    sensor_v: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    sensor_a: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
     extra: dict = field(default_factory=dict)
 
     @property

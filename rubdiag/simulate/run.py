@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 from rubdiag import _check
 from rubdiag.model.rig import BladeContact, Rig, Unbalance
+from rubdiag.simulate.sensors import Sensor, check_sensors
 
 __all__ = ["GapRampInWindow", "Run", "critical_speed_for_case"]
 
@@ -60,6 +61,11 @@ class Run:
         amplitude down to g0, so that the run does not start ~1 mm deep in the casing
         (default 0.1 s, or half the duration for runs shorter than 0.2 s; 0 applies g0 at
         once).
+    sensors : tuple of Sensor
+        Channels recorded as a plant's sensors would measure them (displacement, velocity,
+        acceleration of any DOF, bearing reactions), anti-alias filtered to the output rate
+        (:mod:`rubdiag.simulate.sensors`; ``default_sensors(rig)`` is a typical set).
+        Default: none.
     label : str
         Free text carried into results and tables.
     """
@@ -76,6 +82,7 @@ class Run:
     output_rate_hz: float | None = None
     contact: BladeContact | None = None
     gap_ramp_s: float | None = None
+    sensors: tuple[Sensor, ...] = ()
     label: str = ""
 
     def __post_init__(self):
@@ -114,6 +121,10 @@ class Run:
                 f"{self.discard_s:g} s: the analysis window starts while the gap is still "
                 "closing, so its spectra and contact statistics hold the ramp's transient",
                 GapRampInWindow, stacklevel=3)
+        if self.sensors:
+            object.__setattr__(self, "sensors", check_sensors(self.sensors, self.rig))
+        elif not isinstance(self.sensors, tuple):
+            object.__setattr__(self, "sensors", tuple(self.sensors))
         if self.contact is not None and self.rig.contact is None:
             raise ValueError("contact is given but the rig has no blade-casing contact "
                              "geometry (blades and casing)")

@@ -30,6 +30,7 @@ from rubdiag.model.io import rig_from_dict, rig_to_dict
 from rubdiag.model.rig import BladeContact, Unbalance
 from rubdiag.simulate.result import EpisodeLog, SimulationDiverged, StatusLog, SystemResult
 from rubdiag.simulate.run import Run
+from rubdiag.simulate.sensors import Sensor, sensor_dofs, sensor_signals
 from rubdiag.simulate.system import Contacts, HarmonicForce, simulate_system
 
 __all__ = ["SimulationResult", "load_result", "response_points", "simulate"]
@@ -126,7 +127,8 @@ def simulate(run: Run, progress: Callable[[float, float], None] | None = None,
             model.M, (model.C + speed * model.G).tocsr(), model.K, force, contacts,
             linear.displacement(0.0), linear.velocity(0.0), duration=run.duration_s,
             dt=run.dt_s, dt_min=run.dt_min_s, fixed_step=run.fixed_step,
-            output_dt=run.output_dt_s, record_dofs=record, gap_ramp=gap_ramp, omega=speed,
+            output_dt=run.output_dt_s, record_dofs=record, sensor_dofs=sensor_dofs(run),
+            gap_ramp=gap_ramp, omega=speed,
             progress=progress, raise_on_failure=True)
     except SimulationDiverged as exc:
         exc.result.extra["linear_approach_m"] = approach
@@ -201,6 +203,15 @@ class SimulationResult:
                              f"{', '.join(self.points)})") from None
         q = self.system.q[:, j]
         return q[self.window] if windowed else q
+
+    def sensor_signals(self, windowed: bool = False) -> dict[str, np.ndarray]:
+        """The run's sensors (``run.sensors``), anti-alias filtered and sampled at the
+        output rate (:mod:`rubdiag.simulate.sensors`): name -> values at ``t`` (SI: m, m/s,
+        m/s², N); only the analysis window with ``windowed``."""
+        signals = sensor_signals(self.run, self.system)
+        if windowed:
+            return {k: v[self.window] for k, v in signals.items()}
+        return signals
 
     @property
     def linear_approach_m(self) -> float:
@@ -277,7 +288,7 @@ class SimulationResult:
                 scalars[f.name] = _jsonable(value)
         meta = {"format": "rubdiag.simulation-result", "format_version": FORMAT_VERSION,
                 "rubdiag_version": self.version, "points": list(self.points),
-                "wall_s": self.wall_s, "run": _run_to_dict(self.run), "system": scalars}
+                "wall_s": self.wall_s, "run": run_to_dict(self.run), "system": scalars}
         if path.is_dir():
             raise IsADirectoryError(f"{path}: is a folder; give a file name")
         if not path.parent.is_dir():   # say so before writing, naming the file asked for
@@ -325,7 +336,7 @@ def load_result(path: str | Path) -> SimulationResult:
                 fields[f.name] = float("nan") if value is None else value
     if version == 1:
         fields = _from_format_1(fields, path)
-    return SimulationResult(run=_run_from_dict(meta["run"]), points=tuple(meta["points"]),
+    return SimulationResult(run=run_from_dict(meta["run"]), points=tuple(meta["points"]),
                             system=SystemResult(**fields), wall_s=meta["wall_s"],
                             version=meta["rubdiag_version"])
 
@@ -381,12 +392,16 @@ def _jsonable(value):
     return value
 
 
-def _run_to_dict(run: Run) -> dict:
+def run_to_dict(run: Run) -> dict:
+    """``run`` as plain JSON-ready data (the rig as in its TOML file, SI units): what result
+    files store and run ids hash; :func:`run_from_dict` reads it back."""
     out = {}
     for f in dataclasses.fields(Run):
         value = getattr(run, f.name)
         if f.name == "rig":
             value = rig_to_dict(value)
+        elif f.name == "sensors":
+            value = [dataclasses.asdict(s) for s in value]
         elif dataclasses.is_dataclass(value):
             value = {k: (list(v) if isinstance(v, tuple) else v)
                      for k, v in dataclasses.asdict(value).items()}
@@ -394,8 +409,10 @@ def _run_to_dict(run: Run) -> dict:
     return out
 
 
-def _run_from_dict(data: dict) -> Run:
+def run_from_dict(data: dict) -> Run:
+    """The :class:`Run` of :func:`run_to_dict`'s data."""
     data = dict(data)
+    data["sensors"] = tuple(Sensor(**s) for s in data.get("sensors", ()))
     data["rig"] = rig_from_dict(data["rig"])
     u = data["unbalance"]
     data["unbalance"] = Unbalance(tuple(u["magnitudes_kg_m"]), tuple(u["phases_rad"]))

@@ -324,6 +324,7 @@ def simulate_system(
     fixed_step: bool = False,
     output_dt: float | None = None,
     record_dofs: Sequence[int] | np.ndarray | None = None,
+    sensor_dofs: Sequence[int] | np.ndarray | None = None,
     gap_ramp: tuple[float, float | np.ndarray] | None = None,
     omega: float = 0.0,
     gamma: float = 0.5,
@@ -371,6 +372,10 @@ def simulate_system(
         always fall on step ends; nothing is interpolated).
     record_dofs : sequence of int, optional
         DOFs whose displacements are recorded (default: all).
+    sensor_dofs : sequence of int, optional
+        DOFs whose displacement, velocity and acceleration (the integrator's state) are
+        recorded at every multiple of ``dt`` (``sensor_q``, ``sensor_v``, ``sensor_a``):
+        the raw stream sensors are filtered and decimated from (default: none).
     gap_ramp : (t_ramp, g_start), optional
         Ramp every element's gap linearly from ``g_start`` (m; scalar or (n_c,), >= g0) at
         t = 0 down to its g0 at ``t_ramp`` (s) (DESIGN item 10). Default: no ramp.
@@ -501,6 +506,12 @@ def simulate_system(
             f"output of {n_out} samples x {record_dofs.size} DOFs is too large: "
             "increase output_dt or record fewer DOFs"
         )
+    sensor_dofs = _check.indices("sensor_dofs", [] if sensor_dofs is None else sensor_dofs, n)
+    sen_ticks = np.int64(1) << top
+    n_sen = int(tick_total // sen_ticks) + 1 if sensor_dofs.size else 0
+    if n_sen * sensor_dofs.size > 5e8:
+        raise ValueError(f"sensor output of {n_sen} samples x {sensor_dofs.size} DOFs is too "
+                         "large: record fewer sensors or shorten the run")
     omega = _check_scalar("omega", omega)
     gamma = _check_scalar("gamma", gamma, 0.5, 1.0)
     beta_nm = 0.25 * (gamma + 0.5) ** 2
@@ -660,6 +671,9 @@ def simulate_system(
     out_gap = np.zeros((n_out, nc))
     out_slip = np.zeros((n_out, nc))
     out_en = np.zeros((n_out, 8))
+    out_sq = np.zeros((n_sen, sensor_dofs.size))
+    out_sv = np.zeros_like(out_sq)
+    out_sa = np.zeros_like(out_sq)
     ep_f = np.zeros((episode_capacity, 7))
     ep_i = np.zeros((episode_capacity, 5), np.int64)
     sg_f = np.zeros((4 * episode_capacity, 2))
@@ -687,7 +701,7 @@ def simulate_system(
     )  # the 0.98 shift is the boosted update's landing point in the band (see augment_boost)
     ipar = np.array(
         [n_lev, int(bool(fixed_step)), grow_after, max_newton, max_augment, 0, out_ticks,
-         int(bool(augment_strict))],
+         int(bool(augment_strict)), sen_ticks],
         dtype=np.int64,
     )
     f_re = np.ascontiguousarray(force.amplitudes.real)
@@ -717,6 +731,7 @@ def simulate_system(
             np.ascontiguousarray(contacts.eps), speed, lev_req, aug_k,
             fpar, ipar,
             record_dofs, out_q, out_fn, out_ft, out_st, out_gap, out_slip, out_en,
+            sensor_dofs, out_sq, out_sv, out_sa,
             q, v, a, mv, kq, pc, dc, cf, ci,
             ep_f, ep_i, sg_f, sg_i, lv_t, lv_l, tot, mx, lvl_count, istate, fstate,
             wn, wc, wcn, wm, jac, iwork, ciw,
@@ -745,7 +760,7 @@ def simulate_system(
         code, n_big, dt, dt_min_, output_dt, n_lev, out_ticks, record_dofs,
         out_q, out_fn, out_ft, out_st, out_gap, out_slip, out_en,
         q, v, a, cf, ci, ep_f, ep_i, sg_f, sg_i, lv_t, lv_l, tot, mx, lvl_count, istate,
-        fstate,
+        fstate, (sensor_dofs, sen_ticks, out_sq, out_sv, out_sa),
     )
     result.extra.update(
         setup_seconds=t_setup, kernel_seconds=t_kernel, contact_level_required=lev_req,
@@ -761,6 +776,7 @@ def _package(
     code, n_big, dt, dt_min, output_dt, n_lev, out_ticks, record_dofs,
     out_q, out_fn, out_ft, out_st, out_gap, out_slip, out_en,
     q, v, a, cf, ci, ep_f, ep_i, sg_f, sg_i, lv_t, lv_l, tot, mx, lvl_count, istate, fstate,
+    sensors,
 ) -> SystemResult:
     top = n_lev - 1
     tick = int(istate[IS.TICK])
@@ -860,4 +876,9 @@ def _package(
         message=message,
         failure_time=fail_t,
         failure_element=fail_e,
+        sensor_dofs=sensors[0],
+        sensor_dt=float(dt * int(sensors[1]) / 2**top),
+        sensor_q=sensors[2][: tick // int(sensors[1]) + 1 if sensors[0].size else 0],
+        sensor_v=sensors[3][: tick // int(sensors[1]) + 1 if sensors[0].size else 0],
+        sensor_a=sensors[4][: tick // int(sensors[1]) + 1 if sensors[0].size else 0],
     )

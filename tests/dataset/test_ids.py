@@ -13,7 +13,7 @@ import pytest
 from rubdiag.dataset import SCHEMA_VERSION, Design, canonical_run, point_id, run_id
 from rubdiag.dataset import ids as ids_module
 from rubdiag.model import Unbalance
-from rubdiag.simulate import Run
+from rubdiag.simulate import Run, Sensor
 
 DESIGN = """
 [base]
@@ -87,6 +87,7 @@ def _changes(run):
         "output_rate_hz": 5000.0,
         "contact": dataclasses.replace(rig.contact, friction_coefficient=0.3),
         "gap_ramp_s": 0.099,
+        "sensors": (Sensor("shaft 4", "y"),),
     }
 
 
@@ -123,13 +124,13 @@ def test_equal_runs_have_equal_ids(run):
 
 
 def test_canonical_run_is_the_result_files_description(run):
-    from rubdiag.simulate.simulation import _run_to_dict
+    from rubdiag.simulate.simulation import run_to_dict
 
-    stored = _run_to_dict(run)
+    stored = run_to_dict(run)
     canonical = canonical_run(run)
     assert set(stored) - set(canonical) == {"label"}
     assert all(canonical[k] == stored[k] for k in canonical if k != "contact")
-    assert canonical["contact"] == _run_to_dict(
+    assert canonical["contact"] == run_to_dict(
         dataclasses.replace(run, contact=run.rig.contact))["contact"]
 
 
@@ -141,10 +142,10 @@ def test_schema_version_is_part_of_the_id(run, monkeypatch):
 
 
 def test_a_run_read_back_from_a_result_file_keeps_its_id(run):
-    from rubdiag.simulate.simulation import _run_from_dict, _run_to_dict
+    from rubdiag.simulate.simulation import run_from_dict, run_to_dict
 
     for other in (run, dataclasses.replace(run, contact=dataclasses.replace(
             run.rig.contact, friction_coefficient=0.25), gap_ramp_s=0.101)):
-        stored = json.loads(json.dumps(_run_to_dict(other)))     # as in a result's meta
-        assert run_id(_run_from_dict(stored)) == run_id(other)
-        assert point_id(_run_from_dict(stored)) == point_id(other)
+        stored = json.loads(json.dumps(run_to_dict(other)))     # as in a result's meta
+        assert run_id(run_from_dict(stored)) == run_id(other)
+        assert point_id(run_from_dict(stored)) == point_id(other)
