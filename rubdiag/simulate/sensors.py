@@ -10,13 +10,14 @@ own state (Newmark's v and a), not differences of displacements.
 the largest step dt (100 kHz at dt = 10 µs: the step ends, exact states). An impact lasts
 less than 0.1 ms, so sampling that stream at the output rate (10 kHz) would fold its
 energy above 5 kHz back into the spectrum. Instead it is low-pass filtered and decimated
-to ``Run.output_rate_hz`` by a zero-phase FIR filter (Kaiser window, β = 8, 20·q + 1 taps
+to ``Run.output_rate_hz`` by a zero-phase FIR filter (Kaiser window, β = 8, 40·q + 1 taps
 for a decimation factor q, cut-off at 0.8 × the output Nyquist frequency: 4 kHz at 10 kHz),
-as a data acquisition system's anti-aliasing filter does: the passband below 0.7 × Nyquist
-is flat to 0.1 %, and what lies above the output Nyquist frequency is attenuated by
-≥ 70 dB instead of aliasing (``tests/simulate/test_sensors.py`` measures both). The
-filter's edge transient (10·q input samples, 1 ms at each end) lies in the discarded start
-and in the last millisecond of the window.
+as a data acquisition system's anti-aliasing filter does: the passband below 0.65 × the
+output Nyquist frequency (3.25 kHz; the 8th harmonic of case 2 is 760 Hz) is flat to
+0.02 %, and everything at or above the output Nyquist frequency is attenuated by ≥ 80 dB
+instead of aliasing (``tests/simulate/test_sensors.py`` measures both). The filter's edge
+transient (20·q input samples, 2 ms at each end of the record) lies in the discarded start
+and in the last 2 ms of the window, where the spectra's Hann window is near zero.
 """
 
 from __future__ import annotations
@@ -38,7 +39,7 @@ _NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_-]*$")
 
 CUTOFF_OF_NYQUIST = 0.8
 KAISER_BETA = 8.0
-TAPS_PER_FACTOR = 20
+TAPS_PER_FACTOR = 40
 
 
 @dataclass(frozen=True)
