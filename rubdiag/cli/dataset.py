@@ -121,7 +121,7 @@ def _dry_run(design, args) -> int:
     if not todo:
         print("nothing to run")
         return 0
-    row = make_row(example, design.labels, args.run_timeout)
+    row = make_row(example, design.labels, design.noise, args.run_timeout)
     workers = args.dask_workers or args.jobs or (os.cpu_count() or 1)
     workers = min(workers, len(todo))
     eta = row["wall_s"] * len(todo) / workers

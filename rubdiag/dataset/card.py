@@ -17,11 +17,11 @@ from rubdiag._version import __version__
 from rubdiag.dataset.factors import FACTORS
 from rubdiag.dataset.ids import SCHEMA_VERSION
 from rubdiag.dataset.labels import LABELS, MEASURES, RUB_STATES, SEVERITIES
-from rubdiag.dataset.rows import ID_COLUMNS, PROVENANCE
+from rubdiag.dataset.rows import ID_COLUMNS, PROVENANCE, SEPARATOR
 
 __all__ = ["column_map", "write_card"]
 
-_CHANNEL = re.compile(r"^(shaft|blade|casing|contact\d+|contacts)_(.+)$")
+_CONTACT = re.compile(r"^contact(\d+|s)$")
 # unit by name ending, longest first
 _SUFFIX_UNITS = (("_per_rev", "1/rev"), ("_per_s", "1/s"), ("_n_m", "N/m"), ("_rpm", "rpm"),
                  ("_deg", "deg"), ("_hz", "Hz"), ("_mm", "mm"), ("_um", "µm"),
@@ -30,20 +30,22 @@ _SUFFIX_UNITS = (("_per_rev", "1/rev"), ("_per_s", "1/s"), ("_n_m", "N/m"), ("_r
 _AMPLITUDE = re.compile(r"^(amp_|rms$|bb_\d+x_rms$|sb_\d+x_(lower|upper)$|combo_amp_)")
 
 
-def _unit(feature: str) -> str:
+def _unit(feature: str, signal_unit: str = "") -> str:
     if _AMPLITUDE.match(feature):
-        return "m"
+        return signal_unit
     for suffix, unit in _SUFFIX_UNITS:
         if feature.endswith(suffix):
             return unit
     return "1"
 
 
-def column_map(columns) -> pd.DataFrame:
-    """One row per column: ``column``, ``group`` (id, factor, run, measure, label, feature,
-    provenance), ``channel`` (shaft, blade, casing, contact<k>, contacts, or empty),
-    ``feature`` (the name without the channel) and ``unit`` ("1": dimensionless or a count;
-    empty for text)."""
+def column_map(columns, sensors=()) -> pd.DataFrame:
+    """One row per column: ``column``, ``group`` (id, factor, run, measure, label, feature:
+    a sensor's, contact: ground truth, provenance), ``channel`` (a sensor's name,
+    ``contact<k>``, ``contacts``, or empty), ``feature`` (the name without the channel) and
+    ``unit`` (amplitudes in the unit of their sensor, of ``sensors``; "1": dimensionless or a
+    count; empty for text)."""
+    signal_units = {s.name: s.unit for s in sensors}
     rows = []
     for name in columns:
         channel, feature = "", name
@@ -59,14 +61,14 @@ def column_map(columns) -> pd.DataFrame:
             group = "label"
         elif name in PROVENANCE:
             group = "provenance"
+        elif SEPARATOR in name:
+            channel, feature = name.split(SEPARATOR, 1)
+            group = "contact" if _CONTACT.match(channel) else "feature"
         else:
             group = "feature"
-            match = _CHANNEL.match(name)
-            if match:
-                channel, feature = match.groups()
         text = name in ("run_id", "point_id", "rub_state", "severity", "rubdiag_version",
                         "status", "message") or name == "rub"
-        unit = "" if text else _unit(feature)
+        unit = "" if text else _unit(feature, signal_units.get(channel, ""))
         if name in ("case", "replicate", "interference_ratio", "contact_time_fraction",
                     "sticking_share", "n_rub_episodes") or name.endswith("_scale"):
             unit = "1"
@@ -80,7 +82,7 @@ def write_card(folder, design) -> None:
     from rubdiag.dataset.store import atomic_write_text, load
 
     rows = load(folder.root)
-    columns = column_map(rows.columns)
+    columns = column_map(rows.columns, design.sensors)
     buffer = io.StringIO()
     columns.to_csv(buffer, index=False, lineterminator="\n")
     atomic_write_text(folder.root / "columns.csv", buffer.getvalue())

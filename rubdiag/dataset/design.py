@@ -17,6 +17,14 @@ A design file has three tables::
     severity_threshold = 1.37 # interference ratio from which a rub is serious
     full_contact_share = 0.95 # share of the window in contact from which a rub is full
 
+    [noise]                   # optional: noise floors (rubdiag.dataset.noise), SI units
+    displacement_m = 1e-6
+
+    [[sensors]]               # optional, repeated: the channels (default: default_sensors)
+    point = "shaft 11"
+    direction = "y"
+    quantity = "displacement" # | "velocity" | "acceleration" | "reaction"
+
     [factors]
     case = [1, 2]                              # a list: levels
     speed_ratio = {low = 0.8, high = 1.2}      # a table: a continuous range
@@ -70,6 +78,7 @@ from rubdiag import _check
 from rubdiag.dataset.factors import EXCLUSIVE, FACTORS, Factor
 from rubdiag.dataset.ids import point_id, run_id
 from rubdiag.dataset.labels import LabelRules
+from rubdiag.dataset.noise import NoiseFloors
 from rubdiag.dataset.sampling import (
     MAX_REPLICATES,
     METHODS,
@@ -78,7 +87,8 @@ from rubdiag.dataset.sampling import (
     unit_samples,
 )
 from rubdiag.model.rig import Rig, Unbalance
-from rubdiag.simulate import Run
+from rubdiag.simulate import Run, Sensor, default_sensors
+from rubdiag.simulate.sensors import check_sensors
 
 __all__ = ["MIN_REVOLUTIONS", "Design", "DesignRun"]
 
@@ -90,6 +100,8 @@ _SECTIONS = {
     "sampling": ("method", "n", "seed", "replicates"),
     "factors": tuple(FACTORS),
     "labels": ("severity_threshold", "full_contact_share"),
+    "noise": ("displacement_m", "velocity_m_s", "acceleration_m_s2", "force_n"),
+    "sensors": ("point", "direction", "quantity", "name"),
 }
 
 
@@ -128,6 +140,8 @@ class Design:
     discard_s: float = 0.3
     critical_speeds_rad_s: tuple[float, ...] | None = None
     labels: LabelRules = field(default_factory=LabelRules)
+    noise: NoiseFloors = field(default_factory=NoiseFloors)
+    sensors: tuple[Sensor, ...] | None = None
 
     def __post_init__(self):
         def set_(name, value):
@@ -145,6 +159,16 @@ class Design:
             set_("labels", LabelRules(**self.labels))
         if not isinstance(self.labels, LabelRules):
             raise _check.wrong_type("labels", self.labels, "a LabelRules or a table")
+        if isinstance(self.noise, Mapping):
+            set_("noise", NoiseFloors(**self.noise))
+        if not isinstance(self.noise, NoiseFloors):
+            raise _check.wrong_type("noise", self.noise, "a NoiseFloors or a table")
+        sensors = default_sensors(self.rig) if self.sensors is None else self.sensors
+        if not sensors:
+            raise ValueError("sensors is empty (allowed: at least one sensor; leave it out "
+                             "for the default set)")
+        set_("sensors", check_sensors(
+            [Sensor(**s) if isinstance(s, Mapping) else s for s in sensors], self.rig))
         set_("factors", _factors(self.factors))
         names = {f.name for f in self.factors}
         _check_combination(names)
@@ -237,18 +261,24 @@ class Design:
             if section not in _SECTIONS:
                 raise ValueError(f"unknown table [{section}] (allowed: "
                                  f"{', '.join(_SECTIONS)})")
-            if not isinstance(value, Mapping):
-                raise _check.wrong_type(section, value, "a table")
-            for key in value:
-                if key not in _SECTIONS[section]:
-                    what = "factor" if section == "factors" else "key"
-                    raise ValueError(f"unknown {what} '{section}.{key}' "
-                                     f"(allowed: {', '.join(_SECTIONS[section])})")
+            tables = value if section == "sensors" and isinstance(value, list) else [value]
+            for table in tables:
+                if not isinstance(table, Mapping):
+                    raise _check.wrong_type(section, table, "a table")
+                for key in table:
+                    if key not in _SECTIONS[section]:
+                        what = "factor" if section == "factors" else "key"
+                        raise ValueError(f"unknown {what} '{section}.{key}' "
+                                         f"(allowed: {', '.join(_SECTIONS[section])})")
         base = dict(data.get("base", {}))
         base["rig"] = _rig(base.get("rig", "paper"), root)
         factors = tuple(Factor.from_spec(k, v) for k, v in data.get("factors", {}).items())
+        sensors = data.get("sensors")
+        if isinstance(sensors, Mapping):
+            sensors = [sensors]
         return cls(factors=factors, **base, **data.get("sampling", {}),
-                   labels=LabelRules(**data.get("labels", {})))
+                   labels=LabelRules(**data.get("labels", {})),
+                   noise=NoiseFloors(**data.get("noise", {})), sensors=sensors)
 
     def to_dict(self) -> dict:
         """The resolved design as plain TOML-ready data (see the module docstring)."""
@@ -262,7 +292,9 @@ class Design:
                 "sampling": {"method": self.method, "n": self.n, "seed": self.seed,
                              "replicates": self.replicates},
                 "factors": {f.name: f.to_spec() for f in self.factors},
-                "labels": self.labels.to_dict()}
+                "labels": self.labels.to_dict(),
+                "noise": self.noise.to_dict(),
+                "sensors": [dataclasses.asdict(s) for s in self.sensors]}
 
     def to_toml(self) -> str:
         """The resolved design as TOML text: ``[base]``, ``[sampling]`` and ``[factors]`` as
@@ -274,9 +306,13 @@ class Design:
         lines = ["# rubdiag dataset design, resolved: everything its runs depend on is written",
                  "# out (the rig itself, the point count, the seed, speed_ratio's reference",
                  "# speeds), so that the same runs can be made again anywhere."]
+        sensors = data.pop("sensors")
         for section, table in data.items():
             lines += ["", f"[{section}]"]
             lines += [f"{key} = {_toml_value(value)}" for key, value in table.items()]
+        for sensor in sensors:
+            lines += ["", "[[sensors]]"]
+            lines += [f"{key} = {_toml_value(value)}" for key, value in sensor.items()]
         return "\n".join(lines) + "\n\n" + tomli_w.dumps({"base": {"rig": rig}})
 
     # --- the runs ---------------------------------------------------------------------------
@@ -343,6 +379,7 @@ class Design:
         return Run(rig=rig, speed_rad_s=speed, unbalance=Unbalance(magnitudes, phases),
                    gap_m=None if gap is None else gap * 1e-3, duration_s=self.duration_s,
                    discard_s=self.discard_s, contact=_contact(rig, point), gap_ramp_s=ramp_s,
+                   sensors=self.sensors,
                    label=f"{_describe(point)}, replicate {replicate}")
 
 

@@ -104,11 +104,12 @@ def _run_local(todo, design, jobs, timeout) -> Iterable[dict]:
         return
     if jobs == 1:
         for item in todo:
-            yield make_row(item, design.labels, timeout)
+            yield make_row(item, design.labels, design.noise, timeout)
         return
     with ProcessPoolExecutor(max_workers=min(jobs, len(todo)),
                              initializer=_start_worker) as pool:
-        futures = [pool.submit(make_row, item, design.labels, timeout) for item in todo]
+        futures = [pool.submit(make_row, item, design.labels, design.noise, timeout)
+                   for item in todo]
         try:
             for future in as_completed(futures):
                 yield future.result()
@@ -122,7 +123,7 @@ def _run_dask(todo, design, client, timeout) -> Iterable[dict]:
 
     if not todo:
         return
-    futures = [client.submit(make_row, item, design.labels, timeout,
+    futures = [client.submit(make_row, item, design.labels, design.noise, timeout,
                              key=f"rubdiag-run-{item.run_id}", pure=False) for item in todo]
     try:
         for future in dask_completed(futures):

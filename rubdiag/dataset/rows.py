@@ -1,18 +1,22 @@
 """One dataset row per run: what a worker computes and sends back to the writer.
 
 :func:`make_row` simulates one :class:`~rubdiag.dataset.DesignRun`, labels it
-(:mod:`rubdiag.dataset.labels`) and computes its features (:func:`rubdiag.runs.run_features`);
-it never raises for the run's sake: a diverging, failing or timed-out run becomes a row with
-its ``status`` and ``message`` and no labels or features. It runs in a local worker process
-or on a Dask worker alike and holds no state between calls, so a row depends on the run
-alone — whatever the worker, the number of workers or the scheduler. BLAS is held to one
-thread while it runs (the linear algebra is then the same on every worker, and parallelism
-is across runs).
+(:mod:`rubdiag.dataset.labels`) and computes the features of its sensors as a plant would
+measure them: the anti-alias-filtered channels of ``run.sensors`` over the analysis window,
+plus measurement noise (:mod:`rubdiag.dataset.noise`, seeded by the run id). It never
+raises for the run's sake: a diverging, failing or timed-out run becomes a row with its
+``status`` and ``message`` and no labels or features. It runs in a local worker process or
+on a Dask worker alike and holds no state between calls, so a row depends on the run alone
+— whatever the worker, the number of workers or the scheduler. BLAS is held to one thread
+while it runs (the linear algebra is then the same on every worker, and parallelism is
+across runs).
 
 Columns, in order: :data:`ID_COLUMNS`, the design point's factors (as the design names
-them), ``speed_rpm`` (the run's speed), the measures and labels, the features, then
-:data:`PROVENANCE` (``rubdiag_version``, ``status``, ``message``, ``wall_s``), which the
-determinism checks leave out.
+them), ``speed_rpm`` (the run's speed), the measures and labels, the sensor features
+``CHANNEL__FEATURE`` (e.g. ``shaft11_y_disp__amp_1x``, :mod:`rubdiag.signal.table`), the
+contact statistics ``contact<k>__…`` and ``contacts__…`` (ground truth a plant cannot
+measure, :mod:`rubdiag.runs.contact_stats`), then :data:`PROVENANCE` (``rubdiag_version``,
+``status``, ``message``, ``wall_s``), which the determinism checks leave out.
 """
 
 from __future__ import annotations
@@ -22,8 +26,12 @@ import time
 
 from rubdiag._version import __version__
 from rubdiag.dataset.labels import LabelRules, label_run
+from rubdiag.dataset.noise import NoiseFloors, add_noise, noise_seed
 
-__all__ = ["ID_COLUMNS", "PROVENANCE", "STATUSES", "RunTimeout", "make_row"]
+__all__ = ["ID_COLUMNS", "PROVENANCE", "SEPARATOR", "STATUSES", "RunTimeout", "make_row"]
+
+#: Between channel and feature in column names: ``shaft11_y_disp__amp_1x``.
+SEPARATOR = "__"
 
 ID_COLUMNS = ("run_id", "point_id", "replicate")
 PROVENANCE = ("rubdiag_version", "status", "message", "wall_s")
@@ -31,27 +39,23 @@ PROVENANCE = ("rubdiag_version", "status", "message", "wall_s")
 #: state); over the per-run wall-time limit; anything else that raised.
 STATUSES = ("ok", "diverged", "timeout", "error")
 
-# run_features' description columns that the row states otherwise (ids, factors, status)
-_DROPPED = ("label", "status", "gap_m", "friction_coefficient", "dt_s", "speed_rpm",
-            "window_s")
-
-
 class RunTimeout(RuntimeError):
     """A run took longer than its wall-time limit."""
 
 
-def make_row(item, rules: LabelRules | None = None,
+def make_row(item, rules: LabelRules | None = None, noise: NoiseFloors | None = None,
              run_timeout_s: float | None = None) -> dict:
     """The dataset row of ``item`` (a :class:`~rubdiag.dataset.DesignRun`)."""
     from threadpoolctl import threadpool_limits  # installed with scikit-learn
 
     rules = LabelRules() if rules is None else rules
+    noise = NoiseFloors() if noise is None else noise
     start = time.perf_counter()
     row = {"run_id": item.run_id, "point_id": item.point_id, "replicate": item.replicate,
            **item.point, "speed_rpm": item.run.speed_rpm}
     with threadpool_limits(limits=1):
         try:
-            computed = _simulate_and_describe(item.run, rules, run_timeout_s, start)
+            computed = _simulate_and_describe(item, rules, noise, run_timeout_s, start)
             status, message = "ok", ""
         except RunTimeout as exc:
             computed, status, message = {}, "timeout", str(exc)
@@ -67,8 +71,9 @@ def make_row(item, rules: LabelRules | None = None,
     return row
 
 
-def _simulate_and_describe(run, rules, run_timeout_s, start) -> dict:
-    from rubdiag.runs import run_features
+def _simulate_and_describe(item, rules, noise, run_timeout_s, start) -> dict:
+    from rubdiag.runs import contact_statistics
+    from rubdiag.signal.table import prefixed_features
     from rubdiag.simulate import simulate
 
     def watchdog(t, duration):
@@ -77,11 +82,17 @@ def _simulate_and_describe(run, rules, run_timeout_s, start) -> dict:
             raise RunTimeout(f"stopped after {elapsed:.1f} s of wall time at t = {t:.4g} s "
                              f"of {duration:.4g} s (--run-timeout {run_timeout_s:g} s)")
 
+    run = item.run
     result = simulate(run, progress=None if run_timeout_s is None else watchdog)
     labelled = label_run(result, rules)
-    features = run_features(result).iloc[0].to_dict()
-    for key in _DROPPED:
-        features.pop(key, None)
+    measured = add_noise(result.sensor_signals(windowed=True),
+                         {s.name: noise.floor(s.quantity) for s in run.sensors},
+                         noise_seed(item.run_id))
+    spectra = prefixed_features(measured, result.fs, run.speed_rpm, separator=SEPARATOR)
+    features = spectra.iloc[0].drop("speed_rpm").to_dict()
+    for name, value in contact_statistics(result).items():
+        element, stat = name.split("_", 1)
+        features[f"{element}{SEPARATOR}{stat}"] = value
     return {**labelled, **{k: _plain(v) for k, v in features.items()}}
 
 

@@ -77,7 +77,7 @@ class DatasetFolder:
             existing = self.root / "design.toml"
             if existing.is_file():
                 self._check_same(existing.read_text(encoding="utf-8"), design_toml)
-            elif any(self.root.iterdir()):
+            elif not all(self._left_by_create(p) for p in self.root.iterdir()):
                 raise ValueError(f"--out {self.root}: is not empty and holds no dataset "
                                  "(allowed: a new or empty folder, or the folder of this "
                                  "design)")
@@ -85,9 +85,18 @@ class DatasetFolder:
         if not os.access(parent, os.W_OK):
             raise ValueError(f"--out {self.root}: {parent} is not writable")
 
+    def _left_by_create(self, path: Path) -> bool:
+        """What a job killed in :meth:`create` before design.toml leaves: the empty chunk
+        folder and the design's temporary file."""
+        if path == self.chunks_dir:
+            return path.is_dir() and not any(path.iterdir())
+        return path.name.startswith(".design.toml.") and path.name.endswith(".tmp")
+
     def _check_same(self, stored_toml: str, design_toml: str) -> None:
         meta = self.meta()
         stored_schema = meta.get("schema_version")
+        if not meta and not self.chunk_paths():
+            stored_schema = SCHEMA_VERSION     # killed before dataset.json: nothing stored
         if stored_schema != SCHEMA_VERSION:
             raise ValueError(f"--out {self.root}: made with run-id schema version "
                              f"{stored_schema}, this rubdiag uses {SCHEMA_VERSION} (its run "
@@ -108,7 +117,7 @@ class DatasetFolder:
             atomic_write_text(self.root / "design.toml", design_toml)
         if not (self.root / "dataset.json").is_file():
             self.write_meta({"format": _FORMAT, "schema_version": SCHEMA_VERSION})
-        for leftover in self.chunks_dir.glob(".*.tmp"):
+        for leftover in [*self.root.glob(".*.tmp"), *self.chunks_dir.glob(".*.tmp")]:
             leftover.unlink(missing_ok=True)
 
     # --- format ----------------------------------------------------------------------------

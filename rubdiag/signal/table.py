@@ -306,7 +306,8 @@ def features(
     return table
 
 
-def prefixed_features(signals: Mapping[str, object], fs: float, speed_rpm: float, **options):
+def prefixed_features(signals: Mapping[str, object], fs: float, speed_rpm: float,
+                      separator: str = "_", **options):
     """One row of features of several named 1-D signals of one run, columns prefixed.
 
     The extension point for simulation results: an adapter for
@@ -322,13 +323,16 @@ def prefixed_features(signals: Mapping[str, object], fs: float, speed_rpm: float
         Sampling frequency in Hz.
     speed_rpm : float
         Running speed in rpm.
+    separator : str
+        Between prefix and feature name (``"__"`` for datasets' ``CHANNEL__FEATURE``).
     **options
         Keyword options of :func:`features` (``band``, ``threshold``, ``window`` …).
 
     Returns
     -------
     pandas.DataFrame
-        One row: ``speed_rpm`` then ``<prefix>_<feature>`` for every prefix and feature. A
+        One row: ``speed_rpm`` then ``<prefix><separator><feature>`` for every prefix and
+        feature. A
         signal that never moves (a casing no blade touched) has every line absent
         (:func:`still_features`), even when no signal moves.
     """
@@ -343,7 +347,7 @@ def prefixed_features(signals: Mapping[str, object], fs: float, speed_rpm: float
     values = feature_matrix(X, fs, speed_rpm, Options(**options), labels)
     row = {"speed_rpm": speed_rpm}
     for prefix, v in zip(signals, values, strict=True):
-        row.update({f"{prefix}_{n}": v[j] for j, n in enumerate(FEATURE_NAMES)
+        row.update({f"{prefix}{separator}{n}": v[j] for j, n in enumerate(FEATURE_NAMES)
                     if n not in SPEED_NAMES})
     return pd.DataFrame([row])
 

@@ -83,7 +83,9 @@ def d(tmp_path_factory):
             ("design_n_zero", good.replace('method = "grid"', 'method = "lhs"\nn = 0')),
             ("design_mu_negative", DESIGN.format(factors="mu = {low = -1.0, high = 0.5}")),
             ("design_case_and_phase", DESIGN.format(factors="phase_diff_deg = [90.0]")),
-            ("design_short_window", good.replace("case = [2]", "case = [1]"))):
+            ("design_short_window", good.replace("case = [2]", "case = [1]")),
+            ("design_sensor_no_dof", good + '\n[[sensors]]\npoint = "casing 99"\n'
+                                            'direction = "y"\n')):
         (d / f"{name}.toml").write_text(text)
     from rubdiag.dataset import Design
     from rubdiag.dataset.store import DatasetFolder
@@ -248,6 +250,9 @@ CATALOGUE = [
      "factors.case and factors.phase_diff_deg exclude each other"),
     ("dataset-short-window", ["dataset", "{d}/design_short_window.toml", "--out", "{d}/new"],
      "holds 5 revolutions at 1500 rpm, the design's slowest speed (allowed: at least 10"),
+    ("dataset-sensor-no-dof", ["dataset", "{d}/design_sensor_no_dof.toml", "--out",
+                               "{d}/new"],
+     "sensor 'casing99_y_disp': no DOF ('casing 99', 'y') in rig"),
     ("dataset-out-file", ["dataset", "{d}/design.toml", "--out", "{d}/file"],
      "--out {d}/file: is a file"),
     ("dataset-out-other-design", ["dataset", "{d}/design.toml", "--out", "{d}/other_dataset"],

@@ -110,15 +110,16 @@ def test_critical_speeds_are_the_cases_forward_critical_speeds(issue_design, pap
 
 
 def test_study_cell_is_the_paper_run(paper_rig):
-    """case = [c], speed_ratio = [1], gap_mm = [2.3] is Run.paper_case(c, 2.3): same Run
-    (but for the label), same run_id."""
+    """case = [c], speed_ratio = [1], gap_mm = [2.3] is Run.paper_case(c, 2.3) with the
+    default sensors: same Run (but for the label), same run_id."""
     from rubdiag.dataset import run_id
+    from rubdiag.simulate import default_sensors
 
     for case in (1, 2):
         design = Design.from_dict({"factors": {"case": [case], "speed_ratio": [1.0],
                                                "gap_mm": [2.3]}})
         (item,) = design.runs()
-        paper = Run.paper_case(case, 2.3)
+        paper = Run.paper_case(case, 2.3, sensors=default_sensors(paper_rig))
         assert item.run == dataclasses.replace(paper, label=item.run.label)
         assert item.run_id == run_id(paper)
 
@@ -353,8 +354,15 @@ BAD = [
     (edit("base", duration=2.3),
      r"unknown key 'base.duration' \(allowed: rig, duration_s, discard_s, "
      r"critical_speeds_rad_s\)"),
-    ({**GOOD, "noise": {}},
-     r"unknown table \[noise\] \(allowed: base, sampling, factors, labels\)"),
+    ({**GOOD, "noises": {}},
+     r"unknown table \[noises\] \(allowed: base, sampling, factors, labels, noise, "
+     r"sensors\)"),
+    ({**GOOD, "sensors": [{"point": "shaft 99", "direction": "y"}]},
+     r"sensor 'shaft99_y_disp': no DOF \('shaft 99', 'y'\) in rig"),
+    ({**GOOD, "sensors": [{"point": "shaft 4", "direction": "y", "gain": 2}]},
+     r"unknown key 'sensors.gain' \(allowed: point, direction, quantity, name\)"),
+    ({**GOOD, "sensors": []}, r"sensors is empty"),
+    ({**GOOD, "noise": {"displacement_m": -1e-6}}, r"noise.displacement_m = -1e-06 is out of "),
     (edit("factors", mu={"low": 0.1, "high": 0.5, "step": 0.1}),
      r"unknown key 'factors.mu.step' \(allowed: low, high, n\)"),
     (edit("factors", mu={"low": 0.5, "high": 0.1}),
