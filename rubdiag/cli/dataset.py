@@ -30,6 +30,9 @@ def register(sub) -> None:
                    help="wall-time limit of one run (s): a run over it becomes a 'timeout' row")
     p.add_argument("--retry-failed", action="store_true",
                    help="run again the runs stored with a failure (diverged, timeout, error)")
+    p.add_argument("--waveforms", action="store_true",
+                   help="also store each run's measured channels (float32, compressed; "
+                   "rubdiag.dataset.load_waveforms reads them)")
     p.add_argument("--no-progress", action="store_true", help="no progress line on stderr")
     p.set_defaults(func=_dataset)
 
@@ -49,7 +52,7 @@ def _dataset(args) -> int:
     try:
         summary = generate(design, args.out, jobs=jobs, client=client,
                            progress=not args.no_progress, run_timeout_s=args.run_timeout,
-                           retry_failed=args.retry_failed)
+                           retry_failed=args.retry_failed, waveforms=args.waveforms)
     finally:
         if client is not None:
             client.close()

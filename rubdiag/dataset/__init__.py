@@ -14,8 +14,9 @@ from rubdiag.dataset.factors import FACTORS, Factor
 from rubdiag.dataset.generate import generate, pending_runs
 from rubdiag.dataset.ids import SCHEMA_VERSION, canonical_run, point_id, run_id
 from rubdiag.dataset.labels import LabelRules, label_run, labels_from_measures
+from rubdiag.dataset.noise import NoiseFloors
 from rubdiag.dataset.sampling import MAX_REPLICATES, gap_ramps_s
-from rubdiag.dataset.store import load
+from rubdiag.dataset.store import load, load_waveforms
 
 __all__ = [
     "FACTORS",
@@ -25,12 +26,14 @@ __all__ = [
     "DesignRun",
     "Factor",
     "LabelRules",
+    "NoiseFloors",
     "canonical_run",
     "gap_ramps_s",
     "generate",
     "label_run",
     "labels_from_measures",
     "load",
+    "load_waveforms",
     "pending_runs",
     "point_id",
     "run_id",

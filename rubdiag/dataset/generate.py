@@ -22,8 +22,8 @@ import pyarrow as pa
 from rubdiag import _check
 from rubdiag.dataset.card import write_card
 from rubdiag.dataset.design import Design
-from rubdiag.dataset.rows import make_row
-from rubdiag.dataset.store import DatasetFolder
+from rubdiag.dataset.rows import make_row_and_waveforms
+from rubdiag.dataset.store import DatasetFolder, write_waveforms
 
 __all__ = ["GenerateSummary", "generate", "pending_runs"]
 
@@ -43,14 +43,16 @@ def pending_runs(design: Design, out: str | Path, retry_failed: bool = False) ->
 
 def generate(design: Design, out: str | Path, *, jobs: int | None = None, client=None,
              progress: bool = True, run_timeout_s: float | None = None,
-             retry_failed: bool = False, chunk_rows: int = 32,
+             retry_failed: bool = False, waveforms: bool = False, chunk_rows: int = 32,
              flush_s: float = 30.0) -> GenerateSummary:
     """Simulate, label and describe every run of ``design`` into the folder ``out``.
 
     ``jobs``: local worker processes (default: all cores); ``client``: a
     ``dask.distributed.Client`` to send the runs to instead. ``run_timeout_s``: wall-time
     limit of one run (a run over it becomes a ``timeout`` row). ``retry_failed``: run again
-    the runs stored with a failure. Resumes: runs already stored are not run again. Returns
+    the runs stored with a failure. ``waveforms``: also store each run's measured channels
+    (:func:`rubdiag.dataset.load_waveforms`). Resumes: runs already stored are not run again.
+    Returns
     a :class:`GenerateSummary`; :func:`rubdiag.dataset.load` reads the rows.
     """
     if not isinstance(design, Design):
@@ -77,10 +79,13 @@ def generate(design: Design, out: str | Path, *, jobs: int | None = None, client
     start = time.perf_counter()
     writer = _Writer(folder, chunk_rows, flush_s, retried)
     bar = _Progress(len(todo), len(items) - len(todo), enabled=progress)
-    rows = _run_local(todo, design, jobs, run_timeout_s) if client is None else \
-        _run_dask(todo, design, client, run_timeout_s)
+    args = (design.labels, design.noise, run_timeout_s, waveforms)
+    results = _run_local(todo, jobs, args) if client is None else \
+        _run_dask(todo, client, args)
     try:
-        for row in rows:
+        for row, waves in results:
+            if waves is not None:     # before the row: a stored row has its waveforms
+                write_waveforms(folder.root, row["run_id"], waves, design)
             writer.add(row)
             bar.update(row["status"] == "ok")
     finally:
@@ -99,17 +104,22 @@ def _start_worker() -> None:
     threadpool_limits(limits=1)
 
 
-def _run_local(todo, design, jobs, timeout) -> Iterable[dict]:
+def _task(item, labels, noise, timeout, waveforms) -> tuple[dict, dict | None]:
+    """What a worker does for one run: its row, and its waveforms when asked for."""
+    row, waves = make_row_and_waveforms(item, labels, noise, timeout)
+    return row, waves if waveforms else None
+
+
+def _run_local(todo, jobs, args) -> Iterable[tuple]:
     if not todo:
         return
     if jobs == 1:
         for item in todo:
-            yield make_row(item, design.labels, design.noise, timeout)
+            yield _task(item, *args)
         return
     with ProcessPoolExecutor(max_workers=min(jobs, len(todo)),
                              initializer=_start_worker) as pool:
-        futures = [pool.submit(make_row, item, design.labels, design.noise, timeout)
-                   for item in todo]
+        futures = [pool.submit(_task, item, *args) for item in todo]
         try:
             for future in as_completed(futures):
                 yield future.result()
@@ -118,13 +128,13 @@ def _run_local(todo, design, jobs, timeout) -> Iterable[dict]:
                 future.cancel()
 
 
-def _run_dask(todo, design, client, timeout) -> Iterable[dict]:
+def _run_dask(todo, client, args) -> Iterable[tuple]:
     from distributed import as_completed as dask_completed
 
     if not todo:
         return
-    futures = [client.submit(make_row, item, design.labels, design.noise, timeout,
-                             key=f"rubdiag-run-{item.run_id}", pure=False) for item in todo]
+    futures = [client.submit(_task, item, *args, key=f"rubdiag-run-{item.run_id}",
+                             pure=False) for item in todo]
     try:
         for future in dask_completed(futures):
             yield future.result()

@@ -24,11 +24,14 @@ from __future__ import annotations
 import math
 import time
 
+import numpy as np
+
 from rubdiag._version import __version__
 from rubdiag.dataset.labels import LabelRules, label_run
 from rubdiag.dataset.noise import NoiseFloors, add_noise, noise_seed
 
-__all__ = ["ID_COLUMNS", "PROVENANCE", "SEPARATOR", "STATUSES", "RunTimeout", "make_row"]
+__all__ = ["ID_COLUMNS", "PROVENANCE", "SEPARATOR", "STATUSES", "RunTimeout", "make_row",
+           "make_row_and_waveforms"]
 
 #: Between channel and feature in column names: ``shaft11_y_disp__amp_1x``.
 SEPARATOR = "__"
@@ -46,6 +49,14 @@ class RunTimeout(RuntimeError):
 def make_row(item, rules: LabelRules | None = None, noise: NoiseFloors | None = None,
              run_timeout_s: float | None = None) -> dict:
     """The dataset row of ``item`` (a :class:`~rubdiag.dataset.DesignRun`)."""
+    return make_row_and_waveforms(item, rules, noise, run_timeout_s)[0]
+
+
+def make_row_and_waveforms(item, rules: LabelRules | None = None,
+                           noise: NoiseFloors | None = None,
+                           run_timeout_s: float | None = None) -> tuple[dict, dict | None]:
+    """The row of ``item`` and its measured waveforms: ``{"fs": Hz, "channels": {name:
+    float32 array over the whole run, noise included}}`` (None when the run failed)."""
     from threadpoolctl import threadpool_limits  # installed with scikit-learn
 
     rules = LabelRules() if rules is None else rules
@@ -53,9 +64,10 @@ def make_row(item, rules: LabelRules | None = None, noise: NoiseFloors | None = 
     start = time.perf_counter()
     row = {"run_id": item.run_id, "point_id": item.point_id, "replicate": item.replicate,
            **item.point, "speed_rpm": item.run.speed_rpm}
+    waves = None
     with threadpool_limits(limits=1):
         try:
-            computed = _simulate_and_describe(item, rules, noise, run_timeout_s, start)
+            computed, waves = _simulate_and_describe(item, rules, noise, run_timeout_s, start)
             status, message = "ok", ""
         except RunTimeout as exc:
             computed, status, message = {}, "timeout", str(exc)
@@ -68,7 +80,7 @@ def make_row(item, rules: LabelRules | None = None, noise: NoiseFloors | None = 
     row.update(computed)
     row.update(rubdiag_version=__version__, status=status, message=message,
                wall_s=time.perf_counter() - start)
-    return row
+    return row, waves
 
 
 def _simulate_and_describe(item, rules, noise, run_timeout_s, start) -> dict:
@@ -85,15 +97,20 @@ def _simulate_and_describe(item, rules, noise, run_timeout_s, start) -> dict:
     run = item.run
     result = simulate(run, progress=None if run_timeout_s is None else watchdog)
     labelled = label_run(result, rules)
-    measured = add_noise(result.sensor_signals(windowed=True),
+    # noise over the whole record (what --waveforms stores), features over the window
+    measured = add_noise(result.sensor_signals(),
                          {s.name: noise.floor(s.quantity) for s in run.sensors},
                          noise_seed(item.run_id))
-    spectra = prefixed_features(measured, result.fs, run.speed_rpm, separator=SEPARATOR)
+    window = result.window
+    spectra = prefixed_features({k: v[window] for k, v in measured.items()}, result.fs,
+                                run.speed_rpm, separator=SEPARATOR)
     features = spectra.iloc[0].drop("speed_rpm").to_dict()
     for name, value in contact_statistics(result).items():
         element, stat = name.split("_", 1)
         features[f"{element}{SEPARATOR}{stat}"] = value
-    return {**labelled, **{k: _plain(v) for k, v in features.items()}}
+    waves = {"fs": result.fs,
+             "channels": {k: v.astype(np.float32) for k, v in measured.items()}}
+    return {**labelled, **{k: _plain(v) for k, v in features.items()}}, waves
 
 
 def _plain(value):

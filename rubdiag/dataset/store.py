@@ -15,6 +15,10 @@ Layout of ``DIR``:
     absent, whenever the job is killed. Hidden and temporary files are ignored by every
     reader (``pandas.read_parquet(DIR / "features")`` included) and removed by the next
     job.
+``waveforms/<run_id>.npz``
+    With ``--waveforms``: each run's measured channels (the sensors, anti-aliased, noise
+    included) over the whole run, float32, compressed, one file per run, written
+    atomically when its row arrives; :func:`load_waveforms` reads one.
 ``columns.csv``, ``README.md``
     The column map (name, group, unit) and the dataset card, rewritten at the end of a job.
 
@@ -26,17 +30,19 @@ between still gives every run once.
 
 from __future__ import annotations
 
+import io
 import json
 import os
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
 
 from rubdiag.dataset.ids import SCHEMA_VERSION
 
-__all__ = ["DatasetFolder", "load"]
+__all__ = ["DatasetFolder", "load", "load_waveforms", "write_waveforms"]
 
 _FORMAT = "rubdiag.dataset"
 _CHUNK_PREFIX, _CHUNK_SUFFIX = "part-", ".parquet"
@@ -189,6 +195,42 @@ class DatasetFolder:
                 self._rewrite(path, keep, table.schema)
             else:
                 path.unlink()
+
+
+def write_waveforms(root: str | Path, run_id: str, waves: dict, design) -> Path:
+    """Store one run's measured channels (see the module docstring)."""
+    folder = Path(root) / "waveforms"
+    folder.mkdir(exist_ok=True)
+    units = {s.name: s.unit for s in design.sensors}
+    meta = {"run_id": run_id, "fs_hz": waves["fs"], "discard_s": design.discard_s,
+            "channels": list(waves["channels"]),
+            "units": [units[name] for name in waves["channels"]]}
+    sink = io.BytesIO()
+    np.savez_compressed(sink, meta=np.array(json.dumps(meta)),
+                        **{f"channel_{i}": v for i, v in enumerate(waves["channels"].values())})
+    path = folder / f"{run_id}.npz"
+    _atomic_write_bytes(path, sink.getvalue())
+    return path
+
+
+def load_waveforms(root: str | Path, run_id: str) -> pd.DataFrame:
+    """The measured channels of one run of a dataset made with ``--waveforms``: a DataFrame
+    indexed by time ``t_s`` (s, from the run's start; the analysis window starts at
+    ``attrs["discard_s"]``), one float32 column per sensor; ``attrs["units"]`` maps each
+    column to its unit."""
+    path = Path(root) / "waveforms" / f"{run_id}.npz"
+    if not path.is_file():
+        stored = (Path(root) / "waveforms").is_dir()
+        why = "no such run in it" if stored else "made without --waveforms"
+        raise ValueError(f"{path}: no waveforms stored ({why})")
+    with np.load(path, allow_pickle=False) as archive:
+        meta = json.loads(str(archive["meta"]))
+        columns = {name: archive[f"channel_{i}"] for i, name in enumerate(meta["channels"])}
+    n = len(next(iter(columns.values()))) if columns else 0
+    frame = pd.DataFrame(columns, index=pd.Index(np.arange(n) / meta["fs_hz"], name="t_s"))
+    frame.attrs.update(units=dict(zip(meta["channels"], meta["units"], strict=True)),
+                       fs_hz=meta["fs_hz"], discard_s=meta["discard_s"], run_id=run_id)
+    return frame
 
 
 def load(root: str | Path) -> pd.DataFrame:
