@@ -1,0 +1,96 @@
+"""Stored waveforms and measurement noise: what a dataset row's features were computed from
+is what load_waveforms gives back; the noise has the stated floor in physical units, is the
+run's own (seeded by its id) and does not depend on the run's level."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from rubdiag.dataset import Design, generate, load, load_waveforms
+from rubdiag.dataset.noise import NoiseFloors, add_noise, noise_seed
+from rubdiag.signal.table import prefixed_features
+
+TOML = """
+[base]
+rig = "paper"
+duration_s = 0.3
+discard_s = 0.1
+
+[sampling]
+method = "grid"
+
+[factors]
+case = [2]
+speed_ratio = [1.0]
+gap_mm = [1.9, 4.0]
+
+[noise]
+acceleration_m_s2 = 0.5
+"""
+
+
+@pytest.fixture(scope="module")
+def dataset(tmp_path_factory):
+    out = tmp_path_factory.mktemp("waves") / "ds"
+    design = Design.from_toml(TOML)
+    generate(design, out, jobs=1, progress=False, waveforms=True)
+    return design, out, load(out).set_index("gap_mm")
+
+
+def test_features_are_those_of_the_stored_waveforms(dataset):
+    """Recompute the row's features from the stored (float32) channels: equal to float32
+    precision, so the file is what the row describes."""
+    design, out, rows = dataset
+    for gap in (1.9, 4.0):
+        row = rows.loc[gap]
+        waves = load_waveforms(out, row["run_id"])
+        assert list(waves.columns) == [s.name for s in design.sensors]
+        assert waves.attrs["units"]["casing1_y_acc"] == "m/s^2"
+        window = waves.index >= design.discard_s - 1e-12
+        again = prefixed_features({c: waves[c].to_numpy(np.float64)[window]
+                                   for c in waves.columns},
+                                  waves.attrs["fs_hz"], row["speed_rpm"], separator="__")
+        for column in ("shaft11_y_disp__amp_1x", "shaft4_z_disp__amp_1x",
+                       "casing1_y_acc__rms"):
+            assert again[column].iloc[0] == pytest.approx(row[column], rel=1e-5), column
+
+
+def test_a_silent_casing_reads_the_noise_floor(dataset):
+    """Without rub the casing accelerometer measures noise only: its RMS is the floor (0.5
+    m/s² here; the estimate of 3001 samples is within ±5 %), not a level scaled to the run."""
+    design, out, rows = dataset
+    quiet = rows.loc[4.0]
+    assert not quiet["rub"]
+    waves = load_waveforms(out, quiet["run_id"])["casing1_y_acc"].to_numpy(np.float64)
+    assert np.std(waves) == pytest.approx(design.noise.acceleration_m_s2, rel=0.05)
+    rubbing = load_waveforms(out, rows.loc[1.9]["run_id"])["casing1_y_acc"].to_numpy()
+    assert np.std(rubbing) > 5 * design.noise.acceleration_m_s2
+
+
+def test_noise_is_seeded_by_the_run_and_independent_of_the_level():
+    x = {"a": np.zeros(10_000), "b": np.full(10_000, 1e3)}
+    floors = {"a": 2.0, "b": 2.0}
+    one = add_noise(x, floors, noise_seed("00000000000000ff"))
+    again = add_noise(x, floors, noise_seed("00000000000000ff"))
+    other = add_noise(x, floors, noise_seed("0000000000000100"))
+    np.testing.assert_array_equal(one["a"], again["a"])
+    assert not np.array_equal(one["a"], other["a"])
+    for name in x:      # the same floor whatever the signal's level
+        assert np.std(one[name] - x[name]) == pytest.approx(2.0, rel=0.05)
+
+
+def test_a_run_without_waveforms_says_so(dataset, tmp_path):
+    out = dataset[1]
+    with pytest.raises(ValueError, match="no waveforms stored \\(no such run in it\\)"):
+        load_waveforms(out, "0" * 16)
+    plain = tmp_path / "plain"
+    generate(Design.from_toml(TOML.replace("gap_mm = [1.9, 4.0]", "gap_mm = [4.0]")), plain,
+             jobs=1, progress=False)
+    with pytest.raises(ValueError, match="made without --waveforms"):
+        load_waveforms(plain, load(plain)["run_id"].iloc[0])
+
+
+def test_negative_noise_floor_is_refused():
+    with pytest.raises(ValueError, match=r"noise\.force_n = -1\.0 is out of range"):
+        NoiseFloors(force_n=-1.0)
