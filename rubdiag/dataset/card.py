@@ -108,6 +108,11 @@ def card_text(rows: pd.DataFrame, design, columns: pd.DataFrame) -> str:
     else:
         wall_text = "no run yet"
     groups = columns.groupby("group", sort=False)["column"].count()
+    described = columns[columns["group"].isin(("factor", "run", "measure", "label"))]
+    units_text = "\n".join(f"| `{r.column}` | {r.group} | {r.unit or '–'} |"
+                           for r in described.itertuples())
+    channels = "\n".join(f"| `{s.name}` | {s.quantity} of {s.point} {s.direction} | {s.unit} "
+                         f"| {design.noise.floor(s.quantity):g} |" for s in design.sensors)
     return f"""# rubdiag dataset
 
 Made with rubdiag {__version__} (run-id schema {SCHEMA_VERSION}) on
@@ -136,6 +141,17 @@ severity {_counts(rows, 'severity', SEVERITIES) if n_done else '-'}.
 Wall time per run: {wall_text}.
 
 ## Columns
+
+| column | group | unit |
+|---|---|---|
+{units_text}
+
+Sensor channels (features `CHANNEL__FEATURE`; amplitudes in the channel's unit; noise floor
+= standard deviation of the added white noise, same unit):
+
+| channel | measures | unit | noise floor |
+|---|---|---|---|
+{channels}
 
 {len(columns)} columns ({', '.join(f'{g} {n}' for g, n in groups.items())}); `columns.csv`
 gives each one's group, channel, feature and unit. Read the rows with
