@@ -21,7 +21,7 @@ from rubdiag.dataset.rows import ID_COLUMNS, PROVENANCE, SEPARATOR
 
 __all__ = ["column_map", "write_card"]
 
-_CONTACT = re.compile(r"^contact(\d+|s)$")
+_TRUTH = re.compile(r"^(contact\d+|contacts|truth)$")
 # unit by name ending, longest first
 _SUFFIX_UNITS = (("_per_rev", "1/rev"), ("_per_s", "1/s"), ("_n_m", "N/m"), ("_rpm", "rpm"),
                  ("_deg", "deg"), ("_hz", "Hz"), ("_mm", "mm"), ("_um", "µm"),
@@ -41,8 +41,9 @@ def _unit(feature: str, signal_unit: str = "") -> str:
 
 def column_map(columns, sensors=()) -> pd.DataFrame:
     """One row per column: ``column``, ``group`` (id, factor, run, measure, label, feature:
-    a sensor's, contact: ground truth, provenance), ``channel`` (a sensor's name,
-    ``contact<k>``, ``contacts``, or empty), ``feature`` (the name without the channel) and
+    a sensor's, truth: what no sensor measures — contact statistics, the casing maximum —,
+    provenance), ``channel`` (a sensor's name, ``contact<k>``, ``contacts``, ``truth``, or
+    empty), ``feature`` (the name without the channel) and
     ``unit`` (amplitudes in the unit of their sensor, of ``sensors``; "1": dimensionless or a
     count; empty for text)."""
     signal_units = {s.name: s.unit for s in sensors}
@@ -63,7 +64,7 @@ def column_map(columns, sensors=()) -> pd.DataFrame:
             group = "provenance"
         elif SEPARATOR in name:
             channel, feature = name.split(SEPARATOR, 1)
-            group = "contact" if _CONTACT.match(channel) else "feature"
+            group = "truth" if _TRUTH.match(channel) else "feature"
         else:
             group = "feature"
         text = name in ("run_id", "point_id", "rub_state", "severity", "rubdiag_version",

@@ -14,9 +14,10 @@ across runs).
 Columns, in order: :data:`ID_COLUMNS`, the design point's factors (as the design names
 them), ``speed_rpm`` (the run's speed), the measures and labels, the sensor features
 ``CHANNEL__FEATURE`` (e.g. ``shaft11_y_disp__amp_1x``, :mod:`rubdiag.signal.table`), the
-contact statistics ``contact<k>__…`` and ``contacts__…`` (ground truth a plant cannot
-measure, :mod:`rubdiag.runs.contact_stats`), then :data:`PROVENANCE` (``rubdiag_version``,
-``status``, ``message``, ``wall_s``), which the determinism checks leave out.
+ground truth a plant cannot measure — contact statistics ``contact<k>__…`` and
+``contacts__…`` (:mod:`rubdiag.runs.contact_stats`) and ``truth__casing_max_y_m`` — then
+:data:`PROVENANCE` (``rubdiag_version``, ``status``, ``message``, ``wall_s``), which the
+determinism checks leave out.
 """
 
 from __future__ import annotations
@@ -83,7 +84,8 @@ def make_row_and_waveforms(item, rules: LabelRules | None = None,
     return row, waves
 
 
-def _simulate_and_describe(item, rules, noise, run_timeout_s, start) -> dict:
+def _simulate_and_describe(item, rules, noise, run_timeout_s,
+                           start) -> tuple[dict, dict]:
     from rubdiag.runs import contact_statistics
     from rubdiag.signal.table import prefixed_features
     from rubdiag.simulate import simulate
@@ -106,8 +108,10 @@ def _simulate_and_describe(item, rules, noise, run_timeout_s, start) -> dict:
                                 run.speed_rpm, separator=SEPARATOR)
     features = spectra.iloc[0].drop("speed_rpm").to_dict()
     for name, value in contact_statistics(result).items():
-        element, stat = name.split("_", 1)
-        features[f"{element}{SEPARATOR}{stat}"] = value
+        if name == "window_s":          # the design's, not the run's
+            continue
+        channel, stat = name.split("_", 1) if name.startswith("contact") else ("truth", name)
+        features[f"{channel}{SEPARATOR}{stat}"] = value
     waves = {"fs": result.fs,
              "channels": {k: v.astype(np.float32) for k, v in measured.items()}}
     return {**labelled, **{k: _plain(v) for k, v in features.items()}}, waves

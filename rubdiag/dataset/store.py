@@ -123,7 +123,8 @@ class DatasetFolder:
             atomic_write_text(self.root / "design.toml", design_toml)
         if not (self.root / "dataset.json").is_file():
             self.write_meta({"format": _FORMAT, "schema_version": SCHEMA_VERSION})
-        for leftover in [*self.root.glob(".*.tmp"), *self.chunks_dir.glob(".*.tmp")]:
+        for leftover in [*self.root.glob(".*.tmp"), *self.chunks_dir.glob(".*.tmp"),
+                         *(self.root / "waveforms").glob(".*.tmp")]:
             leftover.unlink(missing_ok=True)
 
     # --- format ----------------------------------------------------------------------------

@@ -94,3 +94,19 @@ def test_a_run_without_waveforms_says_so(dataset, tmp_path):
 def test_negative_noise_floor_is_refused():
     with pytest.raises(ValueError, match=r"noise\.force_n = -1\.0 is out of range"):
         NoiseFloors(force_n=-1.0)
+
+
+def test_feature_columns_are_sensor_channels_only(dataset):
+    """A classifier selecting group == "feature" gets what the sensors measured and nothing
+    a plant cannot measure: every feature column's channel is a sensor, and the contact
+    statistics and the casing maximum are 'truth'."""
+    import pandas as pd
+
+    design, out, rows = dataset
+    columns = pd.read_csv(out / "columns.csv", keep_default_na=False)
+    assert set(columns["column"]) == set(rows.reset_index().columns)
+    features = columns[columns["group"] == "feature"]
+    assert set(features["channel"]) == {s.name for s in design.sensors}
+    truth = set(columns.loc[columns["group"] == "truth", "column"])
+    assert {"contact1__max_force_n", "contacts__n_episodes", "truth__casing_max_y_m"} <= truth
+    assert not any(c.startswith("window") for c in columns["column"])
