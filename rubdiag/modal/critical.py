@@ -50,7 +50,18 @@ class CriticalSpeeds:
 
 
 def synchronous_modes(model, n_solutions: int = 12) -> CriticalSpeeds:
-    """The ``n_solutions`` lowest synchronous solutions (forward and backward)."""
+    """The ``n_solutions`` lowest synchronous solutions (forward and backward).
+
+    Solved on one BLAS thread: multithreaded BLAS sums in another order, and the critical
+    speeds (which define runs through ``speed_ratio`` and the Rayleigh damping) would then
+    differ in their last bit with the machine's thread count."""
+    from threadpoolctl import threadpool_limits  # installed with scikit-learn
+
+    with threadpool_limits(limits=1):
+        return _synchronous_modes(model, n_solutions)
+
+
+def _synchronous_modes(model, n_solutions: int) -> CriticalSpeeds:
     K, B = model.K.tocsc(), (model.M - 1j * model.G).tocsc()
     n = model.n_dof
     if n <= 120:
