@@ -57,7 +57,7 @@ import time
 import warnings
 from pathlib import Path
 
-from _threads import limit_threads  # benchmarks/ is on sys.path when run as a script
+from _threads import cpu_model, limit_threads  # benchmarks/ is on sys.path as a script
 
 SHORT_S = 1.0     # below this duration the design uses case 2 only (see the docstring)
 
@@ -83,17 +83,6 @@ speed_ratio = {{low = 0.9, high = 1.1}}
 gap_mm = {{low = 1.5, high = 4.0}}
 mu = {{low = 0.2, high = 0.5}}
 """
-
-
-def cpu_model() -> str:
-    try:
-        with open("/proc/cpuinfo", encoding="utf-8") as fh:
-            for line in fh:
-                if line.startswith("model name"):
-                    return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown"
 
 
 def git_commit() -> str:

@@ -36,7 +36,7 @@ import subprocess
 import sys
 import time
 
-from _threads import limit_threads  # benchmarks/ is on sys.path when run as a script
+from _threads import cpu_model, limit_threads  # benchmarks/ is on sys.path as a script
 
 HEAVY = ("numpy", "scipy", "pandas", "numba", "matplotlib", "sklearn", "pyarrow")
 IMPORT_BAR_S = 0.5
@@ -74,17 +74,6 @@ def timed(fn, repeat: int) -> tuple[float, list[float]]:
         fn()
         times.append(time.perf_counter() - t0)
     return statistics.median(times), times
-
-
-def cpu_model() -> str:
-    try:
-        with open("/proc/cpuinfo", encoding="utf-8") as fh:
-            for line in fh:
-                if line.startswith("model name"):
-                    return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown"
 
 
 def main(argv=None) -> int:
