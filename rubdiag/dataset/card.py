@@ -104,8 +104,11 @@ def card_text(rows: pd.DataFrame, design, columns: pd.DataFrame) -> str:
     wall = rows["wall_s"].to_numpy(float) if n_done else np.array([])
     if wall.size:
         q = np.percentile(wall, [0, 10, 50, 90, 100])
+        simulated = np.nansum(rows["simulate_s"].to_numpy(float)) \
+            if "simulate_s" in rows else np.nan
         wall_text = (f"min {q[0]:.2f} s, p10 {q[1]:.2f}, median {q[2]:.2f}, p90 {q[3]:.2f}, "
-                     f"max {q[4]:.2f} s; total {wall.sum() / 60:.1f} min of worker time")
+                     f"max {q[4]:.2f} s; total {wall.sum() / 60:.1f} min of worker time, "
+                     f"{simulated / wall.sum():.0%} of it simulating")
     else:
         wall_text = "no run yet"
     groups = columns.groupby("group", sort=False)["column"].count()

@@ -16,8 +16,9 @@ them), ``speed_rpm`` (the run's speed), the measures and labels, the sensor feat
 ``CHANNEL__FEATURE`` (e.g. ``shaft11_y_disp__amp_1x``, :mod:`rubdiag.signal.table`), the
 ground truth a plant cannot measure — contact statistics ``contact<k>__…`` and
 ``contacts__…`` (:mod:`rubdiag.runs.contact_stats`) and ``truth__casing_max_y_m`` — then
-:data:`PROVENANCE` (``rubdiag_version``, ``status``, ``message``, ``wall_s``), which the
-determinism checks leave out.
+:data:`PROVENANCE` (``rubdiag_version``, ``status``, ``message``, ``wall_s``: the row's
+wall time, ``simulate_s``: the simulation's part of it), which the determinism checks
+leave out.
 """
 
 from __future__ import annotations
@@ -38,7 +39,7 @@ __all__ = ["ID_COLUMNS", "PROVENANCE", "SEPARATOR", "STATUSES", "RunTimeout", "m
 SEPARATOR = "__"
 
 ID_COLUMNS = ("run_id", "point_id", "replicate")
-PROVENANCE = ("rubdiag_version", "status", "message", "wall_s")
+PROVENANCE = ("rubdiag_version", "status", "message", "wall_s", "simulate_s")
 #: ``status`` of a row: finished; stopped by the simulator (no convergence, non-finite
 #: state); over the per-run wall-time limit; anything else that raised.
 STATUSES = ("ok", "diverged", "timeout", "error")
@@ -78,9 +79,10 @@ def make_row_and_waveforms(item, rules: LabelRules | None = None,
             kind = "diverged" if isinstance(exc, SimulationDiverged) else "error"
             computed, status = {}, kind
             message = f"{type(exc).__name__}: {exc}".splitlines()[0][:500]
+    simulate_s = computed.pop("simulate_s", float("nan"))
     row.update(computed)
     row.update(rubdiag_version=__version__, status=status, message=message,
-               wall_s=time.perf_counter() - start)
+               wall_s=time.perf_counter() - start, simulate_s=simulate_s)
     return row, waves
 
 
@@ -114,7 +116,8 @@ def _simulate_and_describe(item, rules, noise, run_timeout_s,
         features[f"{channel}{SEPARATOR}{stat}"] = value
     waves = {"fs": result.fs,
              "channels": {k: v.astype(np.float32) for k, v in measured.items()}}
-    return {**labelled, **{k: _plain(v) for k, v in features.items()}}, waves
+    return {**labelled, **{k: _plain(v) for k, v in features.items()},
+            "simulate_s": result.wall_s}, waves
 
 
 def _plain(value):
