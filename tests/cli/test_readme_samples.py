@@ -5,24 +5,17 @@ On drift: ``python scripts/readme_samples.py`` rewrites the blocks; review the d
 
 from __future__ import annotations
 
-import importlib.util
-import sys
 from pathlib import Path
 
 import pytest
+from scripts_loader import load_script
 
 ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.fixture(scope="module")
 def samples():
-    spec = importlib.util.spec_from_file_location("readme_samples",
-                                                  ROOT / "scripts" / "readme_samples.py")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules["readme_samples"] = module      # its dataclasses look their module up there
-    spec.loader.exec_module(module)
-    yield module
-    sys.modules.pop("readme_samples", None)
+    return load_script("readme_samples")
 
 
 @pytest.fixture(scope="module")

@@ -20,14 +20,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from scripts_loader import load_script
 
 from rubdiag.model import paper_rig
 
 ROOT = Path(__file__).resolve().parents[2]
-_spec = importlib.util.spec_from_file_location("ross_references",
-                                               ROOT / "scripts" / "ross_references.py")
-script = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(script)
+script = load_script("ross_references")
 STORED = script.load()
 
 # Relative tolerance of every comparison here (rubdiag vs stored ROSS, stored vs live ROSS).

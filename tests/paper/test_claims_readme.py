@@ -7,23 +7,18 @@ or ``python scripts/claims.py`` (measure again) and review the diff.
 
 from __future__ import annotations
 
-import importlib.util
 import re
-import sys
 from pathlib import Path
 
 import pytest
+from scripts_loader import load_script
 
 ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.fixture(scope="module")
 def claims():
-    spec = importlib.util.spec_from_file_location("claims", ROOT / "scripts" / "claims.py")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules["claims"] = module          # its dataclasses look their module up there
-    spec.loader.exec_module(module)
-    return module
+    return load_script("claims")
 
 
 @pytest.fixture(scope="module")

@@ -7,28 +7,21 @@ The fast tests read ``data/dt_convergence_runs.csv`` and ``data/dt_convergence.c
 
 from __future__ import annotations
 
-import importlib.util
 import math
 import re
-import sys
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
+from scripts_loader import load_script
 
 ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.fixture(scope="module")
 def script():
-    spec = importlib.util.spec_from_file_location("dt_convergence",
-                                                  ROOT / "scripts" / "dt_convergence.py")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules["dt_convergence"] = module      # its dataclasses look their module up there
-    spec.loader.exec_module(module)
-    yield module
-    sys.modules.pop("dt_convergence", None)
+    return load_script("dt_convergence")
 
 
 @pytest.fixture(scope="module")

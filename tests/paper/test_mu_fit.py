@@ -6,7 +6,6 @@ The fast tests read data/mu_fit.csv only; the slow one re-runs one stored simula
 """
 
 import dataclasses
-import importlib.util
 import math
 import re
 from pathlib import Path
@@ -14,15 +13,14 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
+from scripts_loader import load_script
 
 from rubdiag.model import paper_rig
 from rubdiag.paper import paper_values
 from rubdiag.paper.ensemble import GAP_RAMPS_S
 
 ROOT = Path(__file__).resolve().parents[2]
-_spec = importlib.util.spec_from_file_location("fit_mu", ROOT / "scripts" / "fit_mu.py")
-script = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(script)
+script = load_script("fit_mu")
 
 RUNS = script.load_runs(script.DATA)
 SUMMARY = pd.read_csv(script.DATA / script.SUMMARY_FILE)

@@ -13,14 +13,13 @@ spectral lines of case 1 are measured on start-history ensembles (rub is chaotic
 0.1 s ± 2 %, five runs per cell), the others on the table.
 """
 
-import importlib.util
-import sys
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
 from matplotlib.image import imread
+from scripts_loader import load_script
 
 from rubdiag.paper import ensemble, paper_values, reproduce, table2
 from rubdiag.plotting.run import DPI, FIGSIZE
@@ -29,15 +28,7 @@ ROOT = Path(__file__).resolve().parents[2]
 DATA = ROOT / "data"
 
 
-def _load_claims():
-    spec = importlib.util.spec_from_file_location("claims", ROOT / "scripts" / "claims.py")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules["claims"] = module          # its dataclasses look their module up there
-    spec.loader.exec_module(module)
-    return module
-
-
-claims = _load_claims()
+claims = load_script("claims")
 CLAIMS = claims.read()
 
 
