@@ -30,6 +30,11 @@ _SUFFIX_UNITS = (("_per_rev", "1/rev"), ("_per_s", "1/s"), ("_n_m", "N/m"), ("_r
 _AMPLITUDE = re.compile(r"^(amp_|rms$|bb_\d+x_rms$|sb_\d+x_(lower|upper)$|combo_amp_)")
 
 
+# text and boolean columns
+_NO_UNIT = ("run_id", "point_id", "rub", "rub_state", "severity", "rubdiag_version", "status",
+            "message")
+
+
 def _unit(feature: str, signal_unit: str = "") -> str:
     if _AMPLITUDE.match(feature):
         return signal_unit
@@ -67,9 +72,7 @@ def column_map(columns, sensors=()) -> pd.DataFrame:
             group = "truth" if _TRUTH.match(channel) else "feature"
         else:
             group = "feature"
-        text = name in ("run_id", "point_id", "rub_state", "severity", "rubdiag_version",
-                        "status", "message") or name == "rub"
-        unit = "" if text else _unit(feature, signal_units.get(channel, ""))
+        unit = "" if name in _NO_UNIT else _unit(feature, signal_units.get(channel, ""))
         if name in ("case", "replicate", "interference_ratio", "contact_time_fraction",
                     "sticking_share", "n_rub_episodes") or name.endswith("_scale"):
             unit = "1"

@@ -36,8 +36,11 @@ class GenerateSummary(dict):
 def pending_runs(design: Design, out: str | Path, retry_failed: bool = False) -> list:
     """The runs of ``design`` not stored in ``out`` yet (and, with ``retry_failed``, those
     stored with a status other than ``ok``)."""
-    stored = DatasetFolder(out).stored_status()
-    return [item for item in design.runs()
+    return _pending(design.runs(), DatasetFolder(out).stored_status(), retry_failed)
+
+
+def _pending(items, stored: dict[str, str], retry_failed: bool) -> list:
+    return [item for item in items
             if item.run_id not in stored or (retry_failed and stored[item.run_id] != "ok")]
 
 
@@ -72,8 +75,7 @@ def generate(design: Design, out: str | Path, *, jobs: int | None = None, client
     folder.check_writable(toml)
     folder.create(toml)
     stored = folder.stored_status()
-    todo = [item for item in items if item.run_id not in stored
-            or (retry_failed and stored[item.run_id] != "ok")]
+    todo = _pending(items, stored, retry_failed)
     retried = {item.run_id for item in todo if item.run_id in stored}
 
     start = time.perf_counter()
