@@ -6,35 +6,36 @@ builds them, each with the design point, its replicate (start history) and two i
 across processes, machines and Python versions (:mod:`rubdiag.dataset.ids`).
 
 This layer sits above :mod:`rubdiag.runs` (features of simulated runs); nothing below
-imports it.
+imports it. Its names are imported on first use (PEP 562), so that reading a stored
+dataset (:func:`load`, :func:`load_waveforms`) or adding noise does not import the
+simulator: ``rubdiag predict`` runs on a machine's measurements without it.
 """
 
-from rubdiag.dataset.design import Design, DesignRun
-from rubdiag.dataset.factors import FACTORS, Factor
-from rubdiag.dataset.generate import generate, pending_runs
-from rubdiag.dataset.ids import SCHEMA_VERSION, canonical_run, point_id, run_id
-from rubdiag.dataset.labels import LabelRules, label_run, labels_from_measures
-from rubdiag.dataset.noise import NoiseFloors
-from rubdiag.dataset.sampling import MAX_REPLICATES, gap_ramps_s
-from rubdiag.dataset.store import load, load_waveforms
+import importlib
 
-__all__ = [
-    "FACTORS",
-    "MAX_REPLICATES",
-    "SCHEMA_VERSION",
-    "Design",
-    "DesignRun",
-    "Factor",
-    "LabelRules",
-    "NoiseFloors",
-    "canonical_run",
-    "gap_ramps_s",
-    "generate",
-    "label_run",
-    "labels_from_measures",
-    "load",
-    "load_waveforms",
-    "pending_runs",
-    "point_id",
-    "run_id",
-]
+# public name -> the submodule that defines it
+_WHERE = {
+    "Design": "design", "DesignRun": "design",
+    "FACTORS": "factors", "Factor": "factors",
+    "generate": "generate", "pending_runs": "generate",
+    "canonical_run": "ids", "point_id": "ids", "run_id": "ids",
+    "SCHEMA_VERSION": "schema",
+    "LabelRules": "labels", "label_run": "labels", "labels_from_measures": "labels",
+    "NoiseFloors": "noise",
+    "MAX_REPLICATES": "sampling", "gap_ramps_s": "sampling",
+    "acquisition": "store", "load": "store", "load_waveforms": "store",
+}
+
+__all__ = sorted(_WHERE)
+
+
+def __getattr__(name: str):
+    if name not in _WHERE:
+        raise AttributeError(f"module 'rubdiag.dataset' has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"rubdiag.dataset.{_WHERE[name]}"), name)
+    globals()[name] = value      # the next access is a plain lookup
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_WHERE))

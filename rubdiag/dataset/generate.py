@@ -73,7 +73,7 @@ def generate(design: Design, out: str | Path, *, jobs: int | None = None, client
     toml = design.to_toml()
     folder = DatasetFolder(out)
     folder.check_writable(toml)
-    folder.create(toml)
+    folder.create(toml, _acquisition(design, items))
     stored = folder.stored_status()
     todo = _pending(items, stored, retry_failed)
     retried = {item.run_id for item in todo if item.run_id in stored}
@@ -110,6 +110,14 @@ def _task(item, labels, noise, timeout, waveforms) -> tuple[dict, dict | None]:
     """What a worker does for one run: its row, and its waveforms when asked for."""
     row, waves = make_row_and_waveforms(item, labels, noise, timeout)
     return row, waves if waveforms else None
+
+
+def _acquisition(design: Design, items) -> dict:
+    return {"fs_hz": 1.0 / items[0].run.output_dt_s,
+            "window_s": design.duration_s - design.discard_s,
+            "discard_s": design.discard_s,
+            "sensors": [{"name": s.name, "point": s.point, "direction": s.direction,
+                         "quantity": s.quantity, "unit": s.unit} for s in design.sensors]}
 
 
 def _run_local(todo, jobs, args) -> Iterable[tuple]:

@@ -31,15 +31,14 @@ import warnings
 
 import numpy as np
 
+from rubdiag.dataset.schema import SCHEMA_VERSION
 from rubdiag.simulate import GapRampInWindow, Run
 from rubdiag.simulate.simulation import run_to_dict
 
 __all__ = ["SCHEMA_VERSION", "canonical_run", "point_id", "run_id"]
 
-#: Version of the canonical run description behind ``run_id``/``point_id``. Raise it when
-#: the description's meaning changes while its fields do not (a field added to ``Run``
-#: changes every id by itself).
-SCHEMA_VERSION = 1
+# SCHEMA_VERSION (rubdiag.dataset.schema) is hashed with the description: raise it when the
+# description's meaning changes while its fields do not (a new Run field changes every id).
 
 #: The Run fields that make one replicate of a design point differ from another.
 REPLICATE_FIELDS = ("gap_ramp_s",)

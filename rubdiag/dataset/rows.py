@@ -31,18 +31,11 @@ import numpy as np
 from rubdiag._version import __version__
 from rubdiag.dataset.labels import LabelRules, label_run
 from rubdiag.dataset.noise import NoiseFloors, add_noise, noise_seed
+from rubdiag.dataset.schema import ID_COLUMNS, PROVENANCE, SEPARATOR, STATUSES
 
 __all__ = ["ID_COLUMNS", "PROVENANCE", "SEPARATOR", "STATUSES", "RunTimeout", "make_row",
            "make_row_and_waveforms"]
 
-#: Between channel and feature in column names: ``shaft11_y_disp__amp_1x``.
-SEPARATOR = "__"
-
-ID_COLUMNS = ("run_id", "point_id", "replicate")
-PROVENANCE = ("rubdiag_version", "status", "message", "wall_s", "simulate_s")
-#: ``status`` of a row: finished; stopped by the simulator (no convergence, non-finite
-#: state); over the per-run wall-time limit; anything else that raised.
-STATUSES = ("ok", "diverged", "timeout", "error")
 
 class RunTimeout(RuntimeError):
     """A run took longer than its wall-time limit."""

@@ -6,7 +6,7 @@ Layout of ``DIR``:
     The resolved design (:meth:`Design.to_toml`); written first, atomically. A later job
     into the same folder must bring the same design.
 ``dataset.json``
-    The format: ``schema_version`` (:data:`~rubdiag.dataset.ids.SCHEMA_VERSION`, the one
+    The format: ``schema_version`` (:data:`~rubdiag.dataset.schema.SCHEMA_VERSION`, the one
     the run ids were made with) and, once a run has succeeded, ``columns``: every column
     with its Arrow type, the same in every chunk.
 ``features/part-NNNNNN.parquet``
@@ -40,9 +40,9 @@ import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from rubdiag.dataset.ids import SCHEMA_VERSION
+from rubdiag.dataset.schema import SCHEMA_VERSION
 
-__all__ = ["DatasetFolder", "load", "load_waveforms", "write_waveforms"]
+__all__ = ["DatasetFolder", "acquisition", "load", "load_waveforms", "write_waveforms"]
 
 _FORMAT = "rubdiag.dataset"
 _CHUNK_PREFIX, _CHUNK_SUFFIX = "part-", ".parquet"
@@ -115,14 +115,19 @@ class DatasetFolder:
             raise ValueError(f"--out {self.root}: holds another design ({shown}); use a new "
                              "folder or the same design")
 
-    def create(self, design_toml: str) -> None:
-        """Make the folder (or reuse it), write the design and the format, and remove what
+    def create(self, design_toml: str, acquisition: dict | None = None) -> None:
+        """Make the folder (or reuse it), write the design, the format and how the channels
+        are measured (``acquisition``: what a classifier needs to know of its training
+        data; a folder made before that key existed gets it on a resume), and remove what
         an interrupted job left half-written."""
         self.chunks_dir.mkdir(parents=True, exist_ok=True)
         if not (self.root / "design.toml").is_file():
             atomic_write_text(self.root / "design.toml", design_toml)
-        if not (self.root / "dataset.json").is_file():
-            self.write_meta({"format": _FORMAT, "schema_version": SCHEMA_VERSION})
+        meta = self.meta() or {"format": _FORMAT, "schema_version": SCHEMA_VERSION}
+        if acquisition is not None and meta.get("acquisition") != acquisition:
+            meta["acquisition"] = acquisition
+        if meta != self.meta():
+            self.write_meta(meta)
         for leftover in [*self.root.glob(".*.tmp"), *self.chunks_dir.glob(".*.tmp"),
                          *(self.root / "waveforms").glob(".*.tmp")]:
             leftover.unlink(missing_ok=True)
@@ -232,6 +237,17 @@ def load_waveforms(root: str | Path, run_id: str) -> pd.DataFrame:
     frame.attrs.update(units=dict(zip(meta["channels"], meta["units"], strict=True)),
                        fs_hz=meta["fs_hz"], discard_s=meta["discard_s"], run_id=run_id)
     return frame
+
+
+def acquisition(root: str | Path) -> dict:
+    """How a dataset's channels were measured: ``{"fs_hz", "window_s", "discard_s",
+    "sensors": [{"name", "point", "direction", "quantity", "unit"}, …]}``."""
+    meta = DatasetFolder(root).meta()
+    if "acquisition" not in meta:
+        raise ValueError(f"{root}: dataset.json does not say how the channels were measured "
+                         "(made by an older rubdiag); run `rubdiag dataset` on its design.toml "
+                         "with --out on this folder once (nothing is simulated again)")
+    return meta["acquisition"]
 
 
 def load(root: str | Path) -> pd.DataFrame:

@@ -1,0 +1,81 @@
+"""What the columns of a dataset are, and the one reader of a dataset folder learn uses.
+
+A dataset row (:mod:`rubdiag.dataset.rows`) holds ids, design factors, the run's speed,
+label measures, labels, ``CHANNEL__FEATURE`` spectral features, simulator truth
+(``contact<k>__…``, ``contacts__…``, ``truth__…``) and provenance. Only the channels' spectral
+features (and, opt-in, the speed) describe what a sensor on a machine could see; everything
+else is a label, a leak or bookkeeping. Nothing here imports the simulator.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pandas as pd
+
+from rubdiag.dataset.factors import FACTORS
+from rubdiag.dataset.labels import LABELS
+from rubdiag.dataset.schema import SEPARATOR
+from rubdiag.dataset.store import acquisition, load
+from rubdiag.signal.table import FEATURE_NAMES, SPEED_NAMES
+
+__all__ = ["LINE_FEATURES", "TARGETS", "casing_channels", "channels_of", "factor_columns",
+           "read_dataset", "shaft_channels"]
+
+#: The features of one channel (the speed columns are the record's, not a channel's).
+LINE_FEATURES = tuple(n for n in FEATURE_NAMES if n not in SPEED_NAMES)
+#: What a classifier can be trained to predict: the labels of :mod:`rubdiag.dataset.labels`.
+TARGETS = LABELS
+
+
+def read_dataset(root: str | Path) -> pd.DataFrame:
+    """The rows of a dataset folder that finished (``status == "ok"``), with what learn
+    needs to know of it in ``attrs``: ``acquisition`` (``fs_hz``, ``window_s``, sensors
+    with their units and points), ``failed`` (rows left out) and ``source`` (the folder)."""
+    meta = acquisition(root)
+    rows = load(root)
+    if rows.empty:
+        raise ValueError(f"{root}: the dataset holds no rows yet")
+    ok = rows["status"] == "ok"
+    data = rows[ok].reset_index(drop=True)
+    if data.empty:
+        raise ValueError(f"{root}: no run of the dataset finished (status ok)")
+    data.attrs.update(acquisition=meta, failed=int((~ok).sum()), source=str(root))
+    return data
+
+
+def channels_of(data: pd.DataFrame) -> list[str]:
+    """The sensor channels of a dataset frame, in column order: every ``C`` with the full
+    set of ``C__<feature>`` columns (truth columns such as ``contact1__…`` have not)."""
+    present = set(data.columns)
+    seen = []
+    for name in data.columns:
+        channel = str(name).split(SEPARATOR, 1)[0] if SEPARATOR in str(name) else None
+        if channel is None or channel in seen:
+            continue
+        if all(f"{channel}{SEPARATOR}{f}" in present for f in LINE_FEATURES):
+            seen.append(channel)
+    return seen
+
+
+def casing_channels(data: pd.DataFrame) -> list[str]:
+    """Channels measured on the casing: from the sensors' points (``casing …``) when the
+    frame came from :func:`read_dataset`, else from the name (``casing…``)."""
+    sensors = data.attrs.get("acquisition", {}).get("sensors")
+    if sensors:
+        on_casing = {s["name"] for s in sensors if str(s["point"]).startswith("casing")}
+        return [c for c in channels_of(data) if c in on_casing]
+    return [c for c in channels_of(data) if c.lower().startswith("casing")]
+
+
+def shaft_channels(data: pd.DataFrame) -> list[str]:
+    """The channels not on the casing: the default input of a classifier (in this model
+    the casing moves only through contact, so a casing channel gives rub away by itself;
+    a real casing also sees the rotor through its supports)."""
+    casing = set(casing_channels(data))
+    return [c for c in channels_of(data) if c not in casing]
+
+
+def factor_columns(data: pd.DataFrame) -> list[str]:
+    """The design factors among the columns (``case``, ``speed_ratio``, ``gap_mm`` …)."""
+    return [c for c in data.columns if c in FACTORS]

@@ -1,0 +1,362 @@
+"""Honest evaluation of a rub classifier: held-out scores, the baselines, a leakage audit.
+
+:func:`evaluate` cross-predicts a pipeline over the folds of a split
+(:mod:`rubdiag.learn.splits`) and reports, on the same folds:
+
+* macro-F1 and balanced accuracy with 95 % bootstrap intervals over design points,
+  per-class precision and recall, the confusion matrix;
+* grouped permutation importances on the held-out rows (each derived feature permuted in
+  every channel at once, and each channel as a whole);
+* the baselines — the same estimator on the 1× levels only, on the speed only, on the
+  design factors only — and the score with and without casing channels;
+* the pipeline trained on shuffled labels, which must score inside the permutation-null
+  interval of its own prediction (if it does not, something leaks through the split);
+* the audit: every single column (derived feature in any family, raw level or frequency,
+  design factor) that alone separates the classes (a depth-2 tree on it reaches
+  ``audit_threshold`` macro-F1 on the same folds).
+
+A test row whose class is absent from its training fold cannot be predicted: it is
+counted (``unscored``) and left out of every score, never scored as a miss.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from sklearn.base import clone
+from sklearn.tree import DecisionTreeClassifier
+
+from rubdiag import _check
+from rubdiag.dataset.schema import SEPARATOR
+from rubdiag.learn.columns import (
+    TARGETS,
+    casing_channels,
+    channels_of,
+    factor_columns,
+    read_dataset,
+    shaft_channels,
+)
+from rubdiag.learn.features import DEFAULT_FAMILIES, FAMILIES, OrderFeatures
+from rubdiag.learn.metrics import Score, confusion, macro_f1, null_interval, score
+from rubdiag.learn.pipelines import baseline_pipeline, make_pipeline
+from rubdiag.learn.splits import Fold, folds
+
+__all__ = ["CrossPrediction", "Evaluation", "cross_predict", "evaluate", "resolve_channels",
+           "target_values"]
+
+
+def target_values(data: pd.DataFrame, target: str) -> np.ndarray:
+    """The target column as class names (strings; ``rub`` gives ``"True"``/``"False"``)."""
+    if target not in TARGETS:
+        raise ValueError(f"target = {target!r} is not a label (allowed: {', '.join(TARGETS)})")
+    if target not in data.columns:
+        raise ValueError(f"the data has no {target!r} column (a dataset's rows are needed)")
+    return data[target].astype(str).to_numpy()
+
+
+def resolve_channels(data: pd.DataFrame, channels) -> list[str]:
+    """``"shaft"`` (every channel not on the casing: the default), ``"all"``, or names."""
+    if channels is None or channels == "shaft":
+        out = shaft_channels(data)
+    elif channels == "all":
+        out = channels_of(data)
+    else:
+        names = [channels] if isinstance(channels, str) else list(channels)
+        have = channels_of(data)
+        missing = [c for c in names if c not in have]
+        if missing:
+            raise ValueError(f"channels: {missing[0]!r} is not a channel of the data (its "
+                             f"channels: {', '.join(have)})")
+        out = names
+    if not out:
+        raise ValueError("no channel left to learn from (channels)")
+    return out
+
+
+@dataclass
+class CrossPrediction:
+    """Held-out predictions of one pipeline over the folds of a split."""
+
+    predicted: np.ndarray        # class per row; "" where not scored
+    scored: np.ndarray           # bool per row
+    unscored: dict               # class -> rows not scored (absent from a training fold)
+    fitted: list                 # (fold, fitted pipeline or None)
+
+
+def cross_predict(pipeline, data: pd.DataFrame, y: np.ndarray, splits: list[Fold]):
+    """Fit a clone of ``pipeline`` on each training side, predict its test side."""
+    predicted = np.full(len(data), "", dtype=object)
+    scored = np.zeros(len(data), dtype=bool)
+    unscored: dict[str, int] = {}
+    fitted = []
+    for fold in splits:
+        train_classes = set(y[fold.train])
+        ok = np.array([v in train_classes for v in y[fold.test]], dtype=bool)
+        for v in y[fold.test][~ok]:
+            unscored[v] = unscored.get(v, 0) + 1
+        if len(train_classes) < 2 or not ok.any():
+            for v in y[fold.test][ok]:
+                unscored[v] = unscored.get(v, 0) + 1
+            fitted.append((fold, None))
+            continue
+        model = clone(pipeline).fit(data.iloc[fold.train], y[fold.train])
+        test = fold.test[ok]
+        predicted[test] = model.predict(data.iloc[test])
+        scored[test] = True
+        fitted.append((fold, model))
+    return CrossPrediction(predicted, scored, unscored, fitted)
+
+
+@dataclass
+class Evaluation:
+    """What :func:`evaluate` measured (``to_dict`` for JSON, ``to_markdown`` for people)."""
+
+    target: str
+    split: str
+    estimator: str
+    channels: list
+    families: list
+    classes: list
+    class_counts: dict
+    n_rows: int
+    folds: list                       # [{"name", "n_train", "n_test"}]
+    unscored: dict
+    scores: dict                      # metric -> Score
+    per_class: pd.DataFrame
+    confusion: pd.DataFrame
+    predictions: pd.DataFrame
+    importances: pd.DataFrame | None = None
+    channel_importances: pd.DataFrame | None = None
+    baselines: pd.DataFrame | None = None
+    casing: dict | None = None        # {"with": Score, "without": Score} (macro-F1)
+    shuffled: dict | None = None
+    audit: pd.DataFrame | None = None
+    notes: list = field(default_factory=list)
+
+    def to_dict(self) -> dict:
+        from rubdiag.learn.report import evaluation_dict
+
+        return evaluation_dict(self)
+
+    def to_markdown(self) -> str:
+        from rubdiag.learn.report import evaluation_markdown
+
+        return evaluation_markdown(self)
+
+
+def evaluate(data, target: str = "rub", split: str = "group", estimator: str = "rf", *,
+             channels="shaft", families=DEFAULT_FAMILIES, pipeline=None, n_splits: int = 5,
+             bands: int = 5, n_bootstrap: int = 1000, n_null: int = 1000,
+             importances: bool = True, n_repeats: int = 5, baselines: bool = True,
+             audit: bool = True, audit_threshold: float = 0.9, seed: int = 0) -> Evaluation:
+    """Cross-validated scores of a classifier on a dataset, with everything that says how
+    far to trust them (module docstring).
+
+    Parameters
+    ----------
+    data : DataFrame or path
+        A dataset's rows (:func:`~rubdiag.learn.columns.read_dataset`) or its folder.
+    target : {"rub", "rub_state", "severity"}
+    split : str
+        ``"group"`` (by design point) or a design factor to hold out band by band
+        (``"speed_ratio"``, ``"gap_mm"``, ``"mu"``, ``"case"`` …).
+    estimator : {"rf", "hgb", "svm", "logreg"}
+    channels : "shaft", "all" or list of str
+        Input channels; ``"shaft"`` leaves the casing out (see
+        :func:`~rubdiag.learn.columns.shaft_channels`).
+    families : sequence of str
+        Feature families (:mod:`rubdiag.learn.features`).
+    pipeline : sklearn estimator, optional
+        Replaces the pipeline built from ``estimator``, ``channels`` and ``families``.
+    n_splits, bands : int
+        Folds of the group split; bands of a factor split.
+    n_bootstrap, n_null : int
+        Bootstrap draws of the intervals; permutations of the null interval.
+    importances, baselines, audit : bool
+        Compute these parts (they cost several further cross-predictions).
+    n_repeats : int
+        Permutations per feature for the importances.
+    audit_threshold : float
+        Macro-F1 from which one column alone "separates the classes".
+    seed : int
+        Seeds folds, models, bootstrap and permutations: the same call gives the same
+        report.
+    """
+    if isinstance(data, str | Path):
+        data = read_dataset(data)
+    y = target_values(data, target)
+    channels = resolve_channels(data, channels)
+    families = list(families)
+    n_bootstrap = _check.integer("n_bootstrap", n_bootstrap, lo=0)
+    n_null = _check.integer("n_null", n_null, lo=10)
+    audit_threshold = _check.number("audit_threshold", audit_threshold, lo=0.0, hi=1.0)
+    if pipeline is None:
+        pipeline = make_pipeline(estimator, channels=channels, families=families,
+                                 random_state=seed)
+    splits = folds(data, split, y, n_splits=n_splits, bands=bands, seed=seed)
+    classes = sorted(set(y))
+    if len(classes) < 2:
+        raise ValueError(f"target {target!r} takes one value in the data ({classes[0]!r}): "
+                         "nothing to classify")
+    groups = data["point_id"].to_numpy()
+
+    cp = cross_predict(pipeline, data, y, splits)
+    scores = _scores(y, cp, groups, classes, n_bootstrap, seed)
+    cm = confusion(y[cp.scored], cp.predicted[cp.scored], classes)
+    ev = Evaluation(
+        target=target, split=split, estimator=estimator, channels=channels,
+        families=families, classes=classes,
+        class_counts={c: int((y == c).sum()) for c in classes}, n_rows=len(data),
+        folds=[{"name": f.name, "n_train": int(f.train.size), "n_test": int(f.test.size)}
+               for f in splits],
+        unscored=cp.unscored, scores=scores, per_class=_per_class(cm, classes),
+        confusion=pd.DataFrame(cm, index=pd.Index(classes, name="true"),
+                               columns=pd.Index(classes, name="predicted")),
+        predictions=pd.DataFrame({"run_id": data.get("run_id", pd.Series(range(len(data)))),
+                                  "true": y, "predicted": cp.predicted, "scored": cp.scored}))
+    if importances:
+        ev.importances, ev.channel_importances = _importances(cp, data, y, classes,
+                                                              n_repeats, seed)
+    if baselines:
+        ev.baselines = _baselines(data, y, splits, groups, classes, channels, estimator,
+                                  n_bootstrap, seed)
+        ev.casing = _casing(data, y, splits, groups, classes, channels, families,
+                            estimator, scores, n_bootstrap, seed)
+    ev.shuffled = _shuffled(pipeline, data, y, split, n_splits, bands, classes, n_null, seed)
+    if audit:
+        ev.audit = audit_columns(data, y, splits, classes, audit_threshold, seed)
+    return ev
+
+
+def _scores(y, cp: CrossPrediction, groups, classes, n_bootstrap, seed) -> dict[str, Score]:
+    s = cp.scored
+    if not s.any():
+        raise ValueError("no test row could be scored: every fold lacks a class in training")
+    return score(y[s], cp.predicted[s], groups[s], classes, n_bootstrap, seed)
+
+
+def _per_class(cm: np.ndarray, classes) -> pd.DataFrame:
+    tp = np.diag(cm).astype(float)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        precision = tp / cm.sum(axis=0)
+        recall = tp / cm.sum(axis=1)
+        f1 = 2 * precision * recall / (precision + recall)
+    return pd.DataFrame({"precision": precision, "recall": recall, "f1": np.nan_to_num(f1),
+                         "support": cm.sum(axis=1)}, index=pd.Index(classes, name="class"))
+
+
+def _importances(cp: CrossPrediction, data, y, classes, n_repeats, seed):
+    """Mean drop of held-out macro-F1 when a feature (in every channel at once) or a
+    channel (all its features) is permuted; mean and spread over folds × repeats."""
+    rng = np.random.default_rng(seed)
+    by_feature: dict[str, list] = {}
+    by_channel: dict[str, list] = {}
+    for fold, model in cp.fitted:
+        if model is None or not isinstance(model[0], OrderFeatures):
+            continue
+        test = fold.test[cp.scored[fold.test]]
+        Z = model[0].transform(data.iloc[test])
+        names = model[0].get_feature_names_out()
+        rest = model[1:]
+        base = macro_f1(y[test], rest.predict(Z), classes)
+        feature_of = np.array([n.split(SEPARATOR, 1)[-1] for n in names])
+        channel_of = np.array([n.split(SEPARATOR, 1)[0] if SEPARATOR in n else "(run)"
+                               for n in names])
+        for key, out in ((feature_of, by_feature), (channel_of, by_channel)):
+            for name in dict.fromkeys(key):
+                cols = np.flatnonzero(key == name)
+                for _ in range(n_repeats):
+                    Zp = Z.copy()
+                    Zp[:, cols] = Z[rng.permutation(len(Z))][:, cols]
+                    out.setdefault(name, []).append(
+                        base - macro_f1(y[test], rest.predict(Zp), classes))
+
+    def table(d, index_name):
+        if not d:
+            return None
+        frame = pd.DataFrame({"importance": {k: np.mean(v) for k, v in d.items()},
+                              "std": {k: np.std(v) for k, v in d.items()}})
+        frame.index.name = index_name
+        return frame.sort_values("importance", ascending=False)
+    return table(by_feature, "feature"), table(by_channel, "channel")
+
+
+def _baselines(data, y, splits, groups, classes, channels, estimator, n_bootstrap, seed):
+    """The same estimator on what should not be enough: 1× levels, speed, design factors."""
+    rows = []
+    candidates = [
+        ("1x level only", [f"{c}{SEPARATOR}amp_1x" for c in channels]),
+        ("speed only", ["speed_rpm"]),
+        ("design factors only", factor_columns(data)),
+    ]
+    for name, columns in candidates:
+        cp = cross_predict(baseline_pipeline(columns, estimator, seed), data, y, splits)
+        s = _scores(y, cp, groups, classes, n_bootstrap, seed)
+        rows.append({"baseline": name, "columns": ", ".join(columns),
+                     "macro_f1": s["macro_f1"], "balanced_accuracy": s["balanced_accuracy"]})
+    return pd.DataFrame(rows).set_index("baseline")
+
+
+def _casing(data, y, splits, groups, classes, channels, families, estimator, scores,
+            n_bootstrap, seed) -> dict | None:
+    """Macro-F1 with and without the casing channels (one of the two is the model's)."""
+    casing = casing_channels(data)
+    if not casing:
+        return None
+    used = [c for c in channels if c in casing]
+    other = ([c for c in channels if c not in casing] if used
+             else [*channels, *casing])
+    if not other:
+        return {"with": scores["macro_f1"], "without": None}
+    pipe = make_pipeline(estimator, channels=other, families=families, random_state=seed)
+    s = _scores(y, cross_predict(pipe, data, y, splits), groups, classes, n_bootstrap,
+                seed)["macro_f1"]
+    return ({"with": scores["macro_f1"], "without": s} if used
+            else {"with": s, "without": scores["macro_f1"]})
+
+
+def _shuffled(pipeline, data, y, split, n_splits, bands, classes, n_null, seed) -> dict:
+    """The pipeline on shuffled labels, scored against them, and its chance interval."""
+    shuffled = np.random.default_rng(seed + 1).permutation(y)
+    splits = folds(data, split, shuffled, n_splits=n_splits, bands=bands, seed=seed)
+    cp = cross_predict(pipeline, data, shuffled, splits)
+    s = cp.scored
+    value = macro_f1(shuffled[s], cp.predicted[s], classes)
+    lo, hi = null_interval(shuffled[s], cp.predicted[s], classes, n_null, seed)
+    return {"macro_f1": value, "null_lo": lo, "null_hi": hi, "inside": lo <= value <= hi}
+
+
+def audit_columns(data, y, splits, classes, threshold: float = 0.9, seed: int = 0):
+    """Every single column that alone separates the classes: a depth-2 tree on it, cross-
+    predicted on ``splits``, reaches ``threshold`` macro-F1. Candidates: every derived
+    feature of every channel in every family (levels and absolute frequencies included)
+    and every design factor; sorted by score."""
+    everything = OrderFeatures(channels=None, families=FAMILIES).fit(data)
+    Z = everything.transform(data)
+    names = list(everything.get_feature_names_out())
+    factors = factor_columns(data)
+    Z = np.column_stack([Z, np.nan_to_num(data[factors].to_numpy(dtype=float))])
+    kinds = ["feature"] * len(names) + ["factor"] * len(factors)
+    names += factors
+    yi = np.searchsorted(classes, y)           # classes are sorted
+    tree = DecisionTreeClassifier(max_depth=2, class_weight="balanced", random_state=seed)
+    rows = []
+    for j, name in enumerate(names):
+        x = Z[:, [j]]
+        if np.ptp(x) == 0.0:
+            continue
+        true, pred = [], []
+        for fold in splits:
+            if len(set(yi[fold.train])) < 2:
+                continue
+            test = fold.test[np.isin(yi[fold.test], yi[fold.train])]
+            true.append(yi[test])
+            pred.append(clone(tree).fit(x[fold.train], yi[fold.train]).predict(x[test]))
+        f1 = macro_f1(np.concatenate(true), np.concatenate(pred), range(len(classes)))
+        if f1 >= threshold:
+            rows.append({"column": name, "kind": kinds[j], "macro_f1": f1})
+    frame = pd.DataFrame(rows, columns=["column", "kind", "macro_f1"])
+    return frame.sort_values("macro_f1", ascending=False, kind="stable").reset_index(drop=True)

@@ -1,0 +1,205 @@
+"""Classifier inputs from feature tables: order-normalised by default, leaks opt-in.
+
+:class:`OrderFeatures` turns the ``CHANNEL__FEATURE`` columns of a dataset row (or of
+``rubdiag features`` on a measurement, prefixed the same way) into what a classifier
+should see. Families (``families=``):
+
+``orders`` (default)
+    Each half and third order's amplitude over the channel's RMS (``rel_amp_<k>``), how
+    far the line sits from its nominal order (``dev_<k>``, in orders), and the counts of
+    fractional lines (``n_half_orders``, ``n_third_orders``).
+``sidebands`` (default)
+    Sideband spacing in orders (``sb_<n>x_delta_order``), the two sidebands and the band
+    RMS around n× over the channel's RMS.
+``combinations`` (default)
+    The strongest pair f_a + f_b = m×: both frequencies in orders, m, both amplitudes over
+    the channel's RMS.
+``levels`` (opt-in)
+    Absolute levels: the RMS and every order's amplitude, in the channel's unit. A rubbing
+    rotor's 1× levels off at about the gap, so levels encode the gap band rather than rub.
+``absolute`` (opt-in)
+    Absolute frequencies: ``speed_rpm`` (once), every ``freq_<k>_hz``, sideband spacings in
+    Hz, the pair's frequencies in Hz. With two cases at different speeds, the speed gives
+    the case (and what it implies) away.
+
+Phases are never used: an absolute phase depends on where the record starts.
+
+Missing values, explicitly: a feature table writes an absent line as amplitude 0 and
+location NaN, and an unmeasurable one (above Nyquist, a record too short) as all NaN. Here
+every ratio or location that is NaN becomes 0 — "not seen", the value an absent line has —
+and a column that was NaN in every training row is dropped at ``fit`` (``dropped_`` lists
+them), so that no column is constant by construction and no imputer ever sees an all-NaN
+column. ``required_`` lists the raw columns the kept features come from: a measurement
+that cannot provide one (its sampling rate is too low for the model's highest order) is
+refused by :mod:`rubdiag.learn.predict`, not silently filled.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+from sklearn.base import BaseEstimator, TransformerMixin
+from sklearn.utils.validation import check_is_fitted
+
+from rubdiag.dataset.schema import SEPARATOR
+from rubdiag.learn.columns import channels_of
+from rubdiag.signal.orders import HALF_ORDERS, HARMONICS, THIRD_ORDERS, order_label
+
+__all__ = ["DEFAULT_FAMILIES", "FAMILIES", "OrderFeatures", "SelectColumns"]
+
+FAMILIES = ("orders", "sidebands", "combinations", "levels", "absolute")
+DEFAULT_FAMILIES = ("orders", "sidebands", "combinations")
+
+_HALF = [(order_label(k), k) for k in HALF_ORDERS]
+_THIRD = [order_label(k) for k in THIRD_ORDERS]
+
+
+def _recipes(family: str) -> list[tuple[str, str, str]]:
+    """(output name, raw feature, how) of one channel: ``how`` is ``ratio`` (over rms),
+    ``order`` (Hz over 1×), ``dev:<k>`` (Hz over 1× minus k) or ``raw``."""
+    if family == "orders":
+        return ([(f"rel_amp_{k}", f"amp_{k}", "ratio") for k, _ in _HALF]
+                + [(f"rel_amp_{k}", f"amp_{k}", "ratio") for k in _THIRD]
+                + [(f"dev_{k}", f"freq_{k}_hz", f"dev:{v!r}") for k, v in _HALF]
+                + [("n_half_orders", "n_half_orders", "raw"),
+                   ("n_third_orders", "n_third_orders", "raw")])
+    if family == "sidebands":
+        out = []
+        for n in HARMONICS:
+            out += [(f"sb_{n}x_delta_order", f"sb_{n}x_delta_hz", "order"),
+                    (f"sb_{n}x_rel_lower", f"sb_{n}x_lower", "ratio"),
+                    (f"sb_{n}x_rel_upper", f"sb_{n}x_upper", "ratio"),
+                    (f"bb_{n}x_rel_rms", f"bb_{n}x_rms", "ratio")]
+        return out
+    if family == "combinations":
+        return [("combo_fa_order", "combo_fa_hz", "order"),
+                ("combo_fb_order", "combo_fb_hz", "order"),
+                ("combo_order", "combo_order", "raw"),
+                ("combo_rel_amp_a", "combo_amp_a", "ratio"),
+                ("combo_rel_amp_b", "combo_amp_b", "ratio")]
+    if family == "levels":
+        return ([("rms", "rms", "raw")] + [(f"amp_{k}", f"amp_{k}", "raw") for k, _ in _HALF]
+                + [(f"amp_{k}", f"amp_{k}", "raw") for k in _THIRD])
+    if family == "absolute":
+        return ([(f"freq_{k}_hz", f"freq_{k}_hz", "raw") for k, _ in _HALF]
+                + [(f"sb_{n}x_delta_hz", f"sb_{n}x_delta_hz", "raw") for n in HARMONICS]
+                + [("combo_fa_hz", "combo_fa_hz", "raw"), ("combo_fb_hz", "combo_fb_hz", "raw")])
+    raise ValueError(f"families: {family!r} is not a feature family (allowed: "
+                     f"{', '.join(FAMILIES)})")
+
+
+def _check_families(families) -> tuple[str, ...]:
+    if isinstance(families, str):
+        families = (families,)
+    families = tuple(families)
+    for f in families:
+        _recipes(f)                      # raises on an unknown name
+    if not families:
+        raise ValueError(f"families is empty (allowed: some of {', '.join(FAMILIES)})")
+    return families
+
+
+class OrderFeatures(TransformerMixin, BaseEstimator):
+    """Classifier features of the channels of a feature table (module docstring).
+
+    Parameters
+    ----------
+    channels : sequence of str, optional
+        The channels to use (``C`` of the ``C__feature`` columns). None: every channel of
+        the training frame.
+    families : sequence of str
+        Feature families (module docstring); default orders, sidebands, combinations.
+
+    Input is a DataFrame with ``speed_rpm`` and the ``C__feature`` columns of the channels
+    (other columns are ignored); output a float array, named by
+    ``get_feature_names_out`` (``C__rel_amp_1p5x`` …).
+    """
+
+    def __init__(self, channels=None, families=DEFAULT_FAMILIES):
+        self.channels = channels
+        self.families = families
+
+    def fit(self, X, y=None):
+        if not isinstance(X, pd.DataFrame):
+            raise TypeError("OrderFeatures needs a DataFrame with C__feature columns "
+                            "(a dataset's rows or a prefixed feature table)")
+        families = _check_families(self.families)
+        available = channels_of(X)
+        if self.channels is None:
+            channels = available
+        else:
+            channels = [self.channels] if isinstance(self.channels, str) else list(self.channels)
+            missing = [c for c in channels if c not in available]
+            if missing:
+                raise ValueError(f"channels: {missing[0]!r} is not a channel of the data "
+                                 f"(its channels: {', '.join(available) or 'none'})")
+        if not channels:
+            raise ValueError("no channel to learn from (channels is empty)")
+        recipes = [(f"{c}{SEPARATOR}{name}", f"{c}{SEPARATOR}{raw}", c, how)
+                   for c in channels for fam in families for name, raw, how in _recipes(fam)]
+        if "absolute" in families:
+            recipes.insert(0, ("speed_rpm", "speed_rpm", None, "raw"))
+        values = self._compute(X, recipes, fill=False)
+        measured = ~np.isnan(values).all(axis=0)
+        self.channels_ = channels
+        self.recipes_ = [r for r, keep in zip(recipes, measured, strict=True) if keep]
+        self.dropped_ = [r[0] for r, keep in zip(recipes, measured, strict=True) if not keep]
+        self.required_ = sorted({r[1] for r in self.recipes_}
+                                | {f"{c}{SEPARATOR}rms" for c in channels} | {"speed_rpm"})
+        self.n_features_out_ = len(self.recipes_)
+        return self
+
+    def transform(self, X):
+        check_is_fitted(self, "recipes_")
+        missing = [c for c in self.required_ if c not in getattr(X, "columns", ())]
+        if missing:
+            raise ValueError(f"the data has no column {missing[0]!r} (the model was trained "
+                             f"on channels {', '.join(self.channels_)})")
+        return self._compute(X, self.recipes_, fill=True)
+
+    def get_feature_names_out(self, input_features=None):
+        check_is_fitted(self, "recipes_")
+        return np.asarray([r[0] for r in self.recipes_], dtype=object)
+
+    @staticmethod
+    def _compute(X: pd.DataFrame, recipes, fill: bool) -> np.ndarray:
+        f1 = X["speed_rpm"].to_numpy(dtype=np.float64) / 60.0
+        out = np.empty((len(X), len(recipes)))
+        for j, (_, raw, channel, how) in enumerate(recipes):
+            v = X[raw].to_numpy(dtype=np.float64)
+            if how == "ratio":
+                rms = X[f"{channel}{SEPARATOR}rms"].to_numpy(dtype=np.float64)
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    v = np.where(rms > 0.0, v / rms, 0.0 * v)   # a still channel: no line
+            elif how == "order":
+                v = v / f1
+            elif how.startswith("dev:"):
+                v = v / f1 - float(how[4:])
+            out[:, j] = v
+        if fill:
+            np.nan_to_num(out, copy=False, nan=0.0)
+        return out
+
+
+class SelectColumns(TransformerMixin, BaseEstimator):
+    """The given columns of a DataFrame as floats (NaN as 0): the baselines' input."""
+
+    def __init__(self, columns=()):
+        self.columns = columns
+
+    def fit(self, X, y=None):
+        columns = list(self.columns)
+        missing = [c for c in columns if c not in X.columns]
+        if missing or not columns:
+            raise ValueError(f"SelectColumns: column {missing[0]!r} is not in the data"
+                             if missing else "SelectColumns: no column given")
+        self.columns_ = columns
+        return self
+
+    def transform(self, X):
+        check_is_fitted(self, "columns_")
+        return np.nan_to_num(X[self.columns_].to_numpy(dtype=np.float64), nan=0.0)
+
+    def get_feature_names_out(self, input_features=None):
+        check_is_fitted(self, "columns_")
+        return np.asarray(self.columns_, dtype=object)

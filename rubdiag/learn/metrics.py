@@ -1,0 +1,114 @@
+"""Scores with their uncertainty: macro-F1 and balanced accuracy, bootstrap confidence
+intervals over design points, and the permutation null of a prediction.
+
+Both scores weigh every class equally, so a model that ignores a rare class cannot hide
+behind the common one. Intervals resample *design points* (``point_id``), not rows: the
+replicates of a point are near-copies, and resampling them one by one would make the
+interval too narrow.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["METRICS", "Score", "confusion", "macro_f1", "null_interval", "score"]
+
+METRICS = ("macro_f1", "balanced_accuracy")
+
+
+@dataclass(frozen=True)
+class Score:
+    """A score and its 95 % interval (``lo`` … ``hi``)."""
+
+    value: float
+    lo: float
+    hi: float
+
+    def __str__(self) -> str:
+        return f"{self.value:.3f} [{self.lo:.3f}, {self.hi:.3f}]"
+
+    def to_dict(self) -> dict:
+        return {"value": self.value, "lo": self.lo, "hi": self.hi}
+
+
+def confusion(y_true, y_pred, classes) -> np.ndarray:
+    """Counts ``[i, j]`` of rows of class ``classes[i]`` predicted as ``classes[j]``."""
+    index = {c: i for i, c in enumerate(classes)}
+    t = np.array([index[v] for v in y_true], dtype=np.int64)
+    p = np.array([index.get(v, -1) for v in y_pred], dtype=np.int64)
+    if (p < 0).any():
+        raise ValueError("a prediction is not one of the classes")
+    k = len(classes)
+    return np.bincount(t * k + p, minlength=k * k).reshape(k, k)
+
+
+def _from_counts(cm: np.ndarray) -> dict[str, np.ndarray]:
+    """Macro-F1 and balanced accuracy of confusion matrices (..., k, k); classes without a
+    true row count as absent (left out of both means), as scikit-learn does with
+    ``labels=`` the classes present."""
+    tp = np.diagonal(cm, axis1=-2, axis2=-1).astype(float)
+    support = cm.sum(axis=-1).astype(float)
+    predicted = cm.sum(axis=-2).astype(float)
+    present = support > 0
+    with np.errstate(invalid="ignore", divide="ignore"):
+        f1 = np.where(support + predicted > 0, 2 * tp / (support + predicted), 0.0)
+        recall = np.where(present, tp / support, 0.0)
+    n_present = present.sum(axis=-1)
+    return {"macro_f1": (f1 * present).sum(axis=-1) / n_present,
+            "balanced_accuracy": recall.sum(axis=-1) / n_present}
+
+
+def macro_f1(y_true, y_pred, classes) -> float:
+    """Macro-F1 of a prediction over the ``classes`` present in ``y_true`` (as
+    ``sklearn.metrics.f1_score(average="macro", labels=present, zero_division=0)``)."""
+    k = len(classes)
+    cm = confusion(y_true, y_pred, classes).reshape(1, k, k)
+    return float(_from_counts(cm)["macro_f1"][0])
+
+
+def score(y_true, y_pred, groups, classes, n_bootstrap: int = 1000,
+          seed: int = 0) -> dict[str, Score]:
+    """Macro-F1 and balanced accuracy of a prediction with 95 % bootstrap intervals; the
+    bootstrap draws ``groups`` (design points) with replacement, all rows of a drawn group
+    together."""
+    y_true, y_pred, groups = (np.asarray(a) for a in (y_true, y_pred, groups))
+    k = len(classes)
+    index = {c: i for i, c in enumerate(classes)}
+    cell = (np.array([index[v] for v in y_true]) * k
+            + np.array([index[v] for v in y_pred]))
+    _, g = np.unique(groups, return_inverse=True)
+    n_groups = g.max() + 1
+    # counts[group, cell]: a bootstrap sample's confusion matrix is a weighted sum of rows
+    counts = np.zeros((n_groups, k * k))
+    np.add.at(counts, (g, cell), 1.0)
+    whole = _from_counts(counts.sum(axis=0).reshape(k, k))
+    rng = np.random.default_rng(seed)
+    draws = rng.integers(0, n_groups, size=(n_bootstrap, n_groups))
+    weights = np.zeros((n_bootstrap, n_groups))
+    np.add.at(weights, (np.arange(n_bootstrap)[:, None], draws), 1.0)
+    boot = _from_counts((weights @ counts).reshape(n_bootstrap, k, k))
+    out = {}
+    for name in METRICS:
+        lo, hi = np.nanpercentile(boot[name], [2.5, 97.5]) if n_bootstrap else (np.nan,) * 2
+        out[name] = Score(float(whole[name]), float(lo), float(hi))
+    return out
+
+
+def null_interval(y_true, y_pred, classes, n: int = 1000, seed: int = 0,
+                  metric: str = "macro_f1") -> tuple[float, float]:
+    """The 95 % interval of ``metric`` when the predictions are shuffled against the truth:
+    what this very prediction scores by chance (same class frequencies, no information)."""
+    k = len(classes)
+    index = {c: i for i, c in enumerate(classes)}
+    t = np.array([index[v] for v in y_true])
+    p = np.array([index[v] for v in y_pred])
+    rng = np.random.default_rng(seed)
+    shuffled = rng.permuted(np.broadcast_to(p, (n, p.size)), axis=1)
+    cells = t * k + shuffled
+    cms = np.zeros((n, k * k))
+    np.add.at(cms, (np.arange(n)[:, None], cells), 1.0)
+    values = _from_counts(cms.reshape(n, k, k))[metric]
+    lo, hi = np.percentile(values, [2.5, 97.5])
+    return float(lo), float(hi)

@@ -1,0 +1,110 @@
+"""An :class:`~rubdiag.learn.evaluate.Evaluation` as JSON (``metrics.json``) and as
+Markdown (``report.md``): the numbers first, then what they should be compared with."""
+
+from __future__ import annotations
+
+import math
+
+import pandas as pd
+
+from rubdiag.learn.metrics import Score
+
+__all__ = ["evaluation_dict", "evaluation_markdown"]
+
+
+def _plain(value):
+    if isinstance(value, Score):
+        return value.to_dict()
+    if isinstance(value, float) and math.isnan(value):
+        return None
+    if hasattr(value, "item"):
+        return _plain(value.item())
+    return value
+
+
+def _records(frame: pd.DataFrame | None, index: str) -> list | None:
+    if frame is None:
+        return None
+    return [{index: str(i), **{k: _plain(v) for k, v in row.items()}}
+            for i, row in frame.iterrows()]
+
+
+def evaluation_dict(ev) -> dict:
+    """Everything of an evaluation, in JSON types (Scores as ``{value, lo, hi}``)."""
+    return {
+        "target": ev.target, "split": ev.split, "estimator": ev.estimator,
+        "channels": ev.channels, "families": ev.families, "classes": ev.classes,
+        "class_counts": ev.class_counts, "n_rows": ev.n_rows, "folds": ev.folds,
+        "unscored": ev.unscored,
+        "scores": {k: v.to_dict() for k, v in ev.scores.items()},
+        "per_class": _records(ev.per_class, "class"),
+        "confusion": {"classes": ev.classes, "counts": ev.confusion.to_numpy().tolist()},
+        "importances": _records(ev.importances, "feature"),
+        "channel_importances": _records(ev.channel_importances, "channel"),
+        "baselines": _records(ev.baselines, "baseline"),
+        "casing": None if ev.casing is None else {k: _plain(v) for k, v in ev.casing.items()},
+        "shuffled": None if ev.shuffled is None else {k: _plain(v)
+                                                      for k, v in ev.shuffled.items()},
+        "audit": None if ev.audit is None else ev.audit.to_dict(orient="records"),
+        "notes": ev.notes,
+    }
+
+
+def _table(frame: pd.DataFrame, floatfmt: str = ".3f") -> str:
+    head = "| " + " | ".join([frame.index.name or "", *map(str, frame.columns)]) + " |"
+    rule = "|" + "---|" * (len(frame.columns) + 1)
+    lines = [head, rule]
+    for i, row in frame.iterrows():
+        cells = [format(v, floatfmt) if isinstance(v, float) else str(v) for v in row]
+        lines.append("| " + " | ".join([str(i), *cells]) + " |")
+    return "\n".join(lines)
+
+
+def evaluation_markdown(ev, top: int = 15) -> str:
+    """A report a person reads: scores, baselines, chance, audit, importances."""
+    counts = ", ".join(f"{c} {n}" for c, n in ev.class_counts.items())
+    out = [f"# {ev.target}: {ev.estimator}, split {ev.split}", "",
+           f"{ev.n_rows} runs ({counts}); channels: {', '.join(ev.channels)}; feature "
+           f"families: {', '.join(ev.families)}; {len(ev.folds)} folds.", ""]
+    if ev.unscored:
+        out += ["Not scored (class absent from the training fold): "
+                + ", ".join(f"{c} {n}" for c, n in ev.unscored.items()) + ".", ""]
+    out += ["## Held-out scores (95 % bootstrap interval over design points)", "",
+            "| metric | value |", "|---|---|"]
+    out += [f"| {k} | {v} |" for k, v in ev.scores.items()]
+    out += ["", _table(ev.per_class), "", "Confusion (rows true, columns predicted):", "",
+            _table(ev.confusion, "d"), ""]
+    if ev.baselines is not None:
+        out += ["## Baselines (same estimator, same folds)", "", "| baseline | macro_f1 | "
+                "balanced_accuracy |", "|---|---|---|"]
+        out += [f"| {name} | {row['macro_f1']} | {row['balanced_accuracy']} |"
+                for name, row in ev.baselines.iterrows()]
+        best = max(ev.baselines["macro_f1"], key=lambda s: s.value)
+        out += ["", f"Model minus best baseline: "
+                f"{ev.scores['macro_f1'].value - best.value:+.3f} macro-F1.", ""]
+    if ev.casing is not None:
+        out += [f"Casing channels: macro-F1 with {ev.casing['with']}, without "
+                f"{ev.casing['without']}.", ""]
+    if ev.shuffled is not None:
+        s = ev.shuffled
+        verdict = "inside: chance, as it must be" if s["inside"] else \
+            "OUTSIDE: something leaks through the split"
+        out += ["## Shuffled labels", "", f"Macro-F1 {s['macro_f1']:.3f}; permutation-null "
+                f"interval [{s['null_lo']:.3f}, {s['null_hi']:.3f}] — {verdict}.", ""]
+    if ev.audit is not None:
+        out += ["## Leakage audit: single columns that separate the classes", ""]
+        if ev.audit.empty:
+            out += ["None.", ""]
+        else:
+            shown = ev.audit.head(top)
+            out += ["| column | kind | macro_f1 |", "|---|---|---|"]
+            out += [f"| {r.column} | {r.kind} | {r.macro_f1:.3f} |" for r in shown.itertuples()]
+            more = len(ev.audit) - len(shown)
+            out += [f"\n{more} more in metrics.json." if more > 0 else "", ""]
+    if ev.importances is not None:
+        out += ["## Permutation importances (held-out macro-F1 drop)", "",
+                _table(ev.importances.head(top), ".4f"), ""]
+        if ev.channel_importances is not None:
+            out += [_table(ev.channel_importances, ".4f"), ""]
+    out += [f"- {n}" for n in ev.notes]
+    return "\n".join(out).rstrip() + "\n"

@@ -1,0 +1,88 @@
+"""Train/test splits that do not leak: no design point, and optionally no factor band, on
+both sides.
+
+``split="group"``: stratified K-fold over design points (``point_id``): the replicates of a
+point (near-copies) always fall on the same side. ``split=<factor>`` (``case``,
+``speed_ratio``, ``gap_mm``, ``mu`` … any design factor of the data): leave one band out —
+the factor's values over the design points cut into ``bands`` quantile bands (or, with
+``bands`` levels or fewer, one fold per level, as for ``case``): the model is scored on a
+range of the factor it never saw. Bands are cut on design points, so replicates share a
+band too.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+from sklearn.model_selection import StratifiedGroupKFold
+
+from rubdiag import _check
+from rubdiag.learn.columns import factor_columns
+
+__all__ = ["Fold", "folds", "split_names"]
+
+
+@dataclass(frozen=True)
+class Fold:
+    """One split: row positions of the training and the test side, and what was held out."""
+
+    name: str
+    train: np.ndarray
+    test: np.ndarray
+
+
+def split_names(data: pd.DataFrame) -> list[str]:
+    """The splits ``data`` allows: ``group`` and one per design factor among its columns."""
+    return ["group", *factor_columns(data)]
+
+
+def folds(data: pd.DataFrame, split: str = "group", y=None, *, n_splits: int = 5,
+          bands: int = 5, seed: int = 0) -> list[Fold]:
+    """The folds of ``split`` over the rows of ``data`` (module docstring); ``y`` (the
+    target) stratifies the ``group`` split."""
+    allowed = split_names(data)
+    if split not in allowed:
+        raise ValueError(f"split = {split!r} is not available (allowed: {', '.join(allowed)})")
+    if "point_id" not in data.columns:
+        raise ValueError("the data has no point_id column: a dataset's rows are needed")
+    if split == "group":
+        return _group_folds(data, y, _check.integer("n_splits", n_splits, lo=2), seed)
+    return _band_folds(data, split, _check.integer("bands", bands, lo=2))
+
+
+def _group_folds(data, y, n_splits, seed) -> list[Fold]:
+    groups = data["point_id"].to_numpy()
+    n_groups = len(np.unique(groups))
+    if n_groups < n_splits:
+        raise ValueError(f"n_splits = {n_splits} is out of range (allowed: <= {n_groups}, "
+                         "the number of design points)")
+    labels = np.zeros(len(data)) if y is None else np.asarray(y)
+    splitter = StratifiedGroupKFold(n_splits=n_splits, shuffle=True, random_state=seed)
+    return [Fold(f"group fold {i + 1}/{n_splits}", train, test)
+            for i, (train, test) in enumerate(splitter.split(data, labels, groups))]
+
+
+def _band_folds(data, factor, bands) -> list[Fold]:
+    points = data.drop_duplicates("point_id").set_index("point_id")[factor]
+    values = points.to_numpy()
+    levels = np.unique(values)
+    if levels.size < 2:
+        raise ValueError(f"split = {factor!r}: the factor takes one value in the data; "
+                         "nothing to hold out")
+    if levels.size <= bands:
+        band_of = pd.Series(np.searchsorted(levels, values), index=points.index)
+        names = [f"{factor} = {v:g}" for v in levels]
+    else:
+        codes, edges = pd.qcut(values, bands, labels=False, retbins=True, duplicates="drop")
+        band_of = pd.Series(codes, index=points.index)
+        names = [f"{factor} in [{lo:.4g}, {hi:.4g}]" for lo, hi in itertools.pairwise(edges)]
+    row_band = data["point_id"].map(band_of).to_numpy()
+    out = []
+    for b, name in enumerate(names):
+        test = np.flatnonzero(row_band == b)
+        if test.size:
+            out.append(Fold(f"held out: {name}", np.flatnonzero(row_band != b), test))
+    return out
