@@ -5,7 +5,9 @@
 * :func:`evaluate` — cross-validated scores on splits that do not leak
   (:mod:`rubdiag.learn.splits`), with intervals, baselines, the shuffled-label control
   and the leakage audit;
-* :func:`read_dataset` — a dataset folder's finished rows.
+* :func:`read_dataset` — a dataset folder's finished rows;
+* :func:`confusion_figure`, :func:`importances_figure`, :func:`noise_curve_figure` — PNG
+  figures of an evaluation and of a noise curve (:mod:`rubdiag.learn.figures`).
 
 This layer sits above :mod:`rubdiag.dataset` and reads stored datasets only: nothing of it
 imports the simulator.
@@ -20,6 +22,7 @@ from rubdiag.learn.columns import (
 )
 from rubdiag.learn.evaluate import Evaluation, audit_columns, cross_predict, evaluate
 from rubdiag.learn.features import DEFAULT_FAMILIES, FAMILIES, OrderFeatures, SelectColumns
+from rubdiag.learn.figures import confusion_figure, importances_figure, noise_curve_figure
 from rubdiag.learn.metrics import Score
 from rubdiag.learn.pipelines import ESTIMATORS, baseline_pipeline, make_estimator, make_pipeline
 from rubdiag.learn.splits import Fold, folds
@@ -38,11 +41,14 @@ __all__ = [
     "baseline_pipeline",
     "casing_channels",
     "channels_of",
+    "confusion_figure",
     "cross_predict",
     "evaluate",
     "folds",
+    "importances_figure",
     "make_estimator",
     "make_pipeline",
+    "noise_curve_figure",
     "read_dataset",
     "shaft_channels",
 ]
