@@ -5,15 +5,15 @@
 should see. Families (``families=``):
 
 ``orders`` (default)
-    Each half and third order's amplitude over the channel's RMS (``rel_amp_<k>``), how
+    Each half and third order's amplitude over the channel's level (``rel_amp_<k>``), how
     far the line sits from its nominal order (``dev_<k>``, in orders), and the counts of
     fractional lines (``n_half_orders``, ``n_third_orders``).
 ``sidebands`` (default)
     Sideband spacing in orders (``sb_<n>x_delta_order``), the two sidebands and the band
-    RMS around n× over the channel's RMS.
+    RMS around n× over the channel's level.
 ``combinations`` (default)
     The strongest pair f_a + f_b = m×: both frequencies in orders, m, both amplitudes over
-    the channel's RMS.
+    the channel's level.
 ``levels`` (opt-in)
     Absolute levels: the RMS and every order's amplitude, in the channel's unit. A rubbing
     rotor's 1× levels off at about the gap, so levels encode the gap band rather than rub.
@@ -23,6 +23,14 @@ should see. Families (``families=``):
     the case (and what it implies) away.
 
 Phases are never used: an absolute phase depends on where the record starts.
+
+The channel's *level*, which every ratio divides by, is its RMS within the orders the table
+searches: the power of the half- and third-order lines (``amp_<k>² / 2``) plus the
+broadband power around each harmonic (``bb_<n>x_rms²``, n× ± 0.25× without the n× line).
+Not the record's ``rms``: that one holds everything up to the Nyquist frequency, so a
+channel with broadband noise would change its ratios with the sampling rate (by √2 from
+10 kHz to 5 kHz for white noise), and a model would read a measurement sampled otherwise
+than its training data as another machine.
 
 Missing values, explicitly: a feature table writes an absent line as amplitude 0 and
 location NaN, and an unmeasurable one (above Nyquist, a record too short) as all NaN. Here
@@ -55,7 +63,7 @@ _THIRD = [order_label(k) for k in THIRD_ORDERS]
 
 
 def _recipes(family: str) -> list[tuple[str, str, str]]:
-    """(output name, raw feature, how) of one channel: ``how`` is ``ratio`` (over rms),
+    """(output name, raw feature, how) of one channel: ``how`` is ``ratio`` (over the level),
     ``order`` (Hz over 1×), ``dev:<k>`` (Hz over 1× minus k) or ``raw``."""
     if family == "orders":
         return ([(f"rel_amp_{k}", f"amp_{k}", "ratio") for k, _ in _HALF]
@@ -86,6 +94,19 @@ def _recipes(family: str) -> list[tuple[str, str, str]]:
                 + [("combo_fa_hz", "combo_fa_hz", "raw"), ("combo_fb_hz", "combo_fb_hz", "raw")])
     raise ValueError(f"families: {family!r} is not a feature family (allowed: "
                      f"{', '.join(FAMILIES)})")
+
+
+#: The raw features of a channel's level: every order line, the broadband around n×.
+_LEVEL = ([f"amp_{k}" for k, _ in _HALF] + [f"amp_{k}" for k in _THIRD]
+          + [f"bb_{n}x_rms" for n in HARMONICS])
+
+
+def _level(X: pd.DataFrame, channel: str) -> np.ndarray:
+    """The channel's RMS within the searched orders (module docstring); a line or band
+    not measured (NaN) adds nothing."""
+    v = np.nan_to_num(X[[f"{channel}{SEPARATOR}{n}" for n in _LEVEL]].to_numpy(np.float64))
+    power = np.where([n.startswith("amp_") for n in _LEVEL], 0.5, 1.0) * v * v
+    return np.sqrt(power.sum(axis=1))
 
 
 def _check_families(families) -> tuple[str, ...]:
@@ -144,8 +165,8 @@ class OrderFeatures(TransformerMixin, BaseEstimator):
         self.channels_ = channels
         self.recipes_ = [r for r, keep in zip(recipes, measured, strict=True) if keep]
         self.dropped_ = [r[0] for r, keep in zip(recipes, measured, strict=True) if not keep]
-        self.required_ = sorted({r[1] for r in self.recipes_}
-                                | {f"{c}{SEPARATOR}rms" for c in channels} | {"speed_rpm"})
+        self.required_ = sorted({r[1] for r in self.recipes_} | {"speed_rpm"}
+                                | {f"{c}{SEPARATOR}{n}" for c in channels for n in _LEVEL})
         self.n_features_out_ = len(self.recipes_)
         return self
 
@@ -165,12 +186,15 @@ class OrderFeatures(TransformerMixin, BaseEstimator):
     def _compute(X: pd.DataFrame, recipes, fill: bool) -> np.ndarray:
         f1 = X["speed_rpm"].to_numpy(dtype=np.float64) / 60.0
         out = np.empty((len(X), len(recipes)))
+        levels = {}
         for j, (_, raw, channel, how) in enumerate(recipes):
             v = X[raw].to_numpy(dtype=np.float64)
             if how == "ratio":
-                rms = X[f"{channel}{SEPARATOR}rms"].to_numpy(dtype=np.float64)
+                if channel not in levels:
+                    levels[channel] = _level(X, channel)
+                level = levels[channel]
                 with np.errstate(divide="ignore", invalid="ignore"):
-                    v = np.where(rms > 0.0, v / rms, 0.0 * v)   # a still channel: no line
+                    v = np.where(level > 0.0, v / level, 0.0 * v)   # a still channel: no line
             elif how == "order":
                 v = v / f1
             elif how.startswith("dev:"):
