@@ -32,8 +32,8 @@ def read_dataset(root: str | Path) -> pd.DataFrame:
     """The rows of a dataset folder that finished (``status == "ok"``), with what learn
     needs to know of it in ``attrs``: ``acquisition`` (``fs_hz``, ``window_s``, sensors
     with their units and points), ``failed`` (rows left out) and ``source`` (the folder)."""
+    rows = load(root)           # first: it says when the folder is not a dataset at all
     meta = acquisition(root)
-    rows = load(root)
     if rows.empty:
         raise ValueError(f"{root}: the dataset holds no rows yet")
     ok = rows["status"] == "ok"
