@@ -6,6 +6,8 @@
   (:mod:`rubdiag.learn.splits`), with intervals, baselines, the shuffled-label control
   and the leakage audit;
 * :func:`read_dataset` — a dataset folder's finished rows;
+* :func:`noise_curve` — scores against noise added to the stored waveforms
+  (:mod:`rubdiag.learn.robustness`);
 * :func:`confusion_figure`, :func:`importances_figure`, :func:`noise_curve_figure` — PNG
   figures of an evaluation and of a noise curve (:mod:`rubdiag.learn.figures`).
 
@@ -25,6 +27,7 @@ from rubdiag.learn.features import DEFAULT_FAMILIES, FAMILIES, OrderFeatures, Se
 from rubdiag.learn.figures import confusion_figure, importances_figure, noise_curve_figure
 from rubdiag.learn.metrics import Score
 from rubdiag.learn.pipelines import ESTIMATORS, baseline_pipeline, make_estimator, make_pipeline
+from rubdiag.learn.robustness import noise_curve
 from rubdiag.learn.splits import Fold, folds
 
 __all__ = [
@@ -48,6 +51,7 @@ __all__ = [
     "importances_figure",
     "make_estimator",
     "make_pipeline",
+    "noise_curve",
     "noise_curve_figure",
     "read_dataset",
     "shaft_channels",

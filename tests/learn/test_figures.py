@@ -19,7 +19,7 @@ NOISE = ("amp_1p5x", "amp_2x", "amp_0p5x", "sb_2x_upper", "sb_3x_lower", "bb_2x_
 
 
 def synthetic_rows(n_points: int = 18, replicates: int = 2, seed: int = 0) -> pd.DataFrame:
-    """Dataset-like rows: three classes of ``rub_state``; the 1.5× line over the RMS of
+    """Dataset-like rows: three classes of ``rub_state``; the 1.5× line of
     ``shaft11_y_disp`` tells them apart, with overlap; a few other features are noise, the
     rest zero (a forest finds the one that matters among few)."""
     rng = np.random.default_rng(seed)
@@ -35,7 +35,7 @@ def synthetic_rows(n_points: int = 18, replicates: int = 2, seed: int = 0) -> pd
             cols[f"{c}__{f}"] = rng.random(n)
         cols[f"{c}__rms"] = np.ones(n)
     code = np.searchsorted(CLASSES, state)
-    cols["shaft11_y_disp__amp_1p5x"] = code + rng.normal(0.0, 0.45, n)
+    cols["shaft11_y_disp__amp_1p5x"] = 1.0 + code + rng.normal(0.0, 0.45, n)
     return pd.DataFrame(cols)
 
 
