@@ -9,8 +9,9 @@
   every channel at once, and each channel as a whole);
 * the baselines — the same estimator on the 1× levels only, on the speed only, on the
   design factors only — and the score with and without casing channels;
-* the pipeline trained on shuffled labels, which must score inside the permutation-null
-  interval of its own prediction (if it does not, something leaks through the split);
+* the pipeline trained on labels shuffled between design points, which must score inside
+  the permutation-null interval of its own prediction (if it does not, something leaks
+  through the split);
 * the audit: every single column (derived feature in any family, raw level or frequency,
   design factor) that alone separates the classes (a depth-2 tree on it reaches
   ``audit_threshold`` macro-F1 on the same folds).
@@ -39,8 +40,15 @@ from rubdiag.learn.columns import (
     read_dataset,
     shaft_channels,
 )
-from rubdiag.learn.features import DEFAULT_FAMILIES, FAMILIES, OrderFeatures
-from rubdiag.learn.metrics import Score, confusion, macro_f1, null_interval, score
+from rubdiag.learn.features import DEFAULT_FAMILIES, FAMILIES, OrderFeatures, _check_families
+from rubdiag.learn.metrics import (
+    Score,
+    confusion,
+    group_permutations,
+    macro_f1,
+    null_interval,
+    score,
+)
 from rubdiag.learn.pipelines import baseline_pipeline, make_pipeline
 from rubdiag.learn.splits import Fold, folds
 
@@ -189,7 +197,7 @@ def evaluate(data, target: str = "rub", split: str = "group", estimator: str = "
         data = read_dataset(data)
     y = target_values(data, target)
     channels = resolve_channels(data, channels)
-    families = list(families)
+    families = list(_check_families(families))      # one name as a one-family list
     n_bootstrap = _check.integer("n_bootstrap", n_bootstrap, lo=0)
     n_null = _check.integer("n_null", n_null, lo=10)
     audit_threshold = _check.number("audit_threshold", audit_threshold, lo=0.0, hi=1.0)
@@ -225,7 +233,8 @@ def evaluate(data, target: str = "rub", split: str = "group", estimator: str = "
                                   n_bootstrap, seed)
         ev.casing = _casing(data, y, splits, groups, classes, channels, families,
                             estimator, scores, n_bootstrap, seed)
-    ev.shuffled = _shuffled(pipeline, data, y, split, n_splits, bands, classes, n_null, seed)
+    ev.shuffled = _shuffled(pipeline, data, y, groups, split, n_splits, bands, classes,
+                            n_null, seed)
     if audit:
         ev.audit = audit_columns(data, y, splits, classes, audit_threshold, seed)
     return ev
@@ -318,14 +327,19 @@ def _casing(data, y, splits, groups, classes, channels, families, estimator, sco
             else {"with": s, "without": scores["macro_f1"]})
 
 
-def _shuffled(pipeline, data, y, split, n_splits, bands, classes, n_null, seed) -> dict:
-    """The pipeline on shuffled labels, scored against them, and its chance interval."""
-    shuffled = np.random.default_rng(seed + 1).permutation(y)
+def _shuffled(pipeline, data, y, groups, split, n_splits, bands, classes, n_null,
+              seed) -> dict:
+    """The pipeline on labels shuffled between design points, scored against them, and
+    its chance interval. Whole points' labels move, so replicates keep one label between
+    them as in the data: were a point's replicates on both sides of a split, a model
+    would recognise them and score above chance (a row-by-row shuffle would hide that)."""
+    shuffled = y[group_permutations(groups, 1, np.random.default_rng(seed + 1))[0]]
     splits = folds(data, split, shuffled, n_splits=n_splits, bands=bands, seed=seed)
     cp = cross_predict(pipeline, data, shuffled, splits)
     s = cp.scored
     value = macro_f1(shuffled[s], cp.predicted[s], classes)
-    lo, hi = null_interval(shuffled[s], cp.predicted[s], classes, n_null, seed)
+    lo, hi = null_interval(shuffled[s], cp.predicted[s], classes, n_null, seed,
+                           groups=groups[s])
     return {"macro_f1": value, "null_lo": lo, "null_hi": hi, "inside": lo <= value <= hi}
 
 

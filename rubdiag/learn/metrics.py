@@ -13,7 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["METRICS", "Score", "confusion", "macro_f1", "null_interval", "score"]
+__all__ = ["METRICS", "Score", "confusion", "group_permutations", "macro_f1",
+           "null_interval", "score"]
 
 METRICS = ("macro_f1", "balanced_accuracy")
 
@@ -96,17 +97,37 @@ def score(y_true, y_pred, groups, classes, n_bootstrap: int = 1000,
     return out
 
 
+def group_permutations(groups, n: int, rng: np.random.Generator) -> np.ndarray:
+    """``n`` permutations of the rows (an ``(n, rows)`` array of row positions) that move
+    whole groups: the rows of a group take, in order, those of another group of the same
+    size. With every group of one row, plain permutations of the rows."""
+    _, g, sizes = np.unique(np.asarray(groups), return_inverse=True, return_counts=True)
+    rows_of = np.argsort(g, kind="stable")              # the rows, group after group
+    starts = np.cumsum(sizes) - sizes
+    out = np.broadcast_to(np.arange(g.size), (n, g.size)).copy()
+    for size in np.unique(sizes):
+        members = np.flatnonzero(sizes == size)
+        rows = rows_of[starts[members][:, None] + np.arange(size)]          # (m, size)
+        perm = rng.permuted(np.broadcast_to(np.arange(members.size), (n, members.size)),
+                            axis=1)
+        out[:, rows] = rows[perm]                                           # (n, m, size)
+    return out
+
+
 def null_interval(y_true, y_pred, classes, n: int = 1000, seed: int = 0,
-                  metric: str = "macro_f1") -> tuple[float, float]:
-    """The 95 % interval of ``metric`` when the predictions are shuffled against the truth:
-    what this very prediction scores by chance (same class frequencies, no information)."""
+                  metric: str = "macro_f1", groups=None) -> tuple[float, float]:
+    """The 95 % interval of ``metric`` when the truth is shuffled against the predictions:
+    what this very prediction scores by chance (same class frequencies, no information).
+    With ``groups`` (design points) whole groups' labels move together, as when the labels
+    themselves were shuffled between design points: replicates are near-copies, so their
+    predictions agree and a row-by-row shuffle would make the interval too narrow."""
     k = len(classes)
     index = {c: i for i, c in enumerate(classes)}
     t = np.array([index[v] for v in y_true])
     p = np.array([index[v] for v in y_pred])
     rng = np.random.default_rng(seed)
-    shuffled = rng.permuted(np.broadcast_to(p, (n, p.size)), axis=1)
-    cells = t * k + shuffled
+    groups = np.arange(t.size) if groups is None else groups
+    cells = t[group_permutations(groups, n, rng)] * k + p
     cms = np.zeros((n, k * k))
     np.add.at(cms, (np.arange(n)[:, None], cells), 1.0)
     values = _from_counts(cms.reshape(n, k, k))[metric]

@@ -13,8 +13,8 @@ __all__ = ["evaluation_dict", "evaluation_markdown"]
 
 
 def _plain(value):
-    if isinstance(value, Score):
-        return value.to_dict()
+    if isinstance(value, Score):              # its bounds are NaN without bootstrap draws
+        return {k: _plain(v) for k, v in value.to_dict().items()}
     if isinstance(value, float) and math.isnan(value):
         return None
     if hasattr(value, "item"):
@@ -36,7 +36,7 @@ def evaluation_dict(ev) -> dict:
         "channels": ev.channels, "families": ev.families, "classes": ev.classes,
         "class_counts": ev.class_counts, "n_rows": ev.n_rows, "folds": ev.folds,
         "unscored": ev.unscored,
-        "scores": {k: v.to_dict() for k, v in ev.scores.items()},
+        "scores": {k: _plain(v) for k, v in ev.scores.items()},
         "per_class": _records(ev.per_class, "class"),
         "confusion": {"classes": ev.classes, "counts": ev.confusion.to_numpy().tolist()},
         "importances": _records(ev.importances, "feature"),

@@ -12,7 +12,6 @@ band too.
 
 from __future__ import annotations
 
-import itertools
 from dataclasses import dataclass
 
 import numpy as np
@@ -73,16 +72,18 @@ def _band_folds(data, factor, bands) -> list[Fold]:
         raise ValueError(f"split = {factor!r}: the factor takes one value in the data; "
                          "nothing to hold out")
     if levels.size <= bands:
-        band_of = pd.Series(np.searchsorted(levels, values), index=points.index)
-        names = [f"{factor} = {v:g}" for v in levels]
+        codes = np.searchsorted(levels, values)
     else:
-        codes, edges = pd.qcut(values, bands, labels=False, retbins=True, duplicates="drop")
-        band_of = pd.Series(codes, index=points.index)
-        names = [f"{factor} in [{lo:.4g}, {hi:.4g}]" for lo, hi in itertools.pairwise(edges)]
+        codes = pd.qcut(values, bands, labels=False, duplicates="drop")
+    band_of = pd.Series(codes, index=points.index)
     row_band = data["point_id"].map(band_of).to_numpy()
     out = []
-    for b, name in enumerate(names):
-        test = np.flatnonzero(row_band == b)
-        if test.size:
-            out.append(Fold(f"held out: {name}", np.flatnonzero(row_band != b), test))
+    for b in np.unique(codes):
+        held = values[codes == b]
+        # named by the values held out: qcut's bands are (lo, hi], and the lower edge
+        # itself belongs to the band below, on the training side
+        lo, hi = held.min(), held.max()
+        name = f"{factor} = {lo:g}" if lo == hi else f"{factor} in [{lo:g}, {hi:g}]"
+        out.append(Fold(f"held out: {name}", np.flatnonzero(row_band != b),
+                        np.flatnonzero(row_band == b)))
     return out
