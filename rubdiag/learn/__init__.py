@@ -9,7 +9,13 @@
 * :func:`noise_curve` — scores against noise added to the stored waveforms
   (:mod:`rubdiag.learn.robustness`);
 * :func:`confusion_figure`, :func:`importances_figure`, :func:`noise_curve_figure` — PNG
-  figures of an evaluation and of a noise curve (:mod:`rubdiag.learn.figures`).
+  figures of an evaluation and of a noise curve (:mod:`rubdiag.learn.figures`);
+* :func:`train` — a model folder: the pipeline fitted on every row, its evaluation and
+  what prediction needs (:mod:`rubdiag.learn.train`); :func:`evaluate_model` — a saved
+  model scored on another dataset; :func:`save_model`, :func:`load_model` — skops with an
+  explicit allow-list of types (:mod:`rubdiag.learn.persist`);
+* :func:`predict` — a saved model on measured signals, window by window
+  (:mod:`rubdiag.learn.predict`).
 
 This layer sits above :mod:`rubdiag.dataset` and reads stored datasets only: nothing of it
 imports the simulator.
@@ -26,9 +32,12 @@ from rubdiag.learn.evaluate import Evaluation, audit_columns, cross_predict, eva
 from rubdiag.learn.features import DEFAULT_FAMILIES, FAMILIES, OrderFeatures, SelectColumns
 from rubdiag.learn.figures import confusion_figure, importances_figure, noise_curve_figure
 from rubdiag.learn.metrics import Score
+from rubdiag.learn.persist import Model, load_model, save_model
 from rubdiag.learn.pipelines import ESTIMATORS, baseline_pipeline, make_estimator, make_pipeline
+from rubdiag.learn.predict import predict
 from rubdiag.learn.robustness import noise_curve
 from rubdiag.learn.splits import Fold, folds
+from rubdiag.learn.train import ModelScores, evaluate_model, train
 
 __all__ = [
     "DEFAULT_FAMILIES",
@@ -37,6 +46,8 @@ __all__ = [
     "TARGETS",
     "Evaluation",
     "Fold",
+    "Model",
+    "ModelScores",
     "OrderFeatures",
     "Score",
     "SelectColumns",
@@ -47,12 +58,17 @@ __all__ = [
     "confusion_figure",
     "cross_predict",
     "evaluate",
+    "evaluate_model",
     "folds",
     "importances_figure",
+    "load_model",
     "make_estimator",
     "make_pipeline",
     "noise_curve",
     "noise_curve_figure",
+    "predict",
     "read_dataset",
+    "save_model",
     "shaft_channels",
+    "train",
 ]

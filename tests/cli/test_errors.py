@@ -94,7 +94,51 @@ def d(tmp_path_factory):
     DatasetFolder(d / "other_dataset").create(other.to_toml())
     (d / "not_a_dataset").mkdir()
     (d / "not_a_dataset" / "notes.txt").write_text("mine\n")
+    _learn_inputs(d, t, x)
     return d
+
+
+def _learn_inputs(d, t, x):
+    """A model folder (logistic regression on rows of synthetic 'shaft' records: 1-s
+    windows at 2 kHz, rub = a 2x line) with a damaged and a foreign copy, and signals that
+    `rubdiag predict` refuses: too slowly sampled, pure noise."""
+    import shutil
+
+    import skops.io as sio
+    from sklearn.neighbors import KNeighborsClassifier
+
+    from rubdiag.learn import make_pipeline
+    from rubdiag.learn.persist import MODEL_FILE, save_model
+    from rubdiag.learn.train import model_meta
+    from rubdiag.signal.table import prefixed_features
+
+    window = t < 1.0
+    rng = np.random.default_rng(1)
+    rows = pd.concat([prefixed_features(
+        {"shaft": x[window] + a * np.sin(2 * np.pi * 50 * t[window])
+         + 1e-3 * rng.standard_normal(window.sum())}, FS, 1500.0, separator="__")
+        for a in (0.0, 0.0, 0.0, 0.3, 0.4, 0.5)], ignore_index=True)
+    rows["rub"] = [False] * 3 + [True] * 3
+    rows.attrs["acquisition"] = {
+        "fs_hz": FS, "window_s": 1.0, "discard_s": 0.0,
+        "sensors": [{"name": "shaft", "point": "shaft 4", "direction": "y",
+                     "quantity": "displacement", "unit": "m"}]}
+    y = rows["rub"].astype(str).to_numpy()
+    pipe = make_pipeline("logreg", channels=["shaft"]).fit(rows, y)
+    save_model(pipe, d / "model", model_meta(pipe, rows, target="rub", estimator="logreg",
+                                             split="group", families=["orders"], seed=0))
+    shutil.copytree(d / "model", d / "damaged_model")
+    data = (d / "model" / MODEL_FILE).read_bytes()
+    (d / "damaged_model" / MODEL_FILE).write_bytes(data[: len(data) // 2])
+    shutil.copytree(d / "model", d / "untrusted_model")
+    knn = make_pipeline("logreg", channels=["shaft"]).set_params(
+        model=KNeighborsClassifier(1)).fit(rows, y)
+    sio.dump(knn, d / "untrusted_model" / MODEL_FILE)
+    slow_t = np.arange(600) / 300.0
+    pd.DataFrame({"time": slow_t, "shaft": np.sin(2 * np.pi * 25 * slow_t)}).to_csv(
+        d / "slow.csv", index=False)
+    pd.DataFrame({"time": t, "shaft": rng.standard_normal(t.size)}).to_csv(
+        d / "noise.csv", index=False)
 
 
 # a small dataset design: case 2 (0.2 s hold 17 revolutions), speed_ratio 1, one factor more
@@ -268,6 +312,67 @@ CATALOGUE = [
      "--jobs and --scheduler exclude each other"),
     ("dataset-run-timeout-negative", ["dataset", "{d}/design.toml", "--out", "{d}/new",
                                       "--run-timeout", "-1"], "--run-timeout = -1 is out of range"),
+    # --- train, evaluate, predict (issue 12, point 5): nothing trained, nothing written ----
+    ("train-out-file", ["train", "{d}/other_dataset", "--out", "{d}/file"],
+     "--out {d}/file: is a file, not a folder"),
+    ("train-out-not-a-model", ["train", "{d}/other_dataset", "--out", "{d}/not_a_dataset"],
+     "--out {d}/not_a_dataset: is not empty and holds no model"),
+    ("train-out-model-exists", ["train", "{d}/other_dataset", "--out", "{d}/model"],
+     "--out {d}/model: holds a model already"),
+    ("train-out-missing", ["train", "{d}/other_dataset"],
+     "the following arguments are required: --out"),
+    ("train-dataset-missing", ["train", "{d}/none", "--out", "{d}/new"],
+     "{d}/none: not a rubdiag dataset folder (no design.toml)"),
+    ("train-not-a-dataset", ["train", "{d}/not_a_dataset", "--out", "{d}/new"],
+     "{d}/not_a_dataset: not a rubdiag dataset folder (no design.toml)"),
+    ("train-unknown-estimator", ["train", "{d}/other_dataset", "--out", "{d}/new",
+                                 "--estimator", "knn"],
+     "argument --estimator: invalid choice: 'knn'"),
+    ("train-n-splits-one", ["train", "{d}/other_dataset", "--out", "{d}/new", "--n-splits",
+                            "1"], "--n-splits = 1 is out of range (allowed: >= 2)"),
+    ("evaluate-model-missing", ["evaluate", "{d}/none", "{d}/other_dataset"],
+     "{d}/none: no such folder"),
+    ("evaluate-not-a-dataset", ["evaluate", "{d}/model", "{d}/not_a_dataset"],
+     "{d}/not_a_dataset: not a rubdiag dataset folder"),
+    ("predict-model-missing", ["predict", "{d}/none", "{d}/a.csv"], "{d}/none: no such folder"),
+    ("predict-model-not-a-model", ["predict", "{d}/folder", "{d}/a.csv"],
+     "{d}/folder: not a rubdiag model folder (no model.json)"),
+    ("predict-model-damaged", ["predict", "{d}/damaged_model", "{d}/a.csv"],
+     "{d}/damaged_model/model.skops: not a skops file"),
+    ("predict-model-untrusted", ["predict", "{d}/untrusted_model", "{d}/a.csv"],
+     "{d}/untrusted_model/model.skops: refused: it holds the type "
+     "'sklearn.neighbors._classification.KNeighborsClassifier'"),
+    ("predict-missing-channel", ["predict", "{d}/model", "{d}/b.csv"],
+     "b.csv: channel 'shaft' is missing (the model needs shaft; the file has other"),
+    ("predict-unknown-unit", ["predict", "{d}/model", "{d}/a.csv", "--unit", "shaft=furlong"],
+     "unit 'furlong' is not known for a displacement channel (allowed: m, mm, um, µm, mil)"),
+    ("predict-unit-not-a-channel", ["predict", "{d}/model", "{d}/a.csv", "--unit", "blade=mm"],
+     "units: 'blade' is not a channel of the model (its channels: shaft)"),
+    ("predict-unit-malformed", ["predict", "{d}/model", "{d}/a.csv", "--unit", "mm"],
+     "--unit 'mm' is not CHANNEL=UNIT"),
+    ("predict-fs-too-low", ["predict", "{d}/model", "{d}/slow.csv"],
+     "slow.csv, window 0: fs = 300 Hz is too low for the model: its features reach 8.25x"),
+    ("predict-column-not-found", ["predict", "{d}/model", "{d}/b.csv", "--column",
+                                  "probe=shaft"], "b.csv: column 'probe' not found"),
+    ("predict-column-not-a-channel", ["predict", "{d}/model", "{d}/b.csv", "--column",
+                                      "other=blade"],
+     "columns: 'other' is mapped to 'blade', not a channel of the model"),
+    ("predict-too-short", ["predict", "{d}/model", "{d}/short.csv", "--speed-rpm", "1500"],
+     "short.csv: the record lasts 0.01 s, shorter than one window of the model (1 s)"),
+    ("predict-speed-not-estimable", ["predict", "{d}/model", "{d}/noise.csv"],
+     "noise.csv, window 0: the speed cannot be estimated"),
+    ("predict-speed-and-tacho", ["predict", "{d}/model", "{d}/a.csv", "--speed-rpm", "1500",
+                                 "--tacho", "key"],
+     "argument --tacho: not allowed with argument --speed-rpm"),
+    ("predict-negative-speed", ["predict", "{d}/model", "{d}/a.csv", "--speed-rpm", "-1500"],
+     "speed_rpm = -1500.0 is out of range"),
+    ("predict-unknown-tacho", ["predict", "{d}/model", "{d}/a.csv", "--tacho", "key"],
+     "a.csv: tacho column 'key' not found"),
+    ("predict-missing-input", ["predict", "{d}/model", "{d}/none.csv"],
+     "{d}/none.csv: no such file"),
+    ("predict-dataset-with-speed", ["predict", "{d}/model", "{d}/other_dataset",
+                                    "--speed-rpm", "1500"],
+     "speed_rpm applies to signal files only"),
 ]
 
 # entries whose check must come before any work: these functions must not be called
@@ -275,12 +380,13 @@ BEFORE_WORK = {"simulate-out-missing-folder", "simulate-out-folder",
                "features-csv-missing-folder", "features-csv-folder",
                "compare-out-missing-folder", "calibrate-out-missing-folder", "campbell-out-file",
                "table2-out-file", "plot-out-file", "simulate-output-too-large",
-               "simulate-duration-huge", *(c[0] for c in CATALOGUE if c[0].startswith("dataset"))}
+               "simulate-duration-huge", *(c[0] for c in CATALOGUE if c[0].startswith("dataset")),
+               "train-out-file", "train-out-not-a-model", "train-out-model-exists"}
 WORK = [("rubdiag.simulate", "simulate"), ("rubdiag.signal", "features"),
         ("rubdiag.runs", "run_features"), ("rubdiag.modal", "calibrate"),
         ("rubdiag.modal", "campbell"), ("rubdiag.paper", "table2"),
         ("rubdiag.plotting.run", "save_run_figures"), ("rubdiag.dataset", "generate"),
-        ("rubdiag.dataset.rows", "make_row")]
+        ("rubdiag.dataset.rows", "make_row"), ("rubdiag.learn.train", "train")]
 
 
 def run_main(argv):

@@ -1,0 +1,195 @@
+"""``rubdiag train``, ``rubdiag evaluate`` and ``rubdiag predict``: rub classifiers.
+
+Everything heavy is imported inside the commands, and ``predict`` imports nothing of the
+simulator: it runs on a machine's measurements with the model folder alone.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+from pathlib import Path
+
+_TARGETS = ("rub", "rub_state", "severity")          # rubdiag.learn.TARGETS
+_ESTIMATORS = ("rf", "hgb", "svm", "logreg")         # rubdiag.learn.ESTIMATORS
+
+
+def register(sub) -> None:
+    """Add the ``train``, ``evaluate`` and ``predict`` commands."""
+    p = sub.add_parser(
+        "train", help="train a rub classifier on a dataset and save it as a model folder",
+        description="Evaluate a classifier on the dataset (cross-validated on --split: "
+        "held-out scores with 95 %% intervals, baselines, shuffled-label control, leakage "
+        "audit), fit it on every run and write MODEL_DIR: model.skops and model.json (what "
+        "prediction needs), metrics.json, report.md, confusion.png, importances.png and "
+        "importances.csv. The default model — target rub, a random forest, split by design "
+        "point, the shaft channels — needs no tuning and does not lean on the casing "
+        "channel, which in this model moves only through contact. See README, "
+        "'Classifiers'.")
+    p.add_argument("dataset", type=Path, metavar="DATASET_DIR",
+                   help="dataset folder (rubdiag dataset)")
+    p.add_argument("--out", type=Path, metavar="MODEL_DIR", required=True,
+                   help="model folder to write (new or empty; --overwrite replaces a model)")
+    p.add_argument("--target", choices=_TARGETS, default="rub",
+                   help="label to predict (default: rub)")
+    p.add_argument("--estimator", choices=_ESTIMATORS, default="rf",
+                   help="random forest, gradient boosting, RBF SVM or logistic regression "
+                   "(default: rf)")
+    p.add_argument("--split", default="group",
+                   help="evaluation split: group (by design point, default) or a design "
+                   "factor held out band by band (speed_ratio, gap_mm, case …)")
+    p.add_argument("--channels", default="shaft", metavar="NAME,…",
+                   help="input channels: shaft (default: every channel not on the casing), "
+                   "all, or comma-separated names")
+    p.add_argument("--families", default=None, metavar="NAME,…",
+                   help="feature families, comma-separated (default: orders,sidebands,"
+                   "combinations; also levels, absolute)")
+    p.add_argument("--n-splits", type=int, default=5, metavar="K",
+                   help="folds of the group split (default: 5)")
+    p.add_argument("--seed", type=int, default=0, help="seed of folds and models")
+    p.add_argument("--quick", action="store_true",
+                   help="skip the permutation importances, baselines and leakage audit "
+                   "(no importances files)")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace the model already in MODEL_DIR")
+    p.set_defaults(func=_train)
+
+    p = sub.add_parser(
+        "evaluate", help="score a saved model on another dataset",
+        description="Predict every run of DATASET_DIR with the model of MODEL_DIR and score "
+        "it: macro-F1 and balanced accuracy with 95 %% bootstrap intervals over design "
+        "points, per-class precision and recall, the confusion matrix. Runs of a class the "
+        "model does not know are counted, not scored.")
+    p.add_argument("model", type=Path, metavar="MODEL_DIR", help="model folder (rubdiag train)")
+    p.add_argument("dataset", type=Path, metavar="DATASET_DIR", help="dataset folder")
+    p.add_argument("--json", action="store_true", help="print the scores as JSON")
+    p.set_defaults(func=_evaluate)
+
+    p = sub.add_parser(
+        "predict", help="classify measured signals (or a dataset's runs) with a saved model",
+        description="Cut each signal file into windows of the model's training length, "
+        "compute the features of the model's channels at each window's speed and print, "
+        "per window, the class and the class probabilities, then per input the majority "
+        "(window 'all'). A speed or features outside the training ranges is told on stderr "
+        "(one warning line each); the prediction is then an extrapolation. A dataset "
+        "folder's stored runs are predicted one row each.")
+    p.add_argument("model", type=Path, metavar="MODEL_DIR", help="model folder (rubdiag train)")
+    p.add_argument("inputs", nargs="+", metavar="INPUT",
+                   help="signal file (.csv/.txt with a header row, .npz, .parquet; a time "
+                   "column t/time/time_s/t_s gives fs) or dataset folder")
+    p.add_argument("--column", action="append", default=[], metavar="COLUMN=CHANNEL",
+                   help="the file's COLUMN holds the model's CHANNEL (repeatable)")
+    p.add_argument("--unit", action="append", default=[], metavar="CHANNEL=UNIT",
+                   help="CHANNEL's values are in UNIT (default: the model's, SI): m, mm, "
+                   "um, µm, mil; m/s, mm/s, in/s; m/s^2, mm/s^2, g; N, kN (repeatable)")
+    p.add_argument("--fs", type=float, metavar="HZ", help="sampling frequency in Hz")
+    speed = p.add_mutually_exclusive_group()
+    speed.add_argument("--speed-rpm", type=float, metavar="RPM",
+                       help="running speed (default: from a tacho column, else the dominant "
+                       "line of the model's channels, per window)")
+    speed.add_argument("--tacho", metavar="COLUMN",
+                       help="once-per-revolution pulse column giving the speed "
+                       "(default: a column 'tacho')")
+    p.add_argument("--json", action="store_true", help="print the table as JSON records")
+    p.set_defaults(func=_predict)
+
+
+def _names(text: str | None, option: str) -> list[str] | None:
+    if text is None:
+        return None
+    names = [n.strip() for n in text.split(",") if n.strip()]
+    if not names:
+        raise ValueError(f"{option} {text!r} names nothing (allowed: comma-separated names)")
+    return names
+
+
+def _pairs(values: list[str], option: str, what: str) -> dict[str, str]:
+    out = {}
+    for value in values:
+        key, sep, item = value.partition("=")
+        if not sep or not key.strip() or not item.strip():
+            raise ValueError(f"{option} {value!r} is not {what}")
+        out[key.strip()] = item.strip()
+    return out
+
+
+def _train(args) -> int:
+    from rubdiag.learn.train import check_out
+
+    out = check_out(args.out, args.overwrite, option="--out")   # before any work
+    if args.n_splits < 2:
+        raise ValueError(f"--n-splits = {args.n_splits} is out of range (allowed: >= 2)")
+    from rubdiag.learn.features import DEFAULT_FAMILIES
+    from rubdiag.learn.train import train
+
+    channels = args.channels if args.channels in ("shaft", "all") else _names(
+        args.channels, "--channels")
+    families = _names(args.families, "--families") or DEFAULT_FAMILIES
+    extras = {"importances": False, "baselines": False, "audit": False} if args.quick else {}
+    model = train(args.dataset, out, target=args.target, estimator=args.estimator,
+                  split=args.split, channels=channels, seed=args.seed, families=families,
+                  overwrite=args.overwrite, n_splits=args.n_splits, **extras)
+    meta = model.meta
+    f1 = meta["scores"]["macro_f1"]
+    print(f"{out}: {meta['target']} classifier ({meta['estimator']}; channels "
+          f"{', '.join(model.channels)}), trained on {meta['dataset']['n_rows']} runs; "
+          f"held-out macro-F1 {f1['value']:.3f} [{f1['lo']:.3f}, {f1['hi']:.3f}] on split "
+          f"{meta['split']}")
+    print(f"wrote {', '.join(sorted(p.name for p in out.iterdir()))}; the evaluation is in "
+          f"{out / 'report.md'}")
+    return 0
+
+
+def _evaluate(args) -> int:
+    from rubdiag.learn.persist import load_model
+    from rubdiag.learn.train import evaluate_model
+
+    model = load_model(args.model)
+    result = evaluate_model(model, args.dataset)
+    for w in result.warnings:
+        _warn("evaluate", w)
+    if args.json:
+        json.dump(result.to_dict(), sys.stdout, indent=1)
+        print()
+    else:
+        print(result.to_text())
+    return 0
+
+
+def _predict(args) -> int:
+    from rubdiag.learn.persist import load_model
+    from rubdiag.learn.predict import predict
+
+    model = load_model(args.model)
+    table = predict(model, args.inputs,
+                    columns=_pairs(args.column, "--column", "COLUMN=CHANNEL"),
+                    units=_pairs(args.unit, "--unit", "CHANNEL=UNIT"), fs=args.fs,
+                    speed_rpm=args.speed_rpm, tacho=args.tacho)
+    for row in table.itertuples():
+        if row.warnings and row.window != "all":
+            _warn("predict", f"{row.input}, window {row.window}: {row.warnings}")
+    if args.json:
+        records = [{k: (None if isinstance(v, float) and math.isnan(v) else v)
+                    for k, v in r.items()} for r in table.to_dict(orient="records")]
+        json.dump(records, sys.stdout, indent=1, default=_plain)
+        print()
+        return 0
+    import pandas as pd
+
+    shown = table.drop(columns=["warnings"])
+    with pd.option_context("display.max_rows", None, "display.max_columns", None,
+                           "display.width", 200, "display.float_format", "{:.3f}".format):
+        print(shown.to_string(index=False))
+    return 0
+
+
+def _warn(command: str, text: str) -> None:
+    print(f"rubdiag {command}: warning: {text}", file=sys.stderr)
+
+
+def _plain(value):
+    try:
+        return value.item()
+    except AttributeError:
+        return str(value)

@@ -1,0 +1,352 @@
+"""Train a classifier on a dataset and save it, with its evaluation, as a model folder.
+
+:func:`train` evaluates the pipeline honestly first (:func:`rubdiag.learn.evaluate`:
+cross-validated on the chosen split), then fits it on every row and writes
+
+``model.skops``, ``model.json``
+    The fitted pipeline and what prediction needs (:mod:`rubdiag.learn.persist`;
+    :func:`model_meta` lists the fields).
+``metrics.json``, ``report.md``
+    The evaluation (:meth:`Evaluation.to_dict`, :meth:`Evaluation.to_markdown`).
+``confusion.png``, ``importances.png``, ``importances.csv``
+    Its figures and the permutation importances (these two only when computed).
+
+Everything is written into a hidden sibling folder that is renamed into place at the end:
+an interrupted training leaves no half model. :func:`evaluate_model` scores a saved model
+on another dataset.
+
+The default model — target ``rub``, a random forest, split by design point, the shaft
+channels — needs no tuning, does not lean on the casing (in this model the casing moves
+only through contact, so a casing channel gives rub away by itself) and is scored on
+design points it never saw.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import os
+import shutil
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from rubdiag._version import __version__
+from rubdiag.dataset.schema import SEPARATOR
+from rubdiag.learn.columns import read_dataset
+from rubdiag.learn.evaluate import Evaluation, evaluate, resolve_channels, target_values
+from rubdiag.learn.features import DEFAULT_FAMILIES
+from rubdiag.learn.metrics import Score, confusion, score
+from rubdiag.learn.persist import Model, is_model_dir, load_meta, load_model, save_model
+from rubdiag.learn.pipelines import make_pipeline
+from rubdiag.signal.combinations import SUM_ORDERS
+from rubdiag.signal.options import Options
+from rubdiag.signal.orders import HALF_ORDERS, HARMONICS, THIRD_ORDERS, order_label
+from rubdiag.signal.sidebands import HALF_WIDTH_ORDERS
+
+__all__ = ["ModelScores", "check_out", "evaluate_model", "model_meta", "order_reach",
+           "required_fs", "train"]
+
+#: Bins between the top of a feature's search band and the Nyquist frequency that the
+#: feature table needs (the spectrum's last bins are never searched).
+EDGE_BINS = 3
+
+
+def train(dataset, out, target: str = "rub", estimator: str = "rf", split: str = "group",
+          channels="shaft", seed: int = 0, *, families=DEFAULT_FAMILIES,
+          overwrite: bool = False, **evaluate_options) -> Model:
+    """Evaluate, fit on all rows and save a classifier (module docstring).
+
+    Parameters
+    ----------
+    dataset : path or DataFrame
+        A dataset folder, or its rows from :func:`~rubdiag.learn.columns.read_dataset`
+        (their ``attrs`` say how the channels were measured).
+    out : path
+        The model folder to write: new or empty, or a previous model folder with
+        ``overwrite=True``.
+    target, estimator, split, channels, families, seed
+        As for :func:`rubdiag.learn.evaluate`; ``channels`` is ``"shaft"`` (default),
+        ``"all"`` or a list of names.
+    overwrite : bool
+        Replace the model in ``out``.
+    **evaluate_options
+        Further options of :func:`rubdiag.learn.evaluate` (``n_splits``, ``importances``,
+        ``baselines``, ``audit`` …).
+
+    Returns
+    -------
+    Model
+        The fitted pipeline and its description as saved.
+    """
+    out = check_out(out, overwrite)
+    data = read_dataset(dataset) if isinstance(dataset, str | os.PathLike) else dataset
+    if "acquisition" not in data.attrs:
+        raise ValueError("dataset: the rows carry no acquisition (read them with "
+                         "rubdiag.learn.read_dataset, or pass the folder)")
+    channels = resolve_channels(data, channels)
+    families = list(families)
+    evaluation = evaluate(data, target, split, estimator, channels=channels,
+                          families=families, seed=seed, **evaluate_options)
+    pipeline = make_pipeline(estimator, channels=channels, families=families,
+                             random_state=seed)
+    pipeline.fit(data, target_values(data, target))
+    meta = model_meta(pipeline, data, target=target, estimator=estimator, split=split,
+                      families=families, seed=seed, evaluation=evaluation)
+    with _new_folder(out) as tmp:
+        save_model(pipeline, tmp, meta)
+        _write_evaluation(evaluation, tmp)
+    return Model(pipeline=pipeline, meta=load_meta(out))
+
+
+def check_out(out, overwrite: bool = False, option: str = "out") -> Path:
+    """``out`` as a Path if a model may be written there: absent, an empty folder, or a
+    model folder with ``overwrite``; else a ValueError naming ``option``."""
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise ValueError(f"{option} {out}: is a file, not a folder")
+    if out.is_dir() and any(out.iterdir()):
+        if not is_model_dir(out):
+            raise ValueError(f"{option} {out}: is not empty and holds no model (allowed: a "
+                             "new or empty folder, or a model folder to overwrite)")
+        if not overwrite:
+            raise ValueError(f"{option} {out}: holds a model already (allowed: a new or "
+                             "empty folder; overwrite to replace it)")
+    return out
+
+
+class _new_folder:
+    """A hidden sibling of ``out`` to write into, renamed to ``out`` on success (an
+    existing ``out`` is moved aside first and removed after), removed on failure."""
+
+    def __init__(self, out: Path):
+        self.out = out
+        stem = f".{out.name}.{os.getpid()}"
+        self.tmp = out.parent / f"{stem}.partial"
+        self.old = out.parent / f"{stem}.replaced"
+
+    def __enter__(self) -> Path:
+        self.out.parent.mkdir(parents=True, exist_ok=True)
+        shutil.rmtree(self.tmp, ignore_errors=True)
+        self.tmp.mkdir()
+        return self.tmp
+
+    def __exit__(self, kind, value, tb) -> None:
+        if kind is not None:
+            shutil.rmtree(self.tmp, ignore_errors=True)
+            return
+        if self.out.exists():
+            os.replace(self.out, self.old)
+        os.replace(self.tmp, self.out)
+        shutil.rmtree(self.old, ignore_errors=True)
+
+
+def _write_evaluation(ev: Evaluation, folder: Path) -> None:
+    from rubdiag.learn.figures import confusion_figure, importances_figure
+
+    (folder / "metrics.json").write_text(
+        json.dumps(ev.to_dict(), indent=1, default=_json_default) + "\n", encoding="utf-8")
+    (folder / "report.md").write_text(ev.to_markdown(), encoding="utf-8")
+    confusion_figure(ev, folder / "confusion.png")
+    if ev.importances is not None and not ev.importances.empty:
+        ev.importances.to_csv(folder / "importances.csv")
+        importances_figure(ev, folder / "importances.png", top=20)
+
+
+def _json_default(value):
+    if isinstance(value, np.generic):
+        return value.item()
+    raise TypeError(f"{type(value).__name__} is not JSON serialisable")
+
+
+# --- what prediction needs ------------------------------------------------------------
+
+
+def model_meta(pipeline, data: pd.DataFrame, *, target: str, estimator: str, split: str,
+               families, seed: int, evaluation: Evaluation | None = None) -> dict:
+    """The description of a pipeline fitted on ``data`` (all rows) that prediction needs:
+    versions, target and classes, channels with their units, feature options, window and
+    sampling rate, the speed and feature ranges seen in training, the highest order the
+    kept features reach and the sampling rate it needs, where the model came from."""
+    import sklearn
+
+    acq = data.attrs["acquisition"]
+    features = pipeline.named_steps["features"]
+    sensors = {s["name"]: s for s in acq["sensors"]}
+    missing = [c for c in features.channels_ if c not in sensors]
+    if missing:
+        raise ValueError(f"channel {missing[0]!r} is not among the dataset's sensors")
+    options = dataclasses.asdict(Options())
+    speed = data["speed_rpm"].to_numpy(dtype=np.float64)
+    Z = features.transform(data)
+    names = [str(n) for n in features.get_feature_names_out()]
+    order, reach, column = max(
+        ((*order_reach(c, options["band"]), c) for c in features.required_),
+        key=lambda r: r[1])
+    y = target_values(data, target)
+    meta = {
+        "rubdiag_version": __version__,
+        "sklearn_version": sklearn.__version__,
+        "target": target,
+        "classes": [str(c) for c in pipeline.classes_],
+        "class_counts": {c: int((y == c).sum()) for c in pipeline.classes_},
+        "estimator": estimator,
+        "seed": seed,
+        "channels": [{k: sensors[c][k] for k in ("name", "unit", "quantity", "point",
+                                                 "direction")} for c in features.channels_],
+        "families": list(families),
+        "feature_options": options,
+        "window_s": float(acq["window_s"]),
+        "fs_hz": float(acq["fs_hz"]),
+        "speed_range_rpm": [float(speed.min()), float(speed.max())],
+        "feature_ranges": {n: [float(lo), float(hi)] for n, lo, hi
+                           in zip(names, Z.min(axis=0), Z.max(axis=0), strict=True)},
+        "highest_order": {"order": order, "reach": reach, "feature": column,
+                          "fs_required_hz": required_fs(reach, speed.max(), acq["window_s"])},
+        "dataset": {"path": str(Path(data.attrs.get("source", "")).resolve())
+                    if data.attrs.get("source") else None,
+                    "n_rows": len(data), "failed_rows": int(data.attrs.get("failed", 0))},
+        "split": split,
+    }
+    if evaluation is not None:                # NaN (no bootstrap) as null: strict JSON
+        meta["scores"] = {k: {n: None if np.isnan(x) else x for n, x in v.to_dict().items()}
+                          for k, v in evaluation.scores.items()}
+    return meta
+
+
+def _reaches(band: float) -> dict[str, tuple[float, float]]:
+    """Raw feature name -> (order, highest order its search reaches)."""
+    out = {"speed_rpm": (0.0, 0.0), "rms": (0.0, 0.0)}
+    for k in HALF_ORDERS:
+        out[f"amp_{order_label(k)}"] = out[f"freq_{order_label(k)}_hz"] = (k, k + band)
+    for k in THIRD_ORDERS:
+        out[f"amp_{order_label(k)}"] = (k, k + band)
+    fractional = max(k for k in HALF_ORDERS if k != round(k))
+    out["n_half_orders"] = (fractional, fractional + band)
+    out["n_third_orders"] = (max(THIRD_ORDERS), max(THIRD_ORDERS) + band)
+    for n in HARMONICS:
+        for name in ("sb_{n}x_delta_hz", "sb_{n}x_lower", "sb_{n}x_upper", "bb_{n}x_rms"):
+            out[name.format(n=n)] = (float(n), n + HALF_WIDTH_ORDERS)
+    top = float(max(SUM_ORDERS))             # both lines of a pair lie below m×
+    for name in ("combo_fa_hz", "combo_fb_hz", "combo_order", "combo_amp_a", "combo_amp_b"):
+        out[name] = (top, top)
+    return out
+
+
+def order_reach(column: str, band: float = Options.band) -> tuple[float, float]:
+    """(order, highest order searched) of a raw feature column ``C__feature``: an order
+    line's band ``k ± band``, a sideband's or broadband's ``n ± 0.25``, a combination's
+    3×. ``rms`` and ``speed_rpm`` reach 0."""
+    name = column.split(SEPARATOR, 1)[-1]
+    try:
+        return _reaches(band)[name]
+    except KeyError:
+        raise ValueError(f"{column!r} is not a feature column") from None
+
+
+def required_fs(reach: float, speed_rpm: float, window_s: float) -> float:
+    """Least sampling rate (Hz) at which features reaching ``reach`` orders are measured at
+    ``speed_rpm`` in a window of ``window_s``: the band's top plus :data:`EDGE_BINS`
+    frequency bins below the Nyquist frequency."""
+    return 2.0 * (reach * float(speed_rpm) / 60.0 + EDGE_BINS / float(window_s))
+
+
+# --- a saved model on another dataset ------------------------------------------------
+
+
+@dataclass
+class ModelScores:
+    """A saved model scored on a dataset it was not trained on (:func:`evaluate_model`)."""
+
+    target: str
+    dataset: str
+    classes: list
+    n_rows: int
+    n_scored: int
+    unknown: dict                   # class of the data the model does not know -> rows
+    scores: dict                    # metric -> Score
+    per_class: pd.DataFrame
+    confusion: pd.DataFrame
+    predictions: pd.DataFrame
+    warnings: list
+
+    def to_dict(self) -> dict:
+        def plain(v):
+            return None if isinstance(v, float) and np.isnan(v) else v
+
+        return {
+            "target": self.target, "dataset": self.dataset, "classes": self.classes,
+            "n_rows": self.n_rows, "n_scored": self.n_scored, "unknown": self.unknown,
+            "scores": {k: v.to_dict() for k, v in self.scores.items()},
+            "per_class": [{"class": str(c), **{k: plain(float(v)) for k, v in row.items()}}
+                          for c, row in self.per_class.iterrows()],
+            "confusion": {"classes": self.classes,
+                          "counts": self.confusion.to_numpy().tolist()},
+            "warnings": self.warnings,
+        }
+
+    def to_text(self) -> str:
+        lines = [f"{self.dataset}: {self.n_scored} of {self.n_rows} runs scored, target "
+                 f"{self.target}"]
+        if self.unknown:
+            lines.append("not scored (class unknown to the model): "
+                         + ", ".join(f"{c} {n}" for c, n in self.unknown.items()))
+        lines += [f"{k}: {v}" for k, v in self.scores.items()]
+        with pd.option_context("display.float_format", "{:.3f}".format):
+            lines += ["", self.per_class.to_string(), "",
+                      "confusion (rows true, columns predicted):",
+                      self.confusion.to_string()]
+        return "\n".join(lines)
+
+
+def evaluate_model(model, dataset, n_bootstrap: int = 1000, seed: int = 0) -> ModelScores:
+    """Scores of a saved model on another dataset: macro-F1 and balanced accuracy with
+    95 % bootstrap intervals over design points, per-class precision and recall, the
+    confusion matrix. Rows of a class the model does not know are counted (``unknown``)
+    and left out of every score.
+
+    Parameters
+    ----------
+    model : Model or path
+        From :func:`train` or :func:`~rubdiag.learn.persist.load_model` (or its folder).
+    dataset : path or DataFrame
+        A dataset folder (or its rows) with the model's channels, in the same units.
+    n_bootstrap, seed : int
+        Bootstrap draws of the intervals and their seed.
+    """
+    from rubdiag.learn.predict import predict_rows
+
+    if not isinstance(model, Model):
+        model = load_model(model)
+    data = read_dataset(dataset) if isinstance(dataset, str | os.PathLike) else dataset
+    source = str(data.attrs.get("source", "dataset"))
+    y = target_values(data, model.meta["target"])
+    table = predict_rows(model, data)
+    classes = model.classes
+    known = np.isin(y, classes)
+    unknown = {str(c): int((y[~known] == c).sum()) for c in sorted(set(y[~known]))}
+    if not known.any():
+        raise ValueError(f"{source}: no run has a class the model knows ({', '.join(classes)}"
+                         f"; the data's: {', '.join(sorted(set(y)))})")
+    predicted = table["predicted"].to_numpy()
+    groups = (data["point_id"] if "point_id" in data.columns else data["run_id"]).to_numpy()
+    scores: dict[str, Score] = score(y[known], predicted[known], groups[known], classes,
+                                     n_bootstrap, seed)
+    cm = confusion(y[known], predicted[known], classes)
+    tp = np.diag(cm).astype(float)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        precision, recall = tp / cm.sum(axis=0), tp / cm.sum(axis=1)
+    per_class = pd.DataFrame({"precision": precision, "recall": recall,
+                              "support": cm.sum(axis=1)}, index=pd.Index(classes, name="class"))
+    predictions = pd.DataFrame({"run_id": table["input"].to_numpy(), "true": y,
+                                "predicted": predicted, "scored": known})
+    warnings = [f"{i}: {w}" for i, w in zip(table["input"], table["warnings"], strict=True)
+                if w]
+    return ModelScores(
+        target=model.meta["target"], dataset=source, classes=classes, n_rows=len(data),
+        n_scored=int(known.sum()), unknown=unknown, scores=scores, per_class=per_class,
+        confusion=pd.DataFrame(cm, index=pd.Index(classes, name="true"),
+                               columns=pd.Index(classes, name="predicted")),
+        predictions=predictions, warnings=warnings)
