@@ -20,7 +20,7 @@ def register(sub) -> None:
     p = sub.add_parser(
         "train", help="train a rub classifier on a dataset and save it as a model folder",
         description="Evaluate a classifier on the dataset (cross-validated on --split: "
-        "held-out scores with 95 %% intervals, baselines, shuffled-label control, leakage "
+        "held-out scores with 95 % intervals, baselines, shuffled-label control, leakage "
         "audit), fit it on every run and write MODEL_DIR: model.skops and model.json (what "
         "prediction needs), metrics.json, report.md, confusion.png, importances.png and "
         "importances.csv. The default model — target rub, a random forest, split by design "
@@ -58,7 +58,7 @@ def register(sub) -> None:
     p = sub.add_parser(
         "evaluate", help="score a saved model on another dataset",
         description="Predict every run of DATASET_DIR with the model of MODEL_DIR and score "
-        "it: macro-F1 and balanced accuracy with 95 %% bootstrap intervals over design "
+        "it: macro-F1 and balanced accuracy with 95 % bootstrap intervals over design "
         "points, per-class precision and recall, the confusion matrix. Runs of a class the "
         "model does not know are counted, not scored.")
     p.add_argument("model", type=Path, metavar="MODEL_DIR", help="model folder (rubdiag train)")

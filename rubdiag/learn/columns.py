@@ -9,6 +9,7 @@ else is a label, a leak or bookkeeping. Nothing here imports the simulator.
 
 from __future__ import annotations
 
+import tomllib
 from pathlib import Path
 
 import pandas as pd
@@ -40,7 +41,9 @@ def read_dataset(root: str | Path) -> pd.DataFrame:
     data = rows[ok].reset_index(drop=True)
     if data.empty:
         raise ValueError(f"{root}: no run of the dataset finished (status ok)")
-    data.attrs.update(acquisition=meta, failed=int((~ok).sum()), source=str(root))
+    design = tomllib.loads((Path(root) / "design.toml").read_text(encoding="utf-8"))
+    data.attrs.update(acquisition=meta, factors=list(design.get("factors", {})),
+                      failed=int((~ok).sum()), source=str(root))
     return data
 
 
@@ -77,5 +80,11 @@ def shaft_channels(data: pd.DataFrame) -> list[str]:
 
 
 def factor_columns(data: pd.DataFrame) -> list[str]:
-    """The design factors among the columns (``case``, ``speed_ratio``, ``gap_mm`` …)."""
-    return [c for c in data.columns if c in FACTORS]
+    """The design's factors among the columns (``case``, ``speed_ratio``, ``gap_mm`` …): those
+    of its ``design.toml`` when the frame came from :func:`read_dataset`, else every
+    column named as a factor. ``speed_rpm`` is one only when the design set it (every
+    row has the run's speed)."""
+    named = data.attrs.get("factors")
+    if named is None:
+        named = [c for c in FACTORS if c != "speed_rpm"]
+    return [c for c in data.columns if c in named]

@@ -191,8 +191,20 @@ def evaluate(data, target: str = "rub", split: str = "group", estimator: str = "
         Macro-F1 from which one column alone "separates the classes".
     seed : int
         Seeds folds, models, bootstrap and permutations: the same call gives the same
-        report.
+        report (fits run on one thread: a multi-threaded histogram sum, as in hgb, may
+        round differently from run to run).
     """
+    from threadpoolctl import threadpool_limits  # installed with scikit-learn
+
+    with threadpool_limits(limits=1):
+        return _evaluate(data, target, split, estimator, channels, families, pipeline,
+                         n_splits, bands, n_bootstrap, n_null, importances, n_repeats,
+                         baselines, audit, audit_threshold, seed)
+
+
+def _evaluate(data, target, split, estimator, channels, families, pipeline, n_splits, bands,
+              n_bootstrap, n_null, importances, n_repeats, baselines, audit, audit_threshold,
+              seed) -> Evaluation:
     if isinstance(data, str | Path):
         data = read_dataset(data)
     y = target_values(data, target)

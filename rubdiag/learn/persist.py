@@ -74,7 +74,10 @@ TRUSTED_TYPES = (
     "sklearn._loss.loss.HalfBinomialLoss",
     "sklearn._loss.loss.HalfMultinomialLoss",
     "numpy.random._generator.Generator",
-    # svm, logreg
+    # svm (calibrated), logreg
+    "sklearn.calibration.CalibratedClassifierCV",
+    "sklearn.calibration._CalibratedClassifier",
+    "sklearn.calibration._SigmoidCalibration",
     "sklearn.svm._classes.SVC",
     "sklearn.linear_model._logistic.LogisticRegression",
     # containers and arrays

@@ -321,7 +321,6 @@ FAST = {"rf": {"model__n_estimators": 30},
 
 
 @pytest.mark.parametrize("name", ESTIMATORS)
-@pytest.mark.filterwarnings("ignore:The `probability` parameter was deprecated:FutureWarning")
 def test_pipeline_clones_and_grid_searches(name, level_target):
     X, y = level_target
     pipe = make_pipeline(name).set_params(**FAST.get(name, {}))

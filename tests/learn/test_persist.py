@@ -6,7 +6,6 @@ from __future__ import annotations
 import io
 import json
 import shutil
-import warnings
 import zipfile
 
 import numpy as np
@@ -44,9 +43,7 @@ def fitted_pipeline(rows, estimator, target):
         pipe.set_params(model__max_iter=10)      # the same types as 200 iterations
     if estimator == "rf":
         pipe.set_params(model__n_estimators=20)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", FutureWarning)   # SVC(probability=True), sklearn 1.9
-        return pipe.fit(rows, rows[target].astype(str).to_numpy())
+    return pipe.fit(rows, rows[target].astype(str).to_numpy())
 
 
 @pytest.fixture(scope="module")
