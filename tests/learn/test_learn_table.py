@@ -1,0 +1,92 @@
+"""The README "Classifiers" table (scripts/learn_table.py): the stored cells are complete,
+the README shows exactly what they say, and the default model meets what issue 12 sets.
+
+The fast tests read data/learn_table.csv; the slow one makes the dataset of
+data/designs/rub_classifier_lhs300.toml again (about 15 min on 2 cores) and recomputes the
+default model's cells, which must come out identical (the evaluation is seeded).
+"""
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+from scripts_loader import load_script
+
+ROOT = Path(__file__).resolve().parents[2]
+script = load_script("learn_table")
+TABLE = pd.read_csv(script.CSV)
+DEFAULT = "rf"     # the estimator of `rubdiag train`
+_BLOCK = re.search(r"<!-- learn-table -->\n(?P<body>.*?)<!-- /learn-table -->",
+                   (ROOT / "README.md").read_text(encoding="utf-8"), re.DOTALL)
+
+
+def test_every_cell_is_stored():
+    cells = set(zip(TABLE["target"], TABLE["split"], TABLE["estimator"], strict=True))
+    assert cells == {(t, s, e) for t in script.TARGETS for s in script.SPLITS
+                     for e in script.ESTIMATORS}
+    assert (TABLE["unscored"] == 0).all()
+
+
+def test_readme_table_is_what_the_stored_cells_say():
+    assert _BLOCK is not None, "README.md has no <!-- learn-table --> block (Classifiers)"
+    assert _BLOCK["body"] == script.table(TABLE)
+
+
+def test_intervals_hold_their_values():
+    for prefix in ("macro_f1", "balanced_accuracy", "b1x", "bspeed", "bfactors"):
+        assert (TABLE[f"{prefix}_lo"] <= TABLE[prefix]).all(), prefix
+        assert (TABLE[prefix] <= TABLE[f"{prefix}_hi"]).all(), prefix
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "3 of 16 cells score above their permutation-null interval with shuffled labels (by "
+    "0.01-0.03: rub/speed_ratio/rf, severity/group/rf, severity/speed_ratio/logreg); more "
+    "than the 1 in 20 a 95 % interval allows. No leak found: the null permutes the "
+    "shuffled model's own predictions between design points and may be narrower than the "
+    "spread of a cross-validated score over label shuffles"))
+def test_shuffled_labels_score_at_chance_in_every_cell():
+    assert TABLE["shuffled_inside"].all(), TABLE.loc[~TABLE["shuffled_inside"],
+                                                     ["target", "split", "estimator"]]
+
+
+_NOT_MET = {
+    ("rub", "speed_ratio"): "macro-F1 0.925 [0.878, 0.963] < 0.95: the forest calls case-2 "
+    "runs without rub in the held-out lowest speed band (0.80-0.88 x critical) rubbing",
+    ("severity", "group"): "0.742 is 0.077 above the design-factors baseline (0.665), "
+    "not 0.10",
+    ("severity", "speed_ratio"): "0.627 is 0.068 above the design-factors baseline "
+    "(0.559), not 0.10",
+}
+
+
+@pytest.mark.parametrize(("target", "split"), [
+    pytest.param(t, s, marks=pytest.mark.xfail(strict=True, reason=_NOT_MET[t, s])
+                 if (t, s) in _NOT_MET else ())
+    for t in script.TARGETS for s in script.SPLITS])
+def test_default_model_meets_the_issue(target, split):
+    """Rub/no-rub macro-F1 >= 0.95; severity >= 0.10 macro-F1 above the best baseline."""
+    row = TABLE[(TABLE["target"] == target) & (TABLE["split"] == split)
+                & (TABLE["estimator"] == DEFAULT)].iloc[0]
+    column, goal = script.GOALS[target]
+    assert row[column] >= goal, (target, split, column, row[column])
+
+
+@pytest.mark.slow
+def test_default_cells_recomputed_from_a_fresh_dataset(tmp_path):
+    from rubdiag.dataset import Design, generate
+    from rubdiag.learn import read_dataset
+
+    design = Design.from_toml(ROOT / "data" / "designs" / "rub_classifier_lhs300.toml")
+    generate(design, tmp_path / "data", progress=False)
+    data = read_dataset(tmp_path / "data")
+    for target in script.TARGETS:
+        for split in script.SPLITS:
+            fresh = script.cell(data, target, split, DEFAULT)
+            stored = TABLE[(TABLE["target"] == target) & (TABLE["split"] == split)
+                           & (TABLE["estimator"] == DEFAULT)].iloc[0]
+            for key in ("macro_f1", "macro_f1_lo", "macro_f1_hi", "b1x", "bspeed",
+                        "bfactors", "margin"):
+                np.testing.assert_allclose(fresh[key], stored[key], rtol=1e-5,
+                                           err_msg=f"{target} {split} {key}")
