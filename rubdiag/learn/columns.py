@@ -38,7 +38,9 @@ def read_dataset(root: str | Path) -> pd.DataFrame:
     if rows.empty:
         raise ValueError(f"{root}: the dataset holds no rows yet")
     ok = rows["status"] == "ok"
-    data = rows[ok].reset_index(drop=True)
+    # in design order, not in the order the workers finished: folds, bootstrap and
+    # shuffles follow row positions, so the same dataset must give the same rows
+    data = rows[ok].sort_values(["point_id", "replicate"], kind="stable").reset_index(drop=True)
     if data.empty:
         raise ValueError(f"{root}: no run of the dataset finished (status ok)")
     design = tomllib.loads((Path(root) / "design.toml").read_text(encoding="utf-8"))

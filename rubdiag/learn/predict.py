@@ -106,6 +106,13 @@ def predict(model, inputs, *, columns=None, units=None, fs=None, speed_rpm=None,
         row per run (``input`` = its ``run_id``, ``window`` 0: the stored analysis
         window, times from the run's start).
     """
+    from threadpoolctl import threadpool_limits  # installed with scikit-learn
+
+    with threadpool_limits(limits=1):   # short records: threads cost more than they give
+        return _predict(model, inputs, columns, units, fs, speed_rpm, tacho)
+
+
+def _predict(model, inputs, columns, units, fs, speed_rpm, tacho) -> pd.DataFrame:
     if not isinstance(model, Model):
         model = load_model(model)
     paths = [inputs] if isinstance(inputs, str | os.PathLike) else list(inputs)

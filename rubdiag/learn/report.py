@@ -54,7 +54,7 @@ def _table(frame: pd.DataFrame, floatfmt: str = ".3f") -> str:
     head = "| " + " | ".join([frame.index.name or "", *map(str, frame.columns)]) + " |"
     rule = "|" + "---|" * (len(frame.columns) + 1)
     lines = [head, rule]
-    for i, row in frame.iterrows():
+    for i, *row in frame.itertuples(name=None):     # keeps each column's type (counts)
         cells = [format(v, floatfmt) if isinstance(v, float) else str(v) for v in row]
         lines.append("| " + " | ".join([str(i), *cells]) + " |")
     return "\n".join(lines)
