@@ -52,12 +52,10 @@ def test_shuffled_labels_score_at_chance_in_every_cell():
 
 
 _NOT_MET = {
-    ("rub", "speed_ratio"): "macro-F1 0.925 [0.878, 0.963] < 0.95: the forest calls case-2 "
+    ("rub", "speed_ratio"): "macro-F1 0.918 [0.871, 0.956] < 0.95: the forest calls case-2 "
     "runs without rub in the held-out lowest speed band (0.80-0.88 x critical) rubbing",
-    ("severity", "group"): "0.742 is 0.077 above the design-factors baseline (0.665), "
-    "not 0.10",
-    ("severity", "speed_ratio"): "0.627 is 0.068 above the design-factors baseline "
-    "(0.559), not 0.10",
+    ("severity", "speed_ratio"): "0.625 is 0.085 above the design-factors baseline "
+    "(0.539), not 0.10",
 }
 
 
