@@ -1,13 +1,18 @@
 """Stored waveforms and measurement noise: what a dataset row's features were computed from
 is what load_waveforms gives back; the noise has the stated floor in physical units, is the
-run's own (seeded by its id) and does not depend on the run's level."""
+run's own (seeded by its id) and does not depend on the run's level. dataset.json says how
+the channels were measured, and reading a stored dataset needs no simulator."""
 
 from __future__ import annotations
+
+import json
+import subprocess
+import sys
 
 import numpy as np
 import pytest
 
-from rubdiag.dataset import Design, generate, load, load_waveforms
+from rubdiag.dataset import Design, acquisition, generate, load, load_waveforms
 from rubdiag.dataset.noise import NoiseFloors, add_noise, noise_seed
 from rubdiag.signal.table import prefixed_features
 
@@ -110,3 +115,45 @@ def test_feature_columns_are_sensor_channels_only(dataset):
     truth = set(columns.loc[columns["group"] == "truth", "column"])
     assert {"contact1__max_force_n", "contacts__n_episodes", "truth__casing_max_y_m"} <= truth
     assert not any(c.startswith("window") for c in columns["column"])
+
+
+def test_acquisition_is_what_the_waveforms_hold(dataset):
+    """dataset.json says how the channels were measured: what a classifier trained on the
+    dataset must know of a measurement."""
+    design, folder, _ = dataset
+    acq = acquisition(folder)
+    waves = load_waveforms(folder, design.runs()[0].run_id)
+    assert acq["fs_hz"] == waves.attrs["fs_hz"]
+    assert acq["discard_s"] == waves.attrs["discard_s"] == 0.1
+    assert acq["window_s"] == pytest.approx(0.2, abs=1e-12)
+    assert [s["name"] for s in acq["sensors"]] == list(waves.columns)
+    assert {s["name"]: s["unit"] for s in acq["sensors"]} == waves.attrs["units"]
+    assert [s["point"] for s in acq["sensors"]] == [s.point for s in design.sensors]
+
+
+def test_a_folder_without_acquisition_gets_it_on_resume(dataset, tmp_path):
+    import shutil
+
+    design, folder, _ = dataset
+    old = tmp_path / "old"
+    shutil.copytree(folder, old)
+    meta = json.loads((old / "dataset.json").read_text(encoding="utf-8"))
+    expected = meta.pop("acquisition")
+    (old / "dataset.json").write_text(json.dumps(meta), encoding="utf-8")
+    with pytest.raises(ValueError, match="older rubdiag"):
+        acquisition(old)
+    summary = generate(design, old, jobs=1, progress=False)
+    assert summary["run"] == 0                      # nothing simulated again
+    assert acquisition(old) == expected
+
+
+def test_reading_a_dataset_imports_no_simulator(dataset):
+    folder = dataset[1]
+    code = ("import sys; from rubdiag.dataset import load, load_waveforms, acquisition; "
+            f"load({str(folder)!r}); acquisition({str(folder)!r}); "
+            "from rubdiag.dataset.noise import add_noise; "
+            "print(sorted(m for m in sys.modules if m.startswith(('rubdiag.simulate', "
+            "'rubdiag.kernels', 'rubdiag.model', 'numba'))))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True)
+    assert out.stdout.strip() == "[]"
