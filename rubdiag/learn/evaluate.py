@@ -29,6 +29,7 @@ import numpy as np
 import pandas as pd
 from sklearn.base import clone
 from sklearn.tree import DecisionTreeClassifier
+from threadpoolctl import threadpool_limits  # installed with scikit-learn
 
 from rubdiag import _check
 from rubdiag.dataset.schema import SEPARATOR
@@ -155,6 +156,7 @@ class Evaluation:
         return evaluation_markdown(self)
 
 
+@threadpool_limits.wrap(limits=1)
 def evaluate(data, target: str = "rub", split: str = "group", estimator: str = "rf", *,
              channels="shaft", families=DEFAULT_FAMILIES, pipeline=None, n_splits: int = 5,
              bands: int = 5, n_bootstrap: int = 1000, n_null: int = 1000,
@@ -194,17 +196,6 @@ def evaluate(data, target: str = "rub", split: str = "group", estimator: str = "
         report (fits run on one thread: a multi-threaded histogram sum, as in hgb, may
         round differently from run to run).
     """
-    from threadpoolctl import threadpool_limits  # installed with scikit-learn
-
-    with threadpool_limits(limits=1):
-        return _evaluate(data, target, split, estimator, channels, families, pipeline,
-                         n_splits, bands, n_bootstrap, n_null, importances, n_repeats,
-                         baselines, audit, audit_threshold, seed)
-
-
-def _evaluate(data, target, split, estimator, channels, families, pipeline, n_splits, bands,
-              n_bootstrap, n_null, importances, n_repeats, baselines, audit, audit_threshold,
-              seed) -> Evaluation:
     if isinstance(data, str | Path):
         data = read_dataset(data)
     y = target_values(data, target)

@@ -24,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from threadpoolctl import threadpool_limits  # installed with scikit-learn
 
 from rubdiag import _check
 from rubdiag.dataset.schema import SEPARATOR
@@ -71,6 +72,8 @@ def unit_factor(quantity: str, unit: str) -> float:
     return allowed[unit]
 
 
+# short records: two threads cost more than they give (benchmarks/README, "Classifiers")
+@threadpool_limits.wrap(limits=1)
 def predict(model, inputs, *, columns=None, units=None, fs=None, speed_rpm=None,
             tacho=None) -> pd.DataFrame:
     """Predict the class of every window of every input, and the majority of each input.
@@ -106,13 +109,6 @@ def predict(model, inputs, *, columns=None, units=None, fs=None, speed_rpm=None,
         row per run (``input`` = its ``run_id``, ``window`` 0: the stored analysis
         window, times from the run's start).
     """
-    from threadpoolctl import threadpool_limits  # installed with scikit-learn
-
-    with threadpool_limits(limits=1):   # short records: threads cost more than they give
-        return _predict(model, inputs, columns, units, fs, speed_rpm, tacho)
-
-
-def _predict(model, inputs, columns, units, fs, speed_rpm, tacho) -> pd.DataFrame:
     if not isinstance(model, Model):
         model = load_model(model)
     paths = [inputs] if isinstance(inputs, str | os.PathLike) else list(inputs)
