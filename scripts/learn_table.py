@@ -59,12 +59,12 @@ def cell(data, target: str, split: str, estimator: str) -> dict:
     return row
 
 
-def build(dataset: Path) -> pd.DataFrame:
+def build(dataset: Path, csv: Path = CSV) -> pd.DataFrame:
     from rubdiag.dataset.store import atomic_write_text
     from rubdiag.learn import read_dataset
 
     data = read_dataset(dataset)
-    done = pd.read_csv(CSV) if CSV.is_file() else pd.DataFrame()
+    done = pd.read_csv(csv) if csv.is_file() else pd.DataFrame()
     key = ["target", "split", "estimator"]
     have = set(map(tuple, done[key].to_numpy())) if len(done) else set()
     for target in TARGETS:
@@ -74,7 +74,7 @@ def build(dataset: Path) -> pd.DataFrame:
                     continue
                 row = cell(data, target, split, estimator)
                 done = pd.concat([done, pd.DataFrame([row])], ignore_index=True)
-                atomic_write_text(CSV, done.to_csv(index=False, float_format="%.6g"))
+                atomic_write_text(csv, done.to_csv(index=False, float_format="%.6g"))
                 print(f"{target:9s} {split:12s} {estimator:7s} macro-F1 {row['macro_f1']:.3f} "
                       f"[{row['macro_f1_lo']:.3f}, {row['macro_f1_hi']:.3f}]  best baseline "
                       f"{row[row['best_baseline']]:.3f}  ({row['wall_s']:.0f} s)", flush=True)
@@ -105,13 +105,15 @@ def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("dataset", nargs="?", type=Path, help="the classifier dataset folder")
     p.add_argument("--table", action="store_true", help="print the README block from the CSV")
+    p.add_argument("--csv", type=Path, default=CSV,
+                   help="the table's CSV (default data/learn_table.csv; another draw's elsewhere)")
     args = p.parse_args(argv)
     if args.table:
-        sys.stdout.write(table(pd.read_csv(CSV)))
+        sys.stdout.write(table(pd.read_csv(args.csv)))
         return 0
     if args.dataset is None:
         p.error("give the dataset folder (or --table)")
-    build(args.dataset)
+    build(args.dataset, args.csv)
     return 0
 
 

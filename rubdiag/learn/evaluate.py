@@ -95,8 +95,11 @@ class CrossPrediction:
     fitted: list                 # (fold, fitted pipeline or None)
 
 
-def cross_predict(pipeline, data: pd.DataFrame, y: np.ndarray, splits: list[Fold]):
-    """Fit a clone of ``pipeline`` on each training side, predict its test side."""
+def cross_predict(pipeline, data: pd.DataFrame, y: np.ndarray, splits: list[Fold],
+                  test_data: pd.DataFrame | None = None):
+    """Fit a clone of ``pipeline`` on each training side, predict its test side — of
+    ``test_data`` when given (the same rows measured otherwise, e.g. with more noise)."""
+    test_data = data if test_data is None else test_data
     predicted = np.full(len(data), "", dtype=object)
     scored = np.zeros(len(data), dtype=bool)
     unscored: dict[str, int] = {}
@@ -113,7 +116,7 @@ def cross_predict(pipeline, data: pd.DataFrame, y: np.ndarray, splits: list[Fold
             continue
         model = clone(pipeline).fit(data.iloc[fold.train], y[fold.train])
         test = fold.test[ok]
-        predicted[test] = model.predict(data.iloc[test])
+        predicted[test] = model.predict(test_data.iloc[test])
         scored[test] = True
         fitted.append((fold, model))
     return CrossPrediction(predicted, scored, unscored, fitted)

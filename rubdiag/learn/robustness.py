@@ -16,6 +16,10 @@ again from the noisy waveforms and scores the classifier on the same split, leve
   one standard-normal array (seeded by ``seed`` and its ``run_id``), scaled by σ at every
   level: levels differ by their σ alone, not by a new draw (common random numbers), and a
   level's noise does not depend on which other levels are asked for. Same call, same curve.
+* **Training** — ``train_on="noisy"`` (default) trains and tests each fold at the level:
+  what a model made for a machine that noisy can do. ``train_on="stored"`` trains on the
+  dataset's features as stored and tests on the noisy ones: how a model made from
+  simulation meets a machine noisier than the simulation's floor (the usual case).
 * **Features** are extracted once per level (they do not depend on the model) with the
   dataset's options (:func:`rubdiag.signal.table.feature_matrix` defaults, as
   ``prefixed_features`` in :mod:`rubdiag.dataset.rows`), and replace the stored
@@ -33,14 +37,20 @@ import pandas as pd
 from rubdiag import _check
 from rubdiag.dataset.schema import SEPARATOR
 from rubdiag.learn.columns import read_dataset
-from rubdiag.learn.evaluate import evaluate, resolve_channels
-from rubdiag.learn.metrics import METRICS
+from threadpoolctl import threadpool_limits
+
+from rubdiag.learn.evaluate import cross_predict, evaluate, resolve_channels, target_values
+from rubdiag.learn.features import DEFAULT_FAMILIES
+from rubdiag.learn.metrics import METRICS, null_interval, score
+from rubdiag.learn.pipelines import make_pipeline
+from rubdiag.learn.splits import folds
 
 __all__ = ["Windows", "analysis_windows", "noise_curve", "noise_std", "noisy_windows",
            "reference_power", "standard_noise", "window_features"]
 
 # evaluate's parts a curve does not report: always off (each costs cross-predictions)
 _OFF = ("importances", "baselines", "audit")
+_TRAIN_ON = ("noisy", "stored")
 # the rule of SimulationResult.window: sample times k/fs and k*dt differ in the last bit
 _WINDOW_TOLERANCE_S = 1e-12
 
@@ -159,7 +169,7 @@ def window_features(x: np.ndarray, fs: float, speed_rpm, channels) -> pd.DataFra
 
 def noise_curve(dataset, target: str = "rub", split: str = "group", estimator: str = "rf",
                 snr_db=(30, 20, 10, 5), channels="shaft", seed: int = 0,
-                **evaluate_options) -> pd.DataFrame:
+                train_on: str = "noisy", **evaluate_options) -> pd.DataFrame:
     """Held-out scores of a classifier against the SNR of noise added to its channels.
 
     Parameters
@@ -175,6 +185,9 @@ def noise_curve(dataset, target: str = "rub", split: str = "group", estimator: s
         reference power (module docstring); finite, any sign.
     seed : int
         Seeds the noise and the evaluation.
+    train_on : {"noisy", "stored"}
+        Train each fold at the level's noise, or on the stored features (module
+        docstring).
     **evaluate_options
         Further options of :func:`~rubdiag.learn.evaluate.evaluate` (``n_splits``,
         ``n_bootstrap``, ``families`` …); importances, baselines and the audit are not
@@ -186,11 +199,15 @@ def noise_curve(dataset, target: str = "rub", split: str = "group", estimator: s
         One row per level, first "as stored" (``snr_db`` inf: no noise added, features
         extracted again from the stored waveforms): ``snr_db``, ``macro_f1`` and
         ``balanced_accuracy`` with ``_lo``/``_hi`` (95 % bootstrap interval), ``chance_lo``/
-        ``chance_hi`` (the permutation-null interval of the shuffled-label model), then
+        ``chance_hi`` (the permutation-null interval of the shuffled-label model; with
+        ``train_on="stored"``, of the predictions themselves), then
         ``<channel>__noise_std`` (σ added, in the channel's unit) per channel. ``attrs``:
-        ``target``, ``split``, ``estimator``, ``channels``, ``reference_power`` (channel →
-        P_ref), ``n_rubbing``.
+        ``target``, ``split``, ``estimator``, ``channels``, ``train_on``,
+        ``reference_power`` (channel → P_ref), ``n_rubbing``.
     """
+    if train_on not in _TRAIN_ON:
+        raise ValueError(f"train_on = {train_on!r} is not allowed (allowed: "
+                         f"{', '.join(map(repr, _TRAIN_ON))})")
     for name in _OFF:
         if name in evaluate_options:
             raise ValueError(f"{name} is not an option of noise_curve (allowed: evaluate's "
@@ -217,21 +234,45 @@ def noise_curve(dataset, target: str = "rub", split: str = "group", estimator: s
         features = window_features(x, windows.fs, speed, channels)
         noisy = data.copy()
         noisy[features.columns] = features.to_numpy()
-        ev = evaluate(noisy, target, split, estimator, channels=channels, seed=seed,
-                      **options)
+        if train_on == "noisy":
+            ev = evaluate(noisy, target, split, estimator, channels=channels, seed=seed,
+                          **options)
+            scores, chance = ev.scores, (ev.shuffled["null_lo"], ev.shuffled["null_hi"])
+        else:
+            scores, chance = _trained_on_stored(data, noisy, target, split, estimator,
+                                                channels, seed, options)
         row = {"snr_db": float(snr)}
         for metric in METRICS:
-            s = ev.scores[metric]
+            s = scores[metric]
             row.update({metric: s.value, f"{metric}_lo": s.lo, f"{metric}_hi": s.hi})
-        row.update(chance_lo=ev.shuffled["null_lo"], chance_hi=ev.shuffled["null_hi"])
+        row.update(chance_lo=chance[0], chance_hi=chance[1])
         row.update({f"{c}{SEPARATOR}noise_std": float(v)
                     for c, v in zip(channels, noise_std(p_ref, snr), strict=True)})
         rows.append(row)
     curve = pd.DataFrame(rows)
     curve.attrs.update(target=target, split=split, estimator=estimator, channels=channels,
+                       train_on=train_on,
                        reference_power=dict(zip(channels, map(float, p_ref), strict=True)),
                        n_rubbing=int(data["rub"].astype(bool).sum()))
     return curve
+
+
+@threadpool_limits.wrap(limits=1)
+def _trained_on_stored(data, noisy, target, split, estimator, channels, seed, options):
+    """Scores (and chance interval) of folds trained on ``data``, tested on ``noisy``."""
+    pipeline = options.get("pipeline") or make_pipeline(
+        estimator, channels=channels, families=options.get("families", DEFAULT_FAMILIES),
+        random_state=seed)
+    y = target_values(data, target)
+    splits = folds(data, split, y, n_splits=options.get("n_splits", 5),
+                   bands=options.get("bands", 5), seed=seed)
+    cp = cross_predict(pipeline, data, y, splits, test_data=noisy)
+    s, groups, classes = cp.scored, data["point_id"].to_numpy(), sorted(set(y))
+    scores = score(y[s], cp.predicted[s], groups[s], classes,
+                   options.get("n_bootstrap", 1000), seed)
+    chance = null_interval(y[s], cp.predicted[s], classes, options.get("n_null", 1000), seed,
+                           groups=groups[s])
+    return scores, chance
 
 
 def _levels(snr_db) -> list[float]:

@@ -111,7 +111,7 @@ def expected_default_names(channel):
              + [f"dev_{k}" for k in half] + ["n_half_orders", "n_third_orders"])
     for n in HARMONICS:
         names += [f"sb_{n}x_delta_order", f"sb_{n}x_rel_lower", f"sb_{n}x_rel_upper",
-                  f"bb_{n}x_rel_rms"]
+                  f"bb_{n}x_over_floor"]
     names += ["combo_fa_order", "combo_fb_order", "combo_order", "combo_rel_amp_a",
               "combo_rel_amp_b"]
     return {f"{channel}__{n}" for n in names}
@@ -142,8 +142,9 @@ class TestOrderNormalised:
             assert level < raw["shaft__rms"]          # the combination lines are not in it
             assert z.loc[i, "shaft__rel_amp_1p5x"] == pytest.approx(
                 raw["shaft__amp_1p5x"] / level, rel=1e-12)
-            assert z.loc[i, "shaft__bb_2x_rel_rms"] == pytest.approx(
-                raw["shaft__bb_2x_rms"] / level, rel=1e-12)
+            floor = min(raw[f"shaft__bb_{n}x_rms"] for n in HARMONICS)
+            assert z.loc[i, "shaft__bb_2x_over_floor"] == pytest.approx(
+                raw["shaft__bb_2x_rms"] / floor, rel=1e-12)
             assert z.loc[i, "shaft__dev_1p5x"] == pytest.approx(
                 raw["shaft__freq_1p5x_hz"] / f1 - 1.5, abs=1e-12)
             assert z.loc[i, "shaft__sb_2x_delta_order"] == pytest.approx(
@@ -153,9 +154,12 @@ class TestOrderNormalised:
 
     def test_same_orders_same_features_at_any_speed_and_scale(self, two_speeds):
         # row 1 is row 0's order content at 1.6 × the speed and 3 × the size: the default
-        # features agree to the estimation tolerance, the levels and frequencies do not
+        # features agree to the estimation tolerance, the levels and frequencies do not.
+        # Not the bands over the floor: white noise spreads over Hz, so a band 1.6 × as
+        # wide holds 1.6 × the noise power under the same lines (TestNoiseFloor).
         of = OrderFeatures(channels="shaft").fit(two_speeds)
-        z = of.transform(two_speeds)
+        keep = ["over_floor" not in n for n in of.get_feature_names_out()]
+        z = of.transform(two_speeds)[:, keep]
         np.testing.assert_allclose(z[1], z[0], rtol=AMP_REL, atol=ORDER_ABS)
         raw = two_speeds[["shaft__rms", "shaft__freq_1x_hz"]].to_numpy()
         np.testing.assert_allclose(raw[1] / raw[0], [3.0, 1.6], rtol=AMP_REL)
@@ -244,7 +248,7 @@ class TestMissingValues:
             z0 = still_only.transform(two_speeds.iloc[[0]])
         assert two_speeds.loc[0, "casing__rms"] == 0.0
         assert level_of(two_speeds, "casing")[0] == 0.0
-        ratios = [n for n in z.columns if "rel_" in n]
+        ratios = [n for n in z.columns if "rel_" in n or "over_floor" in n]
         assert (z.loc[0, ratios] == 0.0).all()
         assert z.loc[1, "casing__rel_amp_1x"] == pytest.approx(A / LEVEL, rel=AMP_REL)
         # a channel still in every training row keeps its ratios (0) and loses its
@@ -252,6 +256,42 @@ class TestMissingValues:
         assert np.array_equal(z0, np.zeros_like(z0))
         assert "casing__dev_1x" in still_only.dropped_
         assert "casing__rel_amp_1x" in still_only.get_feature_names_out()
+
+
+def noise_band_rms(sigma, rpm):
+    """RMS of white noise of std ``sigma`` in one band n× ± 0.25× (0.5× wide)."""
+    return sigma * np.sqrt(0.5 * rpm / 60.0 / (FS / 2))
+
+
+class TestNoiseFloor:
+    """``bb_<n>x_over_floor``: the broadband around n× over the channel's quietest band."""
+
+    # eight bands of ~50–80 bins each: a band's noise RMS scatters by ~7 %, so the
+    # loudest of eight noise-only bands sits well within 1.5 × the quietest
+    NOISE_ONLY = (1.0, 1.5)
+
+    def test_noise_only_bands_are_one_at_any_noise_level(self):
+        rows = table([(1500.0, {"shaft": orders_signal(1500.0, lines=[(1.0, A)])}),
+                      (1500.0, {"shaft": 10.0 * orders_signal(1500.0, lines=[(1.0, 0.1 * A)])}),
+                      (2400.0, {"shaft": orders_signal(2400.0, lines=[(1.0, A)], seed=3)})])
+        z = frame_of(OrderFeatures(families="sidebands").fit(rows), rows)
+        bands = [f"shaft__bb_{n}x_over_floor" for n in HARMONICS]
+        assert z[bands].min(axis=1).to_numpy() == pytest.approx(1.0, abs=1e-12)
+        assert z[bands].max(axis=1).max() <= self.NOISE_ONLY[1]
+        # the same record ten times as loud, noise included: the same features
+        assert z.loc[1, bands].to_numpy() == pytest.approx(z.loc[0, bands].to_numpy(), rel=1e-9)
+
+    def test_a_band_with_lines_stands_above_the_floor(self, two_speeds):
+        z = frame_of(OrderFeatures(channels="shaft").fit(two_speeds), two_speeds)
+        sidebands = np.sqrt((0.05**2 + 0.03**2) / 2)       # the lines 1.8× and 2.2×
+        for i, (rpm, scale) in enumerate(((1500.0, 1.0), (2400.0, 3.0))):
+            floor = scale * noise_band_rms(NOISE, rpm)
+            expected = np.hypot(scale * sidebands, floor) / floor
+            # the floor is the least of eight bands' noise estimates (each within ~10 %,
+            # Hann-windowed bins being correlated): below the true band RMS, by ≤ 30 %
+            assert expected / 1.05 <= z.loc[i, "shaft__bb_2x_over_floor"] <= expected / 0.7
+            quiet = [f"shaft__bb_{n}x_over_floor" for n in HARMONICS if n != 2]
+            assert z.loc[i, quiet].max() <= self.NOISE_ONLY[1]
 
 
 class TestBadInput:
