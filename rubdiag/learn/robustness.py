@@ -33,12 +33,11 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from threadpoolctl import threadpool_limits
 
 from rubdiag import _check
 from rubdiag.dataset.schema import SEPARATOR
 from rubdiag.learn.columns import read_dataset
-from threadpoolctl import threadpool_limits
-
 from rubdiag.learn.evaluate import cross_predict, evaluate, resolve_channels, target_values
 from rubdiag.learn.features import DEFAULT_FAMILIES
 from rubdiag.learn.metrics import METRICS, null_interval, score
