@@ -338,15 +338,28 @@ def _shuffled(pipeline, data, y, groups, split, n_splits, bands, classes, n_null
     """The pipeline on labels shuffled between design points, scored against them, and
     its chance interval. Whole points' labels move, so replicates keep one label between
     them as in the data: were a point's replicates on both sides of a split, a model
-    would recognise them and score above chance (a row-by-row shuffle would hide that)."""
+    would recognise them and score above chance (a row-by-row shuffle would hide that).
+    The null moves labels within each test fold (:func:`null_interval`), or across folds
+    where a point's rows lie in several (a split that is not grouped)."""
     shuffled = y[group_permutations(groups, 1, np.random.default_rng(seed + 1))[0]]
     splits = folds(data, split, shuffled, n_splits=n_splits, bands=bands, seed=seed)
     cp = cross_predict(pipeline, data, shuffled, splits)
     s = cp.scored
     value = macro_f1(shuffled[s], cp.predicted[s], classes)
     lo, hi = null_interval(shuffled[s], cp.predicted[s], classes, n_null, seed,
-                           groups=groups[s])
+                           groups=groups[s], strata=test_folds(splits, groups, s))
     return {"macro_f1": value, "null_lo": lo, "null_hi": hi, "inside": lo <= value <= hi}
+
+
+def test_folds(splits, groups, rows) -> np.ndarray | None:
+    """The test fold of each of ``rows`` (a mask), or None when a group's rows lie in
+    several folds."""
+    fold = np.full(len(groups), -1)
+    for i, f in enumerate(splits):
+        fold[f.test] = i
+    fold, groups = fold[rows], np.asarray(groups)[rows]
+    per_group = pd.Series(fold).groupby(groups).nunique()
+    return fold if (per_group == 1).all() else None
 
 
 def audit_columns(data, y, splits, classes, threshold: float = 0.9, seed: int = 0):

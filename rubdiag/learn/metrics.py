@@ -97,17 +97,29 @@ def score(y_true, y_pred, groups, classes, n_bootstrap: int = 1000,
     return out
 
 
-def group_permutations(groups, n: int, rng: np.random.Generator) -> np.ndarray:
+def group_permutations(groups, n: int, rng: np.random.Generator,
+                       strata=None) -> np.ndarray:
     """``n`` permutations of the rows (an ``(n, rows)`` array of row positions) that move
     whole groups: the rows of a group take, in order, those of another group of the same
-    size. With every group of one row, plain permutations of the rows."""
-    _, g, sizes = np.unique(np.asarray(groups), return_inverse=True, return_counts=True)
+    size — of the same stratum, with ``strata`` (one value per row, constant within a
+    group). With every group of one row, plain permutations of the rows."""
+    groups = np.asarray(groups)
+    _, g, sizes = np.unique(groups, return_inverse=True, return_counts=True)
     rows_of = np.argsort(g, kind="stable")              # the rows, group after group
     starts = np.cumsum(sizes) - sizes
+    if strata is None:
+        stratum = np.zeros(sizes.size, dtype=np.int64)
+    else:
+        _, s = np.unique(np.asarray(strata), return_inverse=True)
+        if s.shape != g.shape:
+            raise ValueError(f"strata: one value per row needed ({g.size}), got {s.size}")
+        stratum = s[rows_of[starts]]                    # each group's first row's
+        if (s != stratum[g]).any():
+            raise ValueError("strata: a group's rows lie in different strata")
     out = np.broadcast_to(np.arange(g.size), (n, g.size)).copy()
-    for size in np.unique(sizes):
-        members = np.flatnonzero(sizes == size)
-        rows = rows_of[starts[members][:, None] + np.arange(size)]          # (m, size)
+    for key in np.unique(np.column_stack([stratum, sizes]), axis=0):
+        members = np.flatnonzero((stratum == key[0]) & (sizes == key[1]))
+        rows = rows_of[starts[members][:, None] + np.arange(key[1])]        # (m, size)
         perm = rng.permuted(np.broadcast_to(np.arange(members.size), (n, members.size)),
                             axis=1)
         out[:, rows] = rows[perm]                                           # (n, m, size)
@@ -115,19 +127,27 @@ def group_permutations(groups, n: int, rng: np.random.Generator) -> np.ndarray:
 
 
 def null_interval(y_true, y_pred, classes, n: int = 1000, seed: int = 0,
-                  metric: str = "macro_f1", groups=None) -> tuple[float, float]:
+                  metric: str = "macro_f1", groups=None, strata=None) -> tuple[float, float]:
     """The 95 % interval of ``metric`` when the truth is shuffled against the predictions:
     what this very prediction scores by chance (same class frequencies, no information).
     With ``groups`` (design points) whole groups' labels move together, as when the labels
     themselves were shuffled between design points: replicates are near-copies, so their
-    predictions agree and a row-by-row shuffle would make the interval too narrow."""
+    predictions agree and a row-by-row shuffle would make the interval too narrow.
+
+    With ``strata`` (the test fold of each row) labels move only within a fold. That is
+    the exact null of a cross-validated model on labels shuffled between groups: given
+    its training side, a fold's predictions are fixed, and the labels of its test groups
+    are any arrangement of that fold's labels — but not of another fold's, whose
+    composition the training side (and so the predicted class rates) depends on. Across
+    folds the interval ignores that dependence and is too narrow for band splits.
+    """
     k = len(classes)
     index = {c: i for i, c in enumerate(classes)}
     t = np.array([index[v] for v in y_true])
     p = np.array([index[v] for v in y_pred])
     rng = np.random.default_rng(seed)
     groups = np.arange(t.size) if groups is None else groups
-    cells = t[group_permutations(groups, n, rng)] * k + p
+    cells = t[group_permutations(groups, n, rng, strata)] * k + p
     cms = np.zeros((n, k * k))
     np.add.at(cms, (np.arange(n)[:, None], cells), 1.0)
     values = _from_counts(cms.reshape(n, k, k))[metric]

@@ -38,7 +38,13 @@ from threadpoolctl import threadpool_limits
 from rubdiag import _check
 from rubdiag.dataset.schema import SEPARATOR
 from rubdiag.learn.columns import read_dataset
-from rubdiag.learn.evaluate import cross_predict, evaluate, resolve_channels, target_values
+from rubdiag.learn.evaluate import (
+    cross_predict,
+    evaluate,
+    resolve_channels,
+    target_values,
+    test_folds,
+)
 from rubdiag.learn.features import DEFAULT_FAMILIES
 from rubdiag.learn.metrics import METRICS, null_interval, score
 from rubdiag.learn.pipelines import make_pipeline
@@ -270,7 +276,7 @@ def _trained_on_stored(data, noisy, target, split, estimator, channels, seed, op
     scores = score(y[s], cp.predicted[s], groups[s], classes,
                    options.get("n_bootstrap", 1000), seed)
     chance = null_interval(y[s], cp.predicted[s], classes, options.get("n_null", 1000), seed,
-                           groups=groups[s])
+                           groups=groups[s], strata=test_folds(splits, groups, s))
     return scores, chance
 
 
