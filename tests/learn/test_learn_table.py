@@ -41,23 +41,25 @@ def test_intervals_hold_their_values():
 
 
 @pytest.mark.xfail(strict=True, reason=(
-    "3 of 16 cells score above their permutation-null interval with shuffled labels (by "
-    "0.01-0.03: rub/speed_ratio/rf, severity/group/rf, severity/speed_ratio/logreg). Not a "
-    "leak: over 8 label shuffles the control spreads on both sides of the null's centre "
-    "(rub/speed_ratio/rf 0.41-0.59 against [0.43, 0.57], 2 of 8 outside; severity/group/rf "
-    "0.25-0.42 against [0.26, 0.41], 3 of 8 outside). The null, a permutation of the "
-    "shuffled model's own predictions, is too narrow: it leaves out how the cross-validated "
-    "score varies with the shuffle"))
+    "11 of 16 cells score above the within-fold null with shuffled labels (rub/speed_ratio: "
+    "all four estimators, e.g. rf 0.59 against [0.42, 0.54]). Every cell uses the same label "
+    "shuffle (seed + 1), so the cells pass or fail together on one draw: 16 other shuffles of "
+    "rub/speed_ratio/rf land inside the same kind of interval in 16 of 16 (README "
+    "'Classifiers'), and on a second dataset (seed 14) 14 of 16 cells are inside. One "
+    "shuffle per report cannot tell an unlucky draw from a leak; a row-level split, the leak "
+    "the control is for, lands far outside (tests/learn/test_evaluate.py)"))
 def test_shuffled_labels_score_at_chance_in_every_cell():
     assert TABLE["shuffled_inside"].all(), TABLE.loc[~TABLE["shuffled_inside"],
                                                      ["target", "split", "estimator"]]
 
 
+_SEVERITY = ("light and serious differ by the interference ratio, a quantity of the design "
+             "that the design-factors baseline reads directly")
 _NOT_MET = {
-    ("rub", "speed_ratio"): "macro-F1 0.918 [0.871, 0.956] < 0.95: the forest calls case-2 "
-    "runs without rub in the held-out lowest speed band (0.80-0.88 x critical) rubbing",
-    ("severity", "speed_ratio"): "0.625 is 0.085 above the design-factors baseline "
-    "(0.539), not 0.10",
+    ("severity", "group"): f"0.705 is 0.066 above the design-factors baseline (0.639), not "
+    f"0.10: {_SEVERITY}",
+    ("severity", "speed_ratio"): f"0.627 is 0.088 above the design-factors baseline (0.539), "
+    f"not 0.10: {_SEVERITY}",
 }
 
 
