@@ -87,11 +87,10 @@ def evaluation_markdown(ev, top: int = 15) -> str:
                 f"{ev.casing['without']}.", ""]
     if ev.shuffled is not None:
         s = ev.shuffled
-        # the interval is narrower than the control's spread over shuffles (README,
-        # "Classifiers"): just outside is weak evidence, far outside is a leak
+        # one shuffle: 1 report in 20 lands outside by chance (README, "Classifiers")
         verdict = "inside: chance, as it must be" if s["inside"] else \
-            "outside: look for a leak if it is far outside (the interval is narrower than " \
-            "the control's spread over label shuffles)"
+            "outside: a leak, or the 1 draw in 20 that lands outside by chance (far " \
+            "outside, or again with another seed, is a leak)"
         out += ["## Shuffled labels", "", f"Macro-F1 {s['macro_f1']:.3f}; permutation-null "
                 f"interval [{s['null_lo']:.3f}, {s['null_hi']:.3f}] — {verdict}.", ""]
     if ev.audit is not None:
