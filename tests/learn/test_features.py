@@ -108,7 +108,7 @@ def expected_default_names(channel):
     half = [order_label(k) for k in HALF_ORDERS]
     third = [order_label(k) for k in THIRD_ORDERS]
     names = ([f"rel_amp_{k}" for k in half] + [f"rel_amp_{k}" for k in third]
-             + [f"dev_{k}" for k in half] + ["n_half_orders", "n_third_orders"])
+             + [f"dev_{k}" for k in half if k != "1x"] + ["n_half_orders", "n_third_orders"])
     for n in HARMONICS:
         names += [f"sb_{n}x_delta_order", f"sb_{n}x_rel_lower", f"sb_{n}x_rel_upper",
                   f"bb_{n}x_over_floor"]
@@ -125,7 +125,7 @@ class TestOrderNormalised:
             assert z.loc[i, "shaft__rel_amp_1x"] == pytest.approx(A / LEVEL, rel=AMP_REL)
             assert z.loc[i, "shaft__rel_amp_1p5x"] == pytest.approx(B / LEVEL, rel=AMP_REL)
             assert z.loc[i, "shaft__dev_1p5x"] == pytest.approx(0.02, abs=ORDER_ABS)
-            assert z.loc[i, "shaft__dev_1x"] == pytest.approx(0.0, abs=ORDER_ABS)
+            assert "shaft__dev_1x" not in z.columns        # the 1× line is the speed
             assert z.loc[i, "shaft__sb_2x_delta_order"] == pytest.approx(0.2, abs=ORDER_ABS)
             assert z.loc[i, "shaft__sb_2x_rel_lower"] == pytest.approx(0.05 / LEVEL, rel=AMP_REL)
             assert z.loc[i, "shaft__sb_2x_rel_upper"] == pytest.approx(0.03 / LEVEL, rel=AMP_REL)
@@ -254,7 +254,7 @@ class TestMissingValues:
         # a channel still in every training row keeps its ratios (0) and loses its
         # locations (never measured)
         assert np.array_equal(z0, np.zeros_like(z0))
-        assert "casing__dev_1x" in still_only.dropped_
+        assert "casing__dev_2x" in still_only.dropped_
         assert "casing__rel_amp_1x" in still_only.get_feature_names_out()
 
 
