@@ -53,6 +53,8 @@ def cell(data, target: str, split: str, estimator: str) -> dict:
         row.update(with_casing=s.value, with_casing_lo=s.lo, with_casing_hi=s.hi)
     row.update(shuffled=ev.shuffled["macro_f1"], null_lo=ev.shuffled["null_lo"],
                null_hi=ev.shuffled["null_hi"], shuffled_inside=ev.shuffled["inside"],
+               shuffled_outside=ev.shuffled["n_outside"],
+               shuffled_n=ev.shuffled["n_shuffles"],
                audit_hits=len(ev.audit), audit_first=(ev.audit["column"].iloc[0]
                                                       if len(ev.audit) else ""),
                wall_s=time.perf_counter() - start)
@@ -89,7 +91,8 @@ def table(frame: pd.DataFrame) -> str:
     """The README block."""
     out = io.StringIO()
     out.write("| target | split | estimator | macro-F1 [95 % CI] | balanced acc. | 1× level only "
-              "| speed only | design factors only | margin | with casing | shuffled (null) |\n")
+              "| speed only | design factors only | margin | with casing "
+              "| shuffled (null), outside |\n")
     out.write("|---|---|---|---|---|---|---|---|---|---|---|\n")
     for _, r in frame.iterrows():
         split = "grouped by point" if r["split"] == "group" else f"leave one {r['split']} band out"
@@ -97,7 +100,8 @@ def table(frame: pd.DataFrame) -> str:
         out.write(f"| {r['target']} | {split} | {r['estimator']} | **{_ci(r, 'macro_f1')}** | "
                   f"{r['balanced_accuracy']:.2f} | {_ci(r, 'b1x')} | {_ci(r, 'bspeed')} | "
                   f"{_ci(r, 'bfactors')} | {r['margin']:+.2f} | {casing} | "
-                  f"{r['shuffled']:.2f} ({r['null_lo']:.2f}–{r['null_hi']:.2f}) |\n")
+                  f"{r['shuffled']:.2f} ({r['null_lo']:.2f}–{r['null_hi']:.2f}), "
+                  f"{r['shuffled_outside']:.0f} of {r['shuffled_n']:.0f} |\n")
     return out.getvalue()
 
 

@@ -43,8 +43,9 @@ def evaluation_dict(ev) -> dict:
         "channel_importances": _records(ev.channel_importances, "channel"),
         "baselines": _records(ev.baselines, "baseline"),
         "casing": None if ev.casing is None else {k: _plain(v) for k, v in ev.casing.items()},
-        "shuffled": None if ev.shuffled is None else {k: _plain(v)
-                                                      for k, v in ev.shuffled.items()},
+        "shuffled": None if ev.shuffled is None else {
+            k: [{kk: _plain(vv) for kk, vv in run.items()} for run in v] if k == "shuffles"
+            else _plain(v) for k, v in ev.shuffled.items()},
         "audit": None if ev.audit is None else ev.audit.to_dict(orient="records"),
         "notes": ev.notes,
     }
@@ -87,12 +88,12 @@ def evaluation_markdown(ev, top: int = 15) -> str:
                 f"{ev.casing['without']}.", ""]
     if ev.shuffled is not None:
         s = ev.shuffled
-        # one shuffle: 1 report in 20 lands outside by chance (README, "Classifiers")
-        verdict = "inside: chance, as it must be" if s["inside"] else \
-            "outside: a leak, or the 1 draw in 20 that lands outside by chance (far " \
-            "outside, or again with another seed, is a leak)"
-        out += ["## Shuffled labels", "", f"Macro-F1 {s['macro_f1']:.3f}; permutation-null "
-                f"interval [{s['null_lo']:.3f}, {s['null_hi']:.3f}] — {verdict}.", ""]
+        verdict = "chance, as it must be" if s["inside"] else \
+            "more than chance allows: look for a leak through the split"
+        out += ["## Shuffled labels", "", f"{s['n_shuffles']} shuffles between design points: "
+                f"median macro-F1 {s['macro_f1']:.3f}, median permutation-null interval "
+                f"[{s['null_lo']:.3f}, {s['null_hi']:.3f}]; {s['n_outside']} outside their "
+                f"interval (chance allows {s['allowed_outside']}) — {verdict}.", ""]
     if ev.audit is not None:
         out += ["## Leakage audit: single columns that separate the classes", ""]
         if ev.audit.empty:

@@ -231,7 +231,8 @@ def noise_curve(dataset, target: str = "rub", split: str = "group", estimator: s
     windows = analysis_windows(root, data["run_id"], channels)
     p_ref = reference_power(windows, data["rub"].to_numpy(dtype=bool))
     speed = data["speed_rpm"].to_numpy(dtype=np.float64)
-    options = dict(evaluate_options, **dict.fromkeys(_OFF, False))
+    # the chance band needs one shuffle per level, not the report's several
+    options = {"n_shuffles": 1, **evaluate_options, **dict.fromkeys(_OFF, False)}
 
     rows = []
     for snr in [np.inf, *levels]:

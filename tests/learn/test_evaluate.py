@@ -9,6 +9,7 @@ is generated once per test process.
 from __future__ import annotations
 
 import json
+import math
 import sys
 
 import numpy as np
@@ -18,7 +19,7 @@ from sklearn.model_selection import KFold
 from threadpoolctl import threadpool_limits
 
 from rubdiag.learn import audit_columns, evaluate, folds, make_pipeline
-from rubdiag.learn.evaluate import target_values
+from rubdiag.learn.evaluate import allowed_outside, target_values
 from rubdiag.learn.metrics import null_interval
 from rubdiag.learn.splits import Fold
 from rubdiag.signal.orders import HARMONICS
@@ -157,7 +158,9 @@ class TestKnownAnswers:
 
     def test_shuffled_labels_score_chance(self, learnable_evaluation):
         s = learnable_evaluation.shuffled
-        assert s["inside"] and s["null_lo"] <= s["macro_f1"] <= s["null_hi"]
+        assert len(s["shuffles"]) == s["n_shuffles"] == 5
+        assert s["n_outside"] == sum(not r["inside"] for r in s["shuffles"])
+        assert s["inside"] and s["n_outside"] <= s["allowed_outside"] == 1
 
     def test_casing_with_and_without(self, learnable_evaluation):
         ev = learnable_evaluation
@@ -214,6 +217,7 @@ class TestChance:
         hi = null_interval(y, p, ev.classes, n=1000, groups=groups)[1]
         assert ev.scores["macro_f1"].value > hi + 0.1
         assert not ev.shuffled["inside"]
+        assert ev.shuffled["n_outside"] == ev.shuffled["n_shuffles"]       # every one
         assert ev.shuffled["macro_f1"] > ev.shuffled["null_hi"]
 
 
@@ -251,7 +255,7 @@ def test_reports_are_json_and_markdown(learnable_evaluation, learnable):
     text = ev.to_markdown()
     for name, s in ev.scores.items():
         assert f"| {name} | {s} |" in text
-    assert "inside: chance" in text
+    assert "chance, as it must be" in text and "(chance allows 1)" in text
     # without bootstrap draws the interval is unknown: null in JSON, never NaN
     bare = evaluate(learnable, "rub", estimator="logreg", **{**BARE, "n_bootstrap": 0})
     d = json.loads(json.dumps(bare.to_dict(), allow_nan=False))
@@ -285,7 +289,19 @@ def rub_evaluation(small_rows):
 
 def test_simulated_rub_shuffled_labels_score_chance(rub_evaluation):
     s = rub_evaluation.shuffled
-    assert s["inside"] and s["null_lo"] <= s["macro_f1"] <= s["null_hi"]
+    assert s["inside"] and s["n_outside"] <= s["allowed_outside"]
+
+
+@pytest.mark.parametrize("n", [1, 2, 5, 8, 16, 17, 40])
+def test_allowed_outside_is_the_binomial_bound(n):
+    """The least k with P(more than k of n shuffles outside a 95 % interval) <= 5 %,
+    summed here from the binomial terms."""
+    def more_than(k):
+        return sum(math.comb(n, j) * 0.05**j * 0.95 ** (n - j) for j in range(k + 1, n + 1))
+
+    k = allowed_outside(n)
+    assert more_than(k) <= 0.05 + 1e-12
+    assert k == 0 or more_than(k - 1) > 0.05
 
 
 def test_simulated_rub_reports(rub_evaluation, small_rows):
