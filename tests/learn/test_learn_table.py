@@ -40,15 +40,9 @@ def test_intervals_hold_their_values():
         assert (TABLE[prefix] <= TABLE[f"{prefix}_hi"]).all(), prefix
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "11 of 16 cells score above the within-fold null with shuffled labels (rub/speed_ratio: "
-    "all four estimators, e.g. rf 0.59 against [0.42, 0.54]). Every cell uses the same label "
-    "shuffle (seed + 1), so the cells pass or fail together on one draw: 16 other shuffles of "
-    "rub/speed_ratio/rf land inside the same kind of interval in 16 of 16 (README "
-    "'Classifiers'), and on a second dataset (seed 14) 14 of 16 cells are inside. One "
-    "shuffle per report cannot tell an unlucky draw from a leak; a row-level split, the leak "
-    "the control is for, lands far outside (tests/learn/test_evaluate.py)"))
 def test_shuffled_labels_score_at_chance_in_every_cell():
+    """Five shuffles per cell, at most as many outside their intervals as chance allows."""
+    assert (TABLE["shuffled_n"] == 5).all()
     assert TABLE["shuffled_inside"].all(), TABLE.loc[~TABLE["shuffled_inside"],
                                                      ["target", "split", "estimator"]]
 
@@ -56,9 +50,7 @@ def test_shuffled_labels_score_at_chance_in_every_cell():
 _SEVERITY = ("light and serious differ by the interference ratio, a quantity of the design "
              "that the design-factors baseline reads directly")
 _NOT_MET = {
-    ("severity", "group"): f"0.705 is 0.066 above the design-factors baseline (0.639), not "
-    f"0.10: {_SEVERITY}",
-    ("severity", "speed_ratio"): f"0.627 is 0.088 above the design-factors baseline (0.539), "
+    ("severity", "speed_ratio"): f"0.634 is 0.095 above the design-factors baseline (0.539), "
     f"not 0.10: {_SEVERITY}",
 }
 
