@@ -20,8 +20,8 @@ NOISE = ("amp_1p5x", "amp_2x", "amp_0p5x", "sb_2x_upper", "sb_3x_lower", "bb_2x_
 
 def synthetic_rows(n_points: int = 18, replicates: int = 2, seed: int = 0) -> pd.DataFrame:
     """Dataset-like rows: three classes of ``rub_state``; the 1.5× line of
-    ``shaft11_y_disp`` (beside a strong 1×) tells them apart, with overlap; a few other features are noise, the
-    rest zero (a forest finds the one that matters among few)."""
+    ``shaft11_y_disp`` (beside a strong 1×) tells them apart, with overlap; a few other
+    features are noise, the rest zero (a forest finds the one that matters among few)."""
     rng = np.random.default_rng(seed)
     state = np.repeat(np.resize(CLASSES, n_points), replicates)
     n = state.size
