@@ -359,7 +359,7 @@ def _shuffled(pipeline, data, y, groups, split, n_splits, bands, classes, n_null
         s = cp.scored
         value = macro_f1(shuffled[s], cp.predicted[s], classes)
         lo, hi = null_interval(shuffled[s], cp.predicted[s], classes, n_null, seed,
-                               groups=groups[s], strata=test_folds(splits, groups, s))
+                               groups=groups[s], strata=fold_of_rows(splits, groups, s))
         runs.append({"macro_f1": value, "null_lo": lo, "null_hi": hi,
                      "inside": lo <= value <= hi})
     outside = sum(not run["inside"] for run in runs)
@@ -383,7 +383,7 @@ def allowed_outside(n_shuffles: int, level: float = 0.05) -> int:
     return k
 
 
-def test_folds(splits, groups, rows) -> np.ndarray | None:
+def fold_of_rows(splits, groups, rows) -> np.ndarray | None:
     """The test fold of each of ``rows`` (a mask), or None when a group's rows lie in
     several folds."""
     fold = np.full(len(groups), -1)

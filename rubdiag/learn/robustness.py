@@ -41,9 +41,9 @@ from rubdiag.learn.columns import read_dataset
 from rubdiag.learn.evaluate import (
     cross_predict,
     evaluate,
+    fold_of_rows,
     resolve_channels,
     target_values,
-    test_folds,
 )
 from rubdiag.learn.features import DEFAULT_FAMILIES
 from rubdiag.learn.metrics import METRICS, null_interval, score
@@ -266,9 +266,11 @@ def noise_curve(dataset, target: str = "rub", split: str = "group", estimator: s
 @threadpool_limits.wrap(limits=1)
 def _trained_on_stored(data, noisy, target, split, estimator, channels, seed, options):
     """Scores (and chance interval) of folds trained on ``data``, tested on ``noisy``."""
-    pipeline = options.get("pipeline") or make_pipeline(
-        estimator, channels=channels, families=options.get("families", DEFAULT_FAMILIES),
-        random_state=seed)
+    pipeline = options.get("pipeline")
+    if pipeline is None:
+        pipeline = make_pipeline(estimator, channels=channels,
+                                 families=options.get("families", DEFAULT_FAMILIES),
+                                 random_state=seed)
     y = target_values(data, target)
     splits = folds(data, split, y, n_splits=options.get("n_splits", 5),
                    bands=options.get("bands", 5), seed=seed)
@@ -277,7 +279,7 @@ def _trained_on_stored(data, noisy, target, split, estimator, channels, seed, op
     scores = score(y[s], cp.predicted[s], groups[s], classes,
                    options.get("n_bootstrap", 1000), seed)
     chance = null_interval(y[s], cp.predicted[s], classes, options.get("n_null", 1000), seed,
-                           groups=groups[s], strata=test_folds(splits, groups, s))
+                           groups=groups[s], strata=fold_of_rows(splits, groups, s))
     return scores, chance
 
 
