@@ -309,6 +309,163 @@ def _check_contacts(ct: Contacts, n: int) -> None:
 # --------------------------------------------------------------------------------------------
 # the public entry point
 # --------------------------------------------------------------------------------------------
+def _time_grid(duration, dt, dt_min, fixed_step: bool, output_dt):
+    """The checked step sizes and the tick grid of a run: ``dt``, the smallest step, the
+    number of step levels (dt / 2^k), the number of largest steps ``n_big``, the output
+    interval, and, in ticks of the smallest step, the run's length and the output
+    interval (parameters as :func:`simulate_system`)."""
+    dt = _check_scalar("dt", dt, 0.0, lo_open=True, allowed="finite and > 0 s")
+    duration = _check_scalar("duration", duration, 0.0, lo_open=True, allowed="finite and > 0 s")
+    if duration < dt * (1 - 1e-9):
+        raise _bad("duration", duration, f">= one step dt = {dt:g} s")
+    if fixed_step:
+        dt_min_ = dt
+    elif dt_min is None:
+        dt_min_ = dt / 64
+    else:
+        dt_min_ = _check_scalar("dt_min", dt_min, 0.0, lo_open=True, allowed="finite and > 0 s")
+        if dt_min_ > dt:
+            raise _bad("dt_min", dt_min_, f"<= dt = {dt:g} s")
+    n_lev = 1 + math.floor(math.log2(dt / dt_min_) + 1e-9)
+    if n_lev > _MAX_LEVELS:
+        raise _bad("dt_min", dt_min_, f">= dt / 2^{_MAX_LEVELS - 1}")
+    top = n_lev - 1
+    ratio = duration / dt
+    n_big = round(ratio) if abs(ratio - round(ratio)) < 1e-9 * max(1.0, ratio) else int(ratio)
+    if output_dt is None:
+        m_out = 1
+        output_dt = dt
+    else:
+        output_dt = _check_scalar("output_dt", output_dt, 0.0, lo_open=True)
+        r = output_dt / dt
+        m_out = round(r)
+        if m_out < 1 or abs(r - m_out) > 1e-9 * max(1.0, r):
+            raise _bad("output_dt", output_dt, f"a positive integer multiple of dt = {dt:g} s")
+    tick_total = np.int64(n_big) << top
+    out_ticks = np.int64(m_out) << top
+    return dt, dt_min_, n_lev, n_big, output_dt, tick_total, out_ticks
+
+
+def _initial_contact_state(contacts: Contacts, d0: np.ndarray, gap: np.ndarray):
+    """Forces ``p0`` (2n_c), the kernel's per-element float and int state ``cf`` (14, n_c)
+    and ``ci`` (4, n_c), and the contact elastic energy at t = 0, from the contact
+    displacements ``d0`` at gaps ``gap``."""
+    nc = contacts.n_c
+    p0 = np.zeros(2 * nc)
+    cf = np.zeros((14, nc))
+    ci = np.zeros((4, nc), dtype=np.int64)
+    e_c0 = 0.0
+    for e in range(nc):
+        out = element_law(
+            int(contacts.kind[e]), d0[2 * e], d0[2 * e + 1], d0[2 * e], d0[2 * e + 1],
+            float(gap[e]), float(contacts.k_n[e]), float(contacts.k_t[e]),
+            float(contacts.mu[e]), 0.0, 0.0, 0.0,
+        )
+        p0[2 * e : 2 * e + 2] = out[0:2]
+        st = int(out[6])
+        ci[0, e] = st
+        cf[0, e] = out[9]
+        cf[2, e] = d0[2 * e + 1] if contacts.kind[e] == KIND_POINT else 0.0
+        cf[3, e] = out[7]
+        cf[4, e] = out[8]
+        cf[5, e] = out[11]
+        cf[8, e] = out[12]
+        if st != OPEN:
+            ci[2, e] = int(st == 2)
+            ci[3, e] = int(st == 3)
+            e_c0 += 0.5 * out[7] ** 2 / contacts.k_n[e] + 0.5 * out[8] ** 2 / contacts.k_t[e]
+    return p0, cf, ci, e_c0
+
+
+def _level_operators(M, C, K, B, contacts: Contacts, dt: float, n_lev: int, gamma: float,
+                     beta_nm: float, contact_stiffness_ratio: float | None,
+                     augment_boost: float):
+    """Per step level k (h = dt / 2^k): the factors of K_eff, ``s_mat`` (n_lev, 2n_c, n) =
+    (K_eff^-1 Bᵀ)ᵀ, ``w_mat`` (n_lev, 2n_c, 2n_c) = B K_eff^-1 Bᵀ, the smallest level each
+    element may be closed at (``lev_req``; None ratio: no criterion), the multiplier update
+    stiffness ``aug_k`` (n_lev, n_c), and the factors packed for the kernel (l_ptr, l_idx,
+    l_val, l_dinv, u_ptr, u_idx, u_val, u_dinv, perm_r, perm_c; first axis the level)."""
+    n = M.shape[0]
+    nc = contacts.n_c
+    top = n_lev - 1
+    factors = []
+    s_list = []
+    w_list = []
+    Mc = sp.csc_matrix(M)
+    Cc = sp.csc_matrix(C)
+    Kc = sp.csc_matrix(K)
+    for k in range(n_lev):
+        h = dt / 2**k
+        keff = Kc + (gamma / (beta_nm * h)) * Cc + (1.0 / (beta_nm * h * h)) * Mc
+        try:
+            fac = factorize(keff)
+        except np.linalg.LinAlgError as exc:
+            raise ValueError(f"K_eff at dt = {h:g} s is singular: {exc}") from exc
+        factors.append(fac)
+        if nc:
+            S = fac.splu.solve(np.ascontiguousarray(B.T))
+            s_list.append(np.ascontiguousarray(S.T))
+            w_list.append(B @ S)
+        else:
+            s_list.append(np.zeros((0, n)))
+            w_list.append(np.zeros((0, 0)))
+    # contact-stiffness criterion: k_N W_ee (= (ω_c h)^2 / 4 for a lumped mass) <= ratio
+    lev_req = np.zeros(nc, np.int64)
+    if nc and contact_stiffness_ratio is not None:
+        for e in range(nc):
+            lev_req[e] = top
+            for k in range(n_lev):
+                wee = w_list[k][2 * e, 2 * e]  # kind 1: the normal row
+                if contacts.kind[e] == KIND_ANNULAR:  # the normal turns: both rows
+                    wee = max(wee, w_list[k][2 * e + 1, 2 * e + 1])
+                if contacts.k_n[e] * wee <= contact_stiffness_ratio:
+                    lev_req[e] = k
+                    break
+    # multiplier update stiffness: eq. (2) uses k_N; with the step's dynamic stiffness at the
+    # contact, 1 / W_ee, far above k_N (small steps) that converges by a factor
+    # 1 / (1 + k_N W_ee) per update only. We add 0.9 / W_ee (the Newton update of the
+    # multiplier for an isolated contact, under-relaxed): same fixed point, a few updates.
+    aug_k = np.zeros((n_lev, nc))
+    for k in range(n_lev):
+        for e in range(nc):
+            wee = max(w_list[k][2 * e, 2 * e], w_list[k][2 * e + 1, 2 * e + 1])
+            aug_k[k, e] = contacts.k_n[e] + (augment_boost / wee if wee > 0 else 0.0)
+    s_mat = np.ascontiguousarray(np.stack(s_list))
+    w_mat = np.ascontiguousarray(np.stack(w_list))
+    return factors, s_mat, w_mat, lev_req, aug_k, _pack_factors(factors, n)
+
+
+def _pack_factors(factors, n: int) -> tuple:
+    """The per-level LU factors as the kernel reads them: arrays with the level as first
+    axis, index and value rows padded to the largest factor (l_ptr, l_idx, l_val, l_dinv,
+    u_ptr, u_idx, u_val, u_dinv, perm_r, perm_c)."""
+    n_lev = len(factors)
+    nnz_l = max(1, max(f.l_val.size for f in factors))
+    nnz_u = max(1, max(f.u_val.size for f in factors))
+    l_ptr = np.zeros((n_lev, n + 1), np.int64)
+    u_ptr = np.zeros((n_lev, n + 1), np.int64)
+    l_idx = np.zeros((n_lev, nnz_l), np.int64)
+    u_idx = np.zeros((n_lev, nnz_u), np.int64)
+    l_val = np.zeros((n_lev, nnz_l))
+    u_val = np.zeros((n_lev, nnz_u))
+    l_dinv = np.zeros((n_lev, n))
+    u_dinv = np.zeros((n_lev, n))
+    perm_r = np.zeros((n_lev, n), np.int64)
+    perm_c = np.zeros((n_lev, n), np.int64)
+    for k, f in enumerate(factors):
+        l_ptr[k] = f.l_ptr
+        u_ptr[k] = f.u_ptr
+        l_idx[k, : f.l_idx.size] = f.l_idx
+        u_idx[k, : f.u_idx.size] = f.u_idx
+        l_val[k, : f.l_val.size] = f.l_val
+        u_val[k, : f.u_val.size] = f.u_val
+        l_dinv[k] = f.l_dinv
+        u_dinv[k] = f.u_dinv
+        perm_r[k] = f.perm_r
+        perm_c[k] = f.perm_c
+    return l_ptr, l_idx, l_val, l_dinv, u_ptr, u_idx, u_val, u_dinv, perm_r, perm_c
+
+
 def simulate_system(
     M,
     C,
@@ -468,35 +625,9 @@ def simulate_system(
     nc = contacts.n_c
 
     # ---- time parameters
-    dt = _check_scalar("dt", dt, 0.0, lo_open=True, allowed="finite and > 0 s")
-    duration = _check_scalar("duration", duration, 0.0, lo_open=True, allowed="finite and > 0 s")
-    if duration < dt * (1 - 1e-9):
-        raise _bad("duration", duration, f">= one step dt = {dt:g} s")
-    if fixed_step:
-        dt_min_ = dt
-    elif dt_min is None:
-        dt_min_ = dt / 64
-    else:
-        dt_min_ = _check_scalar("dt_min", dt_min, 0.0, lo_open=True, allowed="finite and > 0 s")
-        if dt_min_ > dt:
-            raise _bad("dt_min", dt_min_, f"<= dt = {dt:g} s")
-    n_lev = 1 + math.floor(math.log2(dt / dt_min_) + 1e-9)
-    if n_lev > _MAX_LEVELS:
-        raise _bad("dt_min", dt_min_, f">= dt / 2^{_MAX_LEVELS - 1}")
+    dt, dt_min_, n_lev, n_big, output_dt, tick_total, out_ticks = _time_grid(
+        duration, dt, dt_min, fixed_step, output_dt)
     top = n_lev - 1
-    ratio = duration / dt
-    n_big = round(ratio) if abs(ratio - round(ratio)) < 1e-9 * max(1.0, ratio) else int(ratio)
-    if output_dt is None:
-        m_out = 1
-        output_dt = dt
-    else:
-        output_dt = _check_scalar("output_dt", output_dt, 0.0, lo_open=True)
-        r = output_dt / dt
-        m_out = round(r)
-        if m_out < 1 or abs(r - m_out) > 1e-9 * max(1.0, r):
-            raise _bad("output_dt", output_dt, f"a positive integer multiple of dt = {dt:g} s")
-    tick_total = np.int64(n_big) << top
-    out_ticks = np.int64(m_out) << top
     n_out = int(tick_total // out_ticks) + 1
     if record_dofs is None:
         record_dofs = np.arange(n, dtype=np.int64)
@@ -540,31 +671,9 @@ def simulate_system(
     c_dof = np.ascontiguousarray(np.hstack([contacts.dof_a, contacts.dof_b]).astype(np.int64))
     B = contacts.b_matrix(n)
     speed = np.ascontiguousarray(omega * contacts.radius)
-    g_t0 = g_start if t_ramp > 0 else contacts.gap
     d0 = B @ q0
-    p0 = np.zeros(2 * nc)
-    cf = np.zeros((14, nc))
-    ci = np.zeros((4, nc), dtype=np.int64)
-    e_c0 = 0.0
-    for e in range(nc):
-        out = element_law(
-            int(contacts.kind[e]), d0[2 * e], d0[2 * e + 1], d0[2 * e], d0[2 * e + 1],
-            float(g_t0[e]), float(contacts.k_n[e]), float(contacts.k_t[e]),
-            float(contacts.mu[e]), 0.0, 0.0, 0.0,
-        )
-        p0[2 * e : 2 * e + 2] = out[0:2]
-        st = int(out[6])
-        ci[0, e] = st
-        cf[0, e] = out[9]
-        cf[2, e] = d0[2 * e + 1] if contacts.kind[e] == KIND_POINT else 0.0
-        cf[3, e] = out[7]
-        cf[4, e] = out[8]
-        cf[5, e] = out[11]
-        cf[8, e] = out[12]
-        if st != OPEN:
-            ci[2, e] = int(st == 2)
-            ci[3, e] = int(st == 3)
-            e_c0 += 0.5 * out[7] ** 2 / contacts.k_n[e] + 0.5 * out[8] ** 2 / contacts.k_t[e]
+    p0, cf, ci, e_c0 = _initial_contact_state(contacts, d0,
+                                              g_start if t_ramp > 0 else contacts.gap)
 
     # ---- initial acceleration
     f_0 = force.evaluate(0.0, n)
@@ -579,73 +688,10 @@ def simulate_system(
         raise _bad("a0", "<array>", f"finite, shape ({n},)")
 
     # ---- factorizations, S and W per level
-    factors = []
-    s_list = []
-    w_list = []
-    Mc = sp.csc_matrix(M)
-    Cc = sp.csc_matrix(C)
-    Kc = sp.csc_matrix(K)
-    for k in range(n_lev):
-        h = dt / 2**k
-        keff = Kc + (gamma / (beta_nm * h)) * Cc + (1.0 / (beta_nm * h * h)) * Mc
-        try:
-            fac = factorize(keff)
-        except np.linalg.LinAlgError as exc:
-            raise ValueError(f"K_eff at dt = {h:g} s is singular: {exc}") from exc
-        factors.append(fac)
-        if nc:
-            S = fac.splu.solve(np.ascontiguousarray(B.T))
-            s_list.append(np.ascontiguousarray(S.T))
-            w_list.append(B @ S)
-        else:
-            s_list.append(np.zeros((0, n)))
-            w_list.append(np.zeros((0, 0)))
-    # contact-stiffness criterion: k_N W_ee (= (ω_c h)^2 / 4 for a lumped mass) <= ratio
-    lev_req = np.zeros(nc, np.int64)
-    if nc and contact_stiffness_ratio is not None and not fixed_step:
-        for e in range(nc):
-            lev_req[e] = top
-            for k in range(n_lev):
-                wee = w_list[k][2 * e, 2 * e]  # kind 1: the normal row
-                if contacts.kind[e] == KIND_ANNULAR:  # the normal turns: both rows
-                    wee = max(wee, w_list[k][2 * e + 1, 2 * e + 1])
-                if contacts.k_n[e] * wee <= contact_stiffness_ratio:
-                    lev_req[e] = k
-                    break
-    # multiplier update stiffness: eq. (2) uses k_N; with the step's dynamic stiffness at the
-    # contact, 1 / W_ee, far above k_N (small steps) that converges by a factor
-    # 1 / (1 + k_N W_ee) per update only. We add 0.9 / W_ee (the Newton update of the
-    # multiplier for an isolated contact, under-relaxed): same fixed point, a few updates.
-    aug_k = np.zeros((n_lev, nc))
-    for k in range(n_lev):
-        for e in range(nc):
-            wee = max(w_list[k][2 * e, 2 * e], w_list[k][2 * e + 1, 2 * e + 1])
-            aug_k[k, e] = contacts.k_n[e] + (augment_boost / wee if wee > 0 else 0.0)
-    nnz_l = max(1, max(f.l_val.size for f in factors))
-    nnz_u = max(1, max(f.u_val.size for f in factors))
-    l_ptr = np.zeros((n_lev, n + 1), np.int64)
-    u_ptr = np.zeros((n_lev, n + 1), np.int64)
-    l_idx = np.zeros((n_lev, nnz_l), np.int64)
-    u_idx = np.zeros((n_lev, nnz_u), np.int64)
-    l_val = np.zeros((n_lev, nnz_l))
-    u_val = np.zeros((n_lev, nnz_u))
-    l_dinv = np.zeros((n_lev, n))
-    u_dinv = np.zeros((n_lev, n))
-    perm_r = np.zeros((n_lev, n), np.int64)
-    perm_c = np.zeros((n_lev, n), np.int64)
-    for k, f in enumerate(factors):
-        l_ptr[k] = f.l_ptr
-        u_ptr[k] = f.u_ptr
-        l_idx[k, : f.l_idx.size] = f.l_idx
-        u_idx[k, : f.u_idx.size] = f.u_idx
-        l_val[k, : f.l_val.size] = f.l_val
-        u_val[k, : f.u_val.size] = f.u_val
-        l_dinv[k] = f.l_dinv
-        u_dinv[k] = f.u_dinv
-        perm_r[k] = f.perm_r
-        perm_c[k] = f.perm_c
-    s_mat = np.ascontiguousarray(np.stack(s_list))
-    w_mat = np.ascontiguousarray(np.stack(w_list))
+    factors, s_mat, w_mat, lev_req, aug_k, lu = _level_operators(
+        M, C, K, B, contacts, dt, n_lev, gamma, beta_nm,
+        None if fixed_step else contact_stiffness_ratio, augment_boost)
+    l_ptr, l_idx, l_val, l_dinv, u_ptr, u_idx, u_val, u_dinv, perm_r, perm_c = lu
 
     # ---- state, outputs, logs, work
     q = q0.copy()
