@@ -43,6 +43,7 @@ import math
 import numpy as np
 
 from rubdiag._numba import njit
+from rubdiag.kernels.clock import cycles
 from rubdiag.kernels.contact import (
     AUGMENT_PENDING,
     NONFINITE,
@@ -56,6 +57,8 @@ from rubdiag.kernels.sparse_lu import csr_matvec, lu_solve
 __all__ = [
     "FS",
     "IS",
+    "PROFILE_SECTIONS",
+    "P_SIZE",
     "STATUS_DONE",
     "STATUS_LOG_FULL",
     "STATUS_NONFINITE",
@@ -137,6 +140,16 @@ F_CONE_EXCESS = 5
 F_FAIL_TIME = 6
 F_E_CONTACT = 7
 F_SIZE = 8
+
+# sections of a step whose CPU cycles a profiled run counts (``prof``, length P_SIZE)
+P_RHS = 0  # right-hand side of the increment equation (force, M v, K q, Bᵀp)
+P_SOLVE = 1  # the sparse triangular solves with K_eff
+P_CONTACT = 2  # contact predictor, the contact Newton solve, the abrupt-closing check
+P_UPDATE = 3  # accept: dq += S Δp, M dq and K dq, the new state
+P_LEDGER = 4  # energy ledger, episodes and totals, committing the contact state
+P_OUTPUT = 5  # step-size control and the recorded samples
+P_SIZE = 6
+PROFILE_SECTIONS = ("rhs", "solve", "contact", "update", "ledger", "output")
 
 # parameter vectors
 # fpar: 0 dt, 1 t_ramp, 2 newton_tol, 3 gap_jump, 4 aug_shift, 5 Newmark beta, 6 gamma
@@ -235,6 +248,17 @@ def _log_segment(sg_f, sg_i, istate, e, status, t_start, t_end):
 
 
 @njit
+def _lap(prof, section, c0):
+    """Add the cycles since ``c0`` to ``prof[section]``; the new start. Without profiling
+    (``prof`` empty) nothing is read."""
+    if prof.shape[0] == 0:
+        return c0
+    c1 = cycles()
+    prof[section] += c1 - c0
+    return c1
+
+
+@njit
 def newmark_contact(
     m_ptr, m_idx, m_val, c_ptr, c_idx, c_val, mk_ptr, mk_idx, mk_m, mk_k,
     l_ptr, l_idx, l_val, l_dinv, u_ptr, u_idx, u_val, u_dinv, perm_r, perm_c,
@@ -247,7 +271,7 @@ def newmark_contact(
     sen_dof, out_sq, out_sv, out_sa,
     q, v, a, mv, kq, pc, dc, cf, ci,
     ep_f, ep_i, sg_f, sg_i, lv_t, lv_l, tot, mx, lvl_count, istate, fstate,
-    wn, wc, wcn, wm, jac, iwork, ciw,
+    wn, wc, wcn, wm, jac, iwork, ciw, prof,
 ):
     """Run the time loop from ``istate[TICK]`` to ``ipar[5]`` (tick_end). Returns a status code.
 
@@ -285,6 +309,8 @@ def newmark_contact(
     * work: ``wn`` (6, n), ``wc`` (5, 2n_c), ``wcn`` (3, n_c), ``wm`` (2n_c, 2n_c),
       ``jac`` (n_c, 4), ``iwork`` (5 n_c) int, ``ciw`` (7, n_c) — nothing is allocated
       inside the loop.
+    * ``prof`` (P_SIZE) int64: CPU cycles per section of the step (``P_*``), added to when
+      not empty (a profiled run; an empty array costs one branch per section).
     * sensors: ``sen_dof`` (n_s) int; ``out_sq``, ``out_sv``, ``out_sa`` (n_sen_out, n_s)
       displacement, velocity and acceleration of those DOFs — the integrator's own state,
       not differences — every ``ipar[8]`` ticks (a multiple of the largest step, so the
@@ -350,6 +376,7 @@ def newmark_contact(
             or istate[I_N_LEVEL_CHANGES] + 2 > lv_cap
         ):
             return STATUS_LOG_FULL
+        c0 = cycles() if prof.shape[0] else 0
         tick = istate[I_TICK]
         lev = istate[I_LEVEL]
         nt = np.int64(1) << (top - lev)
@@ -384,11 +411,13 @@ def newmark_contact(
                 rhs[f_dof[k]] -= _force_at(f_re, f_im, f_om, k, t_n)
         for k in range(nf):
             rhs[f_dof[k]] += _force_at(f_re, f_im, f_om, k, t_1)
+        c0 = _lap(prof, P_RHS, c0)
         lu_solve(
             l_ptr[lev], l_idx[lev], l_val[lev], l_dinv[lev],
             u_ptr[lev], u_idx[lev], u_val[lev], u_dinv[lev],
             perm_r[lev], perm_c[lev], rhs, dq, lw,
         )
+        c0 = _lap(prof, P_SOLVE, c0)
         # predictor contact displacements d_lin = B (q + dq_lin) = d_n + B dq_lin
         _contact_coords(c_dof, c_basis, dq, d_lin)
         for i in range(m2):
@@ -427,6 +456,7 @@ def newmark_contact(
             lv_t[nl] = t_n
             lv_l[nl] = lev + 1
             istate[I_N_LEVEL_CHANGES] = nl + 1
+            _lap(prof, P_CONTACT, c0)
             continue
         # abrupt closing: open at the start, deeper than gap_jump at the end; or a closed
         # element whose contact stiffness is too stiff for this step (lev_req)
@@ -451,9 +481,11 @@ def newmark_contact(
                 lv_t[nl] = t_n
                 lv_l[nl] = need
                 istate[I_N_LEVEL_CHANGES] = nl + 1
+                _lap(prof, P_CONTACT, c0)
                 continue
             istate[I_N_ABRUPT_AT_MIN] += 1
 
+        c0 = _lap(prof, P_CONTACT, c0)
         # ---- accept: displacement increment dq = dq_lin + S (p_new - p_n)
         for j in range(m2):
             dp = p_new[j] - pc[j]
@@ -515,6 +547,7 @@ def newmark_contact(
             # M v_{n+1} also has a term h (1 - γ/(2β)) M a_n that is not tracked: recompute
             csr_matvec(m_ptr, m_idx, m_val, v, mv)
 
+        c0 = _lap(prof, P_UPDATE, c0)
         # contact energy ledger: work of the contact forces on the structure, B dq . p_avg
         _contact_coords(c_dof, c_basis, dq, wv)
         wc_ = 0.0
@@ -620,6 +653,7 @@ def newmark_contact(
         # contact displacements of the committed state (d_new up to the Newton tolerance)
         _contact_coords(c_dof, c_basis, q, dc)
 
+        c0 = _lap(prof, P_LEDGER, c0)
         tick_new = tick + nt
         istate[I_TICK] = tick_new
         istate[I_N_ACCEPTED] += 1
@@ -648,4 +682,5 @@ def newmark_contact(
             )
         if tick_new % sen_ticks == 0:
             _record_sensors(tick_new // sen_ticks, q, v, a, sen_dof, out_sq, out_sv, out_sa)
+        _lap(prof, P_OUTPUT, c0)
     return STATUS_DONE

@@ -26,6 +26,8 @@ from rubdiag.kernels.contact import KIND_ANNULAR, KIND_POINT, OPEN, element_law
 from rubdiag.kernels.newmark import (
     FS,
     IS,
+    P_SIZE,
+    PROFILE_SECTIONS,
     STATUS_DONE,
     STATUS_LOG_FULL,
     STATUS_NO_CONVERGENCE,
@@ -497,6 +499,7 @@ def simulate_system(
     episode_capacity: int = 4096,
     progress: Callable[[float, float], None] | None = None,
     raise_on_failure: bool = True,
+    profile: bool = False,
 ) -> SystemResult:
     """Integrate ``M q'' + C q' + K q = f(t) + contact forces`` from ``(q0, v0)`` at t = 0.
 
@@ -595,6 +598,10 @@ def simulate_system(
     raise_on_failure : bool
         If True (default) a failed run raises :class:`SimulationDiverged` carrying the partial
         result; if False the partial result is returned with ``status != 0``.
+    profile : bool
+        Count the CPU cycles of each section of a step (``extra['profile_cycles']``, by
+        section name, :data:`~rubdiag.kernels.newmark.PROFILE_SECTIONS`); the results are
+        the same bits (``benchmarks/bench_breakdown.py``).
 
     Returns
     -------
@@ -755,6 +762,7 @@ def simulate_system(
     f_om = np.ascontiguousarray(force.omega)
     f_dof = np.ascontiguousarray(force.dofs)
     c_aug = np.ascontiguousarray(contacts.augmented.astype(np.int64))
+    prof = np.zeros(P_SIZE if profile else 0, np.int64)
 
     t_setup = time.perf_counter() - t_start
     t_kernel = 0.0
@@ -780,7 +788,7 @@ def simulate_system(
             sensor_dofs, out_sq, out_sv, out_sa,
             q, v, a, mv, kq, pc, dc, cf, ci,
             ep_f, ep_i, sg_f, sg_i, lv_t, lv_l, tot, mx, lvl_count, istate, fstate,
-            wn, wc, wcn, wm, jac, iwork, ciw,
+            wn, wc, wcn, wm, jac, iwork, ciw, prof,
         )
         t_kernel += time.perf_counter() - tk
         if code == STATUS_LOG_FULL:
@@ -808,6 +816,8 @@ def simulate_system(
         q, v, a, cf, ci, ep_f, ep_i, sg_f, sg_i, lv_t, lv_l, tot, mx, lvl_count, istate,
         fstate, (sensor_dofs, sen_ticks, out_sq, out_sv, out_sa),
     )
+    if profile:
+        result.extra["profile_cycles"] = dict(zip(PROFILE_SECTIONS, prof.tolist(), strict=True))
     result.extra.update(
         setup_seconds=t_setup, kernel_seconds=t_kernel, contact_level_required=lev_req,
         augment_pending=int(istate[IS.AUG_PENDING]),

@@ -57,3 +57,25 @@ def test_table2_cell_equals_the_reference_bit_for_bit():
     assert set(cell) == set(META["cell"])
     different = [k for k, v in cell.items() if reference.digest(v) != META["cell"][k]]
     assert not different, different
+
+
+def test_profiled_run_gives_the_same_bits_and_counts_every_section(short):
+    """``simulate_system(profile=True)`` only reads the cycle counter: the same arrays, bit
+    for bit, and every section of a step has taken some cycles."""
+    from functools import partial
+    from unittest import mock
+
+    from rubdiag.kernels.newmark import PROFILE_SECTIONS
+    from rubdiag.simulate import simulate
+    from rubdiag.simulate import simulation as simulation_module
+    from rubdiag.simulate.system import simulate_system
+
+    with mock.patch.object(simulation_module, "simulate_system",
+                           partial(simulate_system, profile=True)):
+        system = simulate(reference.short_run()).system
+    profiled = reference.arrays(system)
+    for name, value in short.items():
+        assert reference.digest(profiled[name]) == reference.digest(value), name
+    cycles = system.extra["profile_cycles"]
+    assert list(cycles) == list(PROFILE_SECTIONS)
+    assert all(c > 0 for c in cycles.values()), cycles
