@@ -46,6 +46,7 @@ from rubdiag._numba import njit
 from rubdiag.kernels.clock import cycles
 from rubdiag.kernels.contact import (
     AUGMENT_PENDING,
+    KIND_POINT,
     NONFINITE,
     OPEN,
     SLIDING,
@@ -637,7 +638,7 @@ def newmark_contact(
             if excess > fstate[F_CONE_EXCESS]:
                 fstate[F_CONE_EXCESS] = excess
             # commit the contact state (slip first: it needs the old e)
-            if c_kind[e] == 1:
+            if c_kind[e] == KIND_POINT:
                 cf[2, e] = d_new[2 * e + 1]
             elif sn != OPEN:
                 cf[2, e] += ciw[3, e] - cf[0, e]

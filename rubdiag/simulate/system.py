@@ -22,7 +22,17 @@ import scipy.sparse.linalg as spla
 
 from rubdiag import _check
 from rubdiag.kernels import ensure_fresh_cache
-from rubdiag.kernels.contact import KIND_ANNULAR, KIND_POINT, OPEN, element_law
+from rubdiag.kernels.contact import (
+    AUGMENT_FAILED,
+    KIND_ANNULAR,
+    KIND_POINT,
+    NEWTON_FAILED,
+    OPEN,
+    SINGULAR,
+    SLIDING,
+    STICKING,
+    element_law,
+)
 from rubdiag.kernels.newmark import (
     FS,
     IS,
@@ -373,8 +383,8 @@ def _initial_contact_state(contacts: Contacts, d0: np.ndarray, gap: np.ndarray):
         cf[5, e] = out[11]
         cf[8, e] = out[12]
         if st != OPEN:
-            ci[2, e] = int(st == 2)
-            ci[3, e] = int(st == 3)
+            ci[2, e] = int(st == SLIDING)
+            ci[3, e] = int(st == STICKING)
             e_c0 += 0.5 * out[7] ** 2 / contacts.k_n[e] + 0.5 * out[8] ** 2 / contacts.k_t[e]
     return p0, cf, ci, e_c0
 
@@ -868,8 +878,9 @@ def _package(
     if status == 0:
         message = f"Reached t = {t_final:.6g} s in {int(istate[IS.N_ACCEPTED])} steps."
     elif status == 1:
-        why = {1: "Newton iterations exhausted", 2: "augmentation did not reach eps",
-               3: "singular contact Jacobian"}.get(int(istate[IS.FAIL_CODE]), "unknown")
+        why = {NEWTON_FAILED: "Newton iterations exhausted",
+               AUGMENT_FAILED: "augmentation did not reach eps",
+               SINGULAR: "singular contact Jacobian"}.get(int(istate[IS.FAIL_CODE]), "unknown")
         message = (
             f"Contact iteration did not converge ({why}) at t = {fail_t:.9g} s, contact element "
             f"{fail_e}, even at the smallest step {dt_min:.3g} s; results kept up to "
