@@ -39,6 +39,7 @@ re-entered: all state lives in the arrays passed in.
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 
@@ -64,6 +65,14 @@ __all__ = [
     "STATUS_LOG_FULL",
     "STATUS_NONFINITE",
     "STATUS_NO_CONVERGENCE",
+    "ContactSet",
+    "Factors",
+    "Force",
+    "Linear",
+    "Logs",
+    "Outputs",
+    "State",
+    "Work",
     "newmark_contact",
 ]
 
@@ -157,6 +166,30 @@ PROFILE_SECTIONS = ("rhs", "solve", "contact", "update", "ledger", "output")
 # ipar: 0 n_lev, 1 fixed, 2 grow_after, 3 max_newton, 4 max_aug, 5 tick_end, 6 out_ticks,
 #       7 aug_strict
 
+
+
+# The kernel's arrays in named bundles (Numba compiles namedtuples of arrays as records: a
+# swapped pair of same-typed arrays is a wrong name here, not a silent wrong result).
+#: The linear system: CSR of M and C (γ != 1/2 only), the union pattern of M and K with
+#: both value arrays.
+Linear = namedtuple("Linear", "m_ptr m_idx m_val c_ptr c_idx c_val mk_ptr mk_idx mk_m mk_k")
+#: Per step level (first axis): K_eff's LU factors as CSR without diagonals, S = (K_eff^-1
+#: Bᵀ)ᵀ and W = B S.
+Factors = namedtuple("Factors", "l_ptr l_idx l_val l_dinv u_ptr u_idx u_val u_dinv "
+                     "perm_r perm_c s_mat w_mat")
+#: The harmonic force f_k(t) = re cos(om t) - im sin(om t) at DOF ``dof``.
+Force = namedtuple("Force", "dof re im om")
+#: The contact elements and their per-level data.
+ContactSet = namedtuple("ContactSet", "kind dof basis g0 gstart kn kt mu aug eps speed "
+                        "lev_req aug_k")
+#: The state carried from step to step (and from call to call).
+State = namedtuple("State", "q v a mv kq pc dc cf ci istate fstate")
+#: The recorded samples and sensor stream.
+Outputs = namedtuple("Outputs", "rec_dof q fn ft st gap slip en sen_dof sq sv sa")
+#: Event logs and totals (the caller grows the logs on STATUS_LOG_FULL).
+Logs = namedtuple("Logs", "ep_f ep_i sg_f sg_i lv_t lv_l tot mx lvl_count")
+#: Work arrays (nothing is allocated in the loop) and the cycle counters.
+Work = namedtuple("Work", "wn wc wcn wm jac iwork ciw prof")
 
 @njit
 def _force_at(f_re, f_im, f_om, k, t):
@@ -260,23 +293,13 @@ def _lap(prof, section, c0):
 
 
 @njit
-def newmark_contact(
-    m_ptr, m_idx, m_val, c_ptr, c_idx, c_val, mk_ptr, mk_idx, mk_m, mk_k,
-    l_ptr, l_idx, l_val, l_dinv, u_ptr, u_idx, u_val, u_dinv, perm_r, perm_c,
-    s_mat, w_mat,
-    f_dof, f_re, f_im, f_om,
-    c_kind, c_dof, c_basis, c_g0, c_gstart, c_kn, c_kt, c_mu, c_aug, c_eps, c_speed, lev_req,
-    aug_k,
-    fpar, ipar,
-    rec_dof, out_q, out_fn, out_ft, out_st, out_gap, out_slip, out_en,
-    sen_dof, out_sq, out_sv, out_sa,
-    q, v, a, mv, kq, pc, dc, cf, ci,
-    ep_f, ep_i, sg_f, sg_i, lv_t, lv_l, tot, mx, lvl_count, istate, fstate,
-    wn, wc, wcn, wm, jac, iwork, ciw, prof,
-):
+def newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs, logs, work):
     """Run the time loop from ``istate[TICK]`` to ``ipar[5]`` (tick_end). Returns a status code.
 
-    Arrays (n DOF, n_c contacts, L = n_lev levels; all float64 unless int64):
+    The arrays come in the bundles :data:`Linear`, :data:`Factors`, :data:`Force`,
+    :data:`ContactSet`, :data:`State`, :data:`Outputs`, :data:`Logs` and :data:`Work`; below,
+    by the local names the kernel unpacks them to (n DOF, n_c contacts, L = n_lev levels;
+    all float64 unless int64):
 
     * CSR of M and C (used by the γ != 1/2 path only); the union pattern of M and K in CSR
       with both value arrays (``mk_ptr``, ``mk_idx``, ``mk_m``, ``mk_k``); per level (first
@@ -317,6 +340,17 @@ def newmark_contact(
       not differences — every ``ipar[8]`` ticks (a multiple of the largest step, so the
       samples are step ends).
     """
+    m_ptr, m_idx, m_val, c_ptr, c_idx, c_val, mk_ptr, mk_idx, mk_m, mk_k = linear
+    (l_ptr, l_idx, l_val, l_dinv, u_ptr, u_idx, u_val, u_dinv, perm_r, perm_c, s_mat,
+     w_mat) = factors
+    f_dof, f_re, f_im, f_om = force
+    (c_kind, c_dof, c_basis, c_g0, c_gstart, c_kn, c_kt, c_mu, c_aug, c_eps, c_speed,
+     lev_req, aug_k) = contacts
+    q, v, a, mv, kq, pc, dc, cf, ci, istate, fstate = state
+    (rec_dof, out_q, out_fn, out_ft, out_st, out_gap, out_slip, out_en, sen_dof, out_sq,
+     out_sv, out_sa) = outputs
+    ep_f, ep_i, sg_f, sg_i, lv_t, lv_l, tot, mx, lvl_count = logs
+    wn, wc, wcn, wm, jac, iwork, ciw, prof = work
     n = q.shape[0]
     nc = c_kind.shape[0]
     m2 = 2 * nc

@@ -42,6 +42,14 @@ from rubdiag.kernels.newmark import (
     STATUS_LOG_FULL,
     STATUS_NO_CONVERGENCE,
     STATUS_NONFINITE,
+    ContactSet,
+    Factors,
+    Force,
+    Linear,
+    Logs,
+    Outputs,
+    State,
+    Work,
     newmark_contact,
 )
 from rubdiag.kernels.sparse_lu import factorize
@@ -773,6 +781,22 @@ def simulate_system(
     f_dof = np.ascontiguousarray(force.dofs)
     c_aug = np.ascontiguousarray(contacts.augmented.astype(np.int64))
     prof = np.zeros(P_SIZE if profile else 0, np.int64)
+    linear = Linear(
+        M.indptr.astype(np.int64), M.indices.astype(np.int64), M.data,
+        C.indptr.astype(np.int64), C.indices.astype(np.int64), C.data,
+        mk_ptr, mk_idx, mk_m, mk_k)
+    factors_k = Factors(l_ptr, l_idx, l_val, l_dinv, u_ptr, u_idx, u_val, u_dinv, perm_r,
+                        perm_c, s_mat, w_mat)
+    force_k = Force(f_dof, f_re, f_im, f_om)
+    contacts_k = ContactSet(
+        np.ascontiguousarray(contacts.kind), c_dof, basis, np.ascontiguousarray(contacts.gap),
+        g_start, np.ascontiguousarray(contacts.k_n), np.ascontiguousarray(contacts.k_t),
+        np.ascontiguousarray(contacts.mu), c_aug, np.ascontiguousarray(contacts.eps), speed,
+        lev_req, aug_k)
+    state = State(q, v, a, mv, kq, pc, dc, cf, ci, istate, fstate)
+    outputs = Outputs(record_dofs, out_q, out_fn, out_ft, out_st, out_gap, out_slip, out_en,
+                      sensor_dofs, out_sq, out_sv, out_sa)
+    work = Work(wn, wc, wcn, wm, jac, iwork, ciw, prof)
 
     t_setup = time.perf_counter() - t_start
     t_kernel = 0.0
@@ -783,22 +807,8 @@ def simulate_system(
         ipar[5] = min(tick_total, istate[IS.TICK] + chunk)
         tk = time.perf_counter()
         code = newmark_contact(
-            M.indptr.astype(np.int64), M.indices.astype(np.int64), M.data,
-            C.indptr.astype(np.int64), C.indices.astype(np.int64), C.data,
-            mk_ptr, mk_idx, mk_m, mk_k,
-            l_ptr, l_idx, l_val, l_dinv, u_ptr, u_idx, u_val, u_dinv, perm_r, perm_c,
-            s_mat, w_mat,
-            f_dof, f_re, f_im, f_om,
-            np.ascontiguousarray(contacts.kind), c_dof, basis,
-            np.ascontiguousarray(contacts.gap), g_start, np.ascontiguousarray(contacts.k_n),
-            np.ascontiguousarray(contacts.k_t), np.ascontiguousarray(contacts.mu), c_aug,
-            np.ascontiguousarray(contacts.eps), speed, lev_req, aug_k,
-            fpar, ipar,
-            record_dofs, out_q, out_fn, out_ft, out_st, out_gap, out_slip, out_en,
-            sensor_dofs, out_sq, out_sv, out_sa,
-            q, v, a, mv, kq, pc, dc, cf, ci,
-            ep_f, ep_i, sg_f, sg_i, lv_t, lv_l, tot, mx, lvl_count, istate, fstate,
-            wn, wc, wcn, wm, jac, iwork, ciw, prof,
+            linear, factors_k, force_k, contacts_k, fpar, ipar, state,
+            outputs, Logs(ep_f, ep_i, sg_f, sg_i, lv_t, lv_l, tot, mx, lvl_count), work,
         )
         t_kernel += time.perf_counter() - tk
         if code == STATUS_LOG_FULL:
