@@ -3,7 +3,9 @@
 * :mod:`rubdiag.kernels.sparse_lu` — CSR products, SuperLU factors applied in Numba.
 * :mod:`rubdiag.kernels.contact` — one element's contact law (point–point, annular) and the
   per-step contact solve in the Schur complement (Newton + augmented Lagrangian).
-* :mod:`rubdiag.kernels.newmark` — the whole time loop (variable step, event log, energy).
+* :mod:`rubdiag.kernels.newmark` — the whole time loop (variable step, event log, energy),
+  on named bundles of arrays (``Linear``, ``Factors``, ``ContactSet``, ``State`` …).
+* :mod:`rubdiag.kernels.clock` — a CPU cycle counter for the kernels' profiled runs.
 
 Kernel contract (see :mod:`rubdiag._numba`): float64 / int64 C-contiguous arrays and scalars in
 SI units, outputs and work arrays preallocated by the caller, status codes instead of
