@@ -1,0 +1,10 @@
+"""Reduced-order models of a rig: Craig–Bampton with the contact DOFs kept physical.
+
+:class:`Reduction` says what to keep (it is part of a :class:`~rubdiag.simulate.Run`);
+:func:`reduced_model` builds (and caches, once per rig and process) the reduced matrices;
+:func:`check` measures how far the reduced model is from the full one.
+"""
+
+from rubdiag.reduce.spec import DEFAULT_CUTOFF_HZ, Reduction
+
+__all__ = ["DEFAULT_CUTOFF_HZ", "Reduction"]
