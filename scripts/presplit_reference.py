@@ -1,21 +1,31 @@
 """The simulator's results before it is split into small parts (issue 13): a reference.
 
-Two runs, made by the code *before* the split and stored with the library versions and the
+Three runs, made by the code *before* the split and stored with the library versions and the
 CPU they were made on:
 
 * ``short`` — case 1 serious (g0 = 1.9 mm) at a fixed 10-µs step for 30 ms, the gap closed
   over the first 10 ms so that the blades touch, with the default sensors: every array of its
-  :class:`~rubdiag.simulate.result.SystemResult` is stored in full (short and not
-  chaotic, so another numpy or numba may move it by round-off only);
+  :class:`~rubdiag.simulate.result.SystemResult` (short and not
+  chaotic), as SHA-256 digests;
+* ``portable`` — the same rig and case through ``simulate_system`` directly, on inputs that
+  no LAPACK routine computes (Rayleigh α, β as numbers, Ω given, from rest with a0 = 0,
+  g0 = 0.1 mm so that the blades touch within its 30 ms, fixed 10-µs step): the short run's
+  initial steady state and Rayleigh coefficients come from LAPACK/ARPACK, whose round-off
+  depends on the CPU (7e-10 of the largest displacement between znver3 and rocketlake), so
+  only this run can be compared across CPUs; stored in full;
 * ``cell`` — Table 2's case 2 serious cell, the default 2.3-s run (adaptive step, default
   sensors): a SHA-256 of every
   array (the run is chaotic over 230 000 steps, so only the same libraries on the same CPU
   can give the same bits).
 
 ``tests/simulate/test_presplit_reference.py`` asks the current code for the same bits when
-the versions match and, otherwise, for the short run to rtol 1e-12.
+the versions match and, otherwise, for the portable run to 1e-12 of each array's largest
+magnitude.
 
-    python scripts/presplit_reference.py          # -> data/presplit/ (made once, before the split)
+    python scripts/presplit_reference.py   # -> data/presplit/reference-<cpu>.json, portable.npz
+
+Made with the code before the split (a worktree at 6b73d28): on znver3 (short and cell only:
+the portable run came later) and on rocketlake (all three, and ``portable.npz``).
 """
 
 from __future__ import annotations
@@ -42,6 +52,37 @@ def short_run():
     rig = paper_rig()
     return Run.paper_case(1, 1.9, rig=rig, duration_s=0.03, discard_s=0.02, gap_ramp_s=0.01,
                           fixed_step=True, dt_s=1e-5, sensors=default_sensors(rig))
+
+
+#: Rayleigh coefficients of the paper rig (DESIGN item 8), as numbers: not computed here
+PORTABLE_RAYLEIGH = (9.948, 1.061e-4)
+PORTABLE_SPEED_RAD_S = 1500.0 * np.pi / 30.0
+
+
+def portable_run():
+    """The ``portable`` run's SystemResult (module docstring)."""
+    from rubdiag.assembly import assemble
+    from rubdiag.model import paper_rig
+    from rubdiag.simulate import Contacts, HarmonicForce, simulate_system
+
+    rig = paper_rig()
+    model = assemble(rig)
+    alpha, beta = PORTABLE_RAYLEIGH
+    speed = PORTABLE_SPEED_RAD_S
+    C = (alpha * model.M + beta * model.K_structural + model.C_discrete + speed * model.G)
+    F = model.unbalance_force(rig.unbalance(1), speed)
+    loaded = np.flatnonzero(F)
+    geo = model.blade_contacts
+    law = rig.contact
+    contacts = Contacts.point(geo.tip_dofs, geo.casing_dofs, geo.normal, geo.tangent, 1e-4,
+                              law.normal_stiffness_n_m, k_t=law.tangential_stiffness_n_m,
+                              mu=law.friction_coefficient)
+    n = model.n_dof
+    record = [model.dofs.index(p, d) for p in ("shaft 11", "shaft 19") for d in "yz"]
+    return simulate_system(model.M, C.tocsr(), model.K, HarmonicForce(loaded, F[loaded], speed),
+                           contacts, np.zeros(n), np.zeros(n), a0=np.zeros(n), duration=0.03,
+                           dt=1e-5, fixed_step=True, output_dt=1e-4, record_dofs=record,
+                           sensor_dofs=[geo.casing_dofs[0, 0]])
 
 
 def cell_run():
@@ -98,14 +139,17 @@ def main(argv=None) -> int:
 
     args.out.mkdir(parents=True, exist_ok=True)
     short = arrays(simulate(short_run()).system)
-    np.savez_compressed(args.out / "short.npz", **short)
+    portable = arrays(portable_run())
+    np.savez_compressed(args.out / "portable.npz", **portable)
     cell = arrays(simulate(cell_run()).system)
     meta = {"rubdiag": __version__, "versions": versions(),
             "short": {k: digest(v) for k, v in short.items()},
+            "portable": {k: digest(v) for k, v in portable.items()},
             "cell": {k: digest(v) for k, v in cell.items()}}
-    (args.out / "reference.json").write_text(json.dumps(meta, indent=1) + "\n")
-    print(f"{args.out}: short run {len(short)} arrays, Table 2 cell {len(cell)} digests, "
-          f"made with {meta['versions']}", file=sys.stderr)
+    path = args.out / f"reference-{meta['versions']['cpu']}.json"
+    path.write_text(json.dumps(meta, indent=1) + "\n")
+    print(f"{path}: short run {len(short)}, portable run {len(portable)}, Table 2 cell "
+          f"{len(cell)} digests, made with {meta['versions']}", file=sys.stderr)
     return 0
 
 

@@ -172,11 +172,15 @@ PROFILE_SECTIONS = ("rhs", "solve", "contact", "update", "ledger", "output")
 # swapped pair of same-typed arrays is a wrong name here, not a silent wrong result).
 #: The linear system: CSR of M and C (γ != 1/2 only), the union pattern of M and K with
 #: both value arrays.
-Linear = namedtuple("Linear", "m_ptr m_idx m_val c_ptr c_idx c_val mk_ptr mk_idx mk_m mk_k")
+#: A dense system (a reduced model) also gives M and K as dense (n, n) arrays; a sparse one
+#: gives them empty, (0, 0).
+Linear = namedtuple("Linear", "m_ptr m_idx m_val c_ptr c_idx c_val mk_ptr mk_idx mk_m mk_k "
+                    "m_dense k_dense")
 #: Per step level (first axis): K_eff's LU factors as CSR without diagonals, S = (K_eff^-1
-#: Bᵀ)ᵀ and W = B S.
+#: Bᵀ)ᵀ and W = B S; a dense system gives ``inv_t`` = (K_eff^-1)ᵀ (L, n, n) instead of the
+#: LU factors (and a sparse one an empty (L, 0, 0)).
 Factors = namedtuple("Factors", "l_ptr l_idx l_val l_dinv u_ptr u_idx u_val u_dinv "
-                     "perm_r perm_c s_mat w_mat")
+                     "perm_r perm_c s_mat w_mat inv_t")
 #: The harmonic force f_k(t) = re cos(om t) - im sin(om t) at DOF ``dof``.
 Force = namedtuple("Force", "dof re im om")
 #: The contact elements and their per-level data.
@@ -184,16 +188,72 @@ ContactSet = namedtuple("ContactSet", "kind dof basis g0 gstart kn kt mu aug eps
                         "lev_req aug_k")
 #: The state carried from step to step (and from call to call).
 State = namedtuple("State", "q v a mv kq pc dc cf ci istate fstate")
-#: The recorded samples and sensor stream.
-Outputs = namedtuple("Outputs", "rec_dof q fn ft st gap slip en sen_dof sq sv sa")
+#: The recorded samples and sensor stream. Recorded values are ``q[rec_dof]`` (and
+#: ``q[sen_dof]``), or, when ``rec_map`` (n, n_rec) and ``sen_map`` (n, n_s) are not empty,
+#: the recovered ``rec_mapᵀ q`` (``sen_mapᵀ q``): the physical DOFs of a reduced model.
+Outputs = namedtuple("Outputs", "rec_dof q fn ft st gap slip en sen_dof sq sv sa rec_map "
+                     "sen_map")
 #: Event logs and totals (the caller grows the logs on STATUS_LOG_FULL).
 Logs = namedtuple("Logs", "ep_f ep_i sg_f sg_i lv_t lv_l tot mx lvl_count")
 #: Work arrays (nothing is allocated in the loop) and the cycle counters.
 Work = namedtuple("Work", "wn wc wcn wm jac iwork ciw prof")
 
 @njit
-def _force_at(f_re, f_im, f_om, k, t):
-    return f_re[k] * math.cos(f_om[k] * t) - f_im[k] * math.sin(f_om[k] * t)
+def _add_force(f_dof, f_re, f_im, f_om, t, scale, out):
+    """``out[f_dof] += scale f(t)``, f_k(t) = f_re cos(om t) - f_im sin(om t); cos and sin
+    are evaluated once per run of equal frequencies (a projected load has one per DOF)."""
+    om = math.nan
+    c = 0.0
+    s = 0.0
+    for k in range(f_dof.shape[0]):
+        if f_om[k] != om:
+            om = f_om[k]
+            c = math.cos(om * t)
+            s = math.sin(om * t)
+        out[f_dof[k]] += scale * (f_re[k] * c - f_im[k] * s)
+
+
+@njit
+def _force_work(f_dof, f_re, f_im, f_om, t_n, t_1, dq):
+    """Work of the load over a step, trapezoid: ``Σ dq[f_dof] (f(t_n) + f(t_1)) / 2``."""
+    om = math.nan
+    c0 = s0 = c1 = s1 = 0.0
+    w = 0.0
+    for k in range(f_dof.shape[0]):
+        if f_om[k] != om:
+            om = f_om[k]
+            c0 = math.cos(om * t_n)
+            s0 = math.sin(om * t_n)
+            c1 = math.cos(om * t_1)
+            s1 = math.sin(om * t_1)
+        fa = (f_re[k] * c0 - f_im[k] * s0) + (f_re[k] * c1 - f_im[k] * s1)
+        w += dq[f_dof[k]] * 0.5 * fa
+    return w
+
+
+@njit
+def _matvec_t(at, x, out):
+    """``out = A x`` for ``at = Aᵀ`` dense: column by column (row j of ``at``), so the
+    inner loop is an independent update of contiguous memory, which vectorizes (a row dot
+    product would be a serial sum: no fastmath, no reordering)."""
+    for i in range(out.shape[0]):
+        out[i] = 0.0
+    for j in range(x.shape[0]):
+        xj = x[j]
+        col = at[j]
+        for i in range(out.shape[0]):
+            out[i] += col[i] * xj
+
+
+@njit
+def _recover(mapt, dofs, x, out):
+    """Recorded values of the state ``x``: ``x[dofs]``, or ``mapᵀ x`` for a non-empty
+    ``mapt`` (n, n_out) (the physical DOFs of a reduced model)."""
+    if mapt.shape[0] == 0:
+        for r in range(dofs.shape[0]):
+            out[r] = x[dofs[r]]
+    else:
+        _matvec_t(mapt, x, out)
 
 
 @njit
@@ -237,11 +297,10 @@ def _add_bt_p(c_dof, c_basis, p, scale, out):
 
 @njit
 def _record(
-    idx, q, v, mv, kq, rec_dof, cf, ci, fstate,
+    idx, q, v, mv, kq, rec_dof, rec_map, cf, ci, fstate,
     out_q, out_fn, out_ft, out_st, out_gap, out_slip, out_en,
 ):
-    for r in range(rec_dof.shape[0]):
-        out_q[idx, r] = q[rec_dof[r]]
+    _recover(rec_map, rec_dof, q, out_q[idx])
     for e in range(ci.shape[1]):
         out_fn[idx, e] = cf[3, e]
         out_ft[idx, e] = cf[4, e]
@@ -264,11 +323,10 @@ def _record(
 
 
 @njit
-def _record_sensors(idx, q, v, a, sen_dof, out_sq, out_sv, out_sa):
-    for r in range(sen_dof.shape[0]):
-        out_sq[idx, r] = q[sen_dof[r]]
-        out_sv[idx, r] = v[sen_dof[r]]
-        out_sa[idx, r] = a[sen_dof[r]]
+def _record_sensors(idx, q, v, a, sen_dof, sen_map, out_sq, out_sv, out_sa):
+    _recover(sen_map, sen_dof, q, out_sq[idx])
+    _recover(sen_map, sen_dof, v, out_sv[idx])
+    _recover(sen_map, sen_dof, a, out_sa[idx])
 
 
 @njit
@@ -340,15 +398,15 @@ def newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs
       not differences — every ``ipar[8]`` ticks (a multiple of the largest step, so the
       samples are step ends).
     """
-    m_ptr, m_idx, m_val, c_ptr, c_idx, c_val, mk_ptr, mk_idx, mk_m, mk_k = linear
+    m_ptr, m_idx, m_val, c_ptr, c_idx, c_val, mk_ptr, mk_idx, mk_m, mk_k, m_dense, k_dense = linear
     (l_ptr, l_idx, l_val, l_dinv, u_ptr, u_idx, u_val, u_dinv, perm_r, perm_c, s_mat,
-     w_mat) = factors
+     w_mat, inv_t) = factors
     f_dof, f_re, f_im, f_om = force
     (c_kind, c_dof, c_basis, c_g0, c_gstart, c_kn, c_kt, c_mu, c_aug, c_eps, c_speed,
      lev_req, aug_k) = contacts
     q, v, a, mv, kq, pc, dc, cf, ci, istate, fstate = state
     (rec_dof, out_q, out_fn, out_ft, out_st, out_gap, out_slip, out_en, sen_dof, out_sq,
-     out_sv, out_sa) = outputs
+     out_sv, out_sa, rec_map, sen_map) = outputs
     ep_f, ep_i, sg_f, sg_i, lv_t, lv_l, tot, mx, lvl_count = logs
     wn, wc, wcn, wm, jac, iwork, ciw, prof = work
     n = q.shape[0]
@@ -376,7 +434,7 @@ def newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs
     ep_cap = ep_f.shape[0]
     sg_cap = sg_f.shape[0]
     lv_cap = lv_t.shape[0]
-    nf = f_dof.shape[0]
+    dense = inv_t.shape[1] > 0
 
     x = wn[0]
     rhs = wn[1]
@@ -396,12 +454,12 @@ def newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs
     if istate[I_SAMPLE0_DONE] == 0:
         if istate[I_TICK] % out_ticks == 0:
             _record(
-                istate[I_TICK] // out_ticks, q, v, mv, kq, rec_dof, cf, ci, fstate,
+                istate[I_TICK] // out_ticks, q, v, mv, kq, rec_dof, rec_map, cf, ci, fstate,
                 out_q, out_fn, out_ft, out_st, out_gap, out_slip, out_en,
             )
         if istate[I_TICK] % sen_ticks == 0:
-            _record_sensors(istate[I_TICK] // sen_ticks, q, v, a, sen_dof, out_sq, out_sv,
-                            out_sa)
+            _record_sensors(istate[I_TICK] // sen_ticks, q, v, a, sen_dof, sen_map, out_sq,
+                            out_sv, out_sa)
         istate[I_SAMPLE0_DONE] = 1
 
     while istate[I_TICK] < tick_end:
@@ -426,8 +484,7 @@ def newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs
             for i in range(n):
                 rhs[i] = c4 * mv[i] - 2.0 * kq[i]
             # + Δf + 2 f_n = f_{n+1} + f_n (f_{n+1} added below)
-            for k in range(nf):
-                rhs[f_dof[k]] += _force_at(f_re, f_im, f_om, k, t_n)
+            _add_force(f_dof, f_re, f_im, f_om, t_n, 1.0, rhs)
             _add_bt_p(c_dof, c_basis, pc, 2.0, rhs)
         else:
             ca2 = 1.0 / (nb * h)
@@ -442,16 +499,17 @@ def newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs
             csr_matvec(c_ptr, c_idx, c_val, x, w5)
             for i in range(n):
                 rhs[i] += w5[i]
-            for k in range(nf):
-                rhs[f_dof[k]] -= _force_at(f_re, f_im, f_om, k, t_n)
-        for k in range(nf):
-            rhs[f_dof[k]] += _force_at(f_re, f_im, f_om, k, t_1)
+            _add_force(f_dof, f_re, f_im, f_om, t_n, -1.0, rhs)
+        _add_force(f_dof, f_re, f_im, f_om, t_1, 1.0, rhs)
         c0 = _lap(prof, P_RHS, c0)
-        lu_solve(
-            l_ptr[lev], l_idx[lev], l_val[lev], l_dinv[lev],
-            u_ptr[lev], u_idx[lev], u_val[lev], u_dinv[lev],
-            perm_r[lev], perm_c[lev], rhs, dq, lw,
-        )
+        if dense:
+            _matvec_t(inv_t[lev], rhs, dq)
+        else:
+            lu_solve(
+                l_ptr[lev], l_idx[lev], l_val[lev], l_dinv[lev],
+                u_ptr[lev], u_idx[lev], u_val[lev], u_dinv[lev],
+                perm_r[lev], perm_c[lev], rhs, dq, lw,
+            )
         c0 = _lap(prof, P_SOLVE, c0)
         # predictor contact displacements d_lin = B (q + dq_lin) = d_n + B dq_lin
         _contact_coords(c_dof, c_basis, dq, d_lin)
@@ -534,10 +592,7 @@ def newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs
             istate[I_AUG_MAX] = naug
 
         # external work (trapezoid on the sparse force) before q changes
-        wext = 0.0
-        for k in range(nf):
-            fa = _force_at(f_re, f_im, f_om, k, t_n) + _force_at(f_re, f_im, f_om, k, t_1)
-            wext += dq[f_dof[k]] * 0.5 * fa
+        wext = _force_work(f_dof, f_re, f_im, f_om, t_n, t_1, dq)
         # B^T Δp completes the right-hand side actually solved: K_eff dq = rhs
         for j in range(m2):
             wv2[j] = p_new[j] - pc[j]
@@ -547,16 +602,22 @@ def newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs
         ca0 = 1.0 / (nb * h * h)
         cc = nb * h / ng
         dvisc = 0.0
-        for i in range(n):
-            am = 0.0
-            ak = 0.0
-            for k in range(mk_ptr[i], mk_ptr[i + 1]):
-                dj = dq[mk_idx[k]]
-                am += mk_m[k] * dj
-                ak += mk_k[k] * dj
-            dvisc += dq[i] * cc * (rhs[i] - ak - ca0 * am)
-            w5[i] = am
-            lw[i] = ak
+        if dense:   # M and K are symmetric: row j is column j
+            _matvec_t(m_dense, dq, w5)
+            _matvec_t(k_dense, dq, lw)
+            for i in range(n):
+                dvisc += dq[i] * cc * (rhs[i] - lw[i] - ca0 * w5[i])
+        else:
+            for i in range(n):
+                am = 0.0
+                ak = 0.0
+                for k in range(mk_ptr[i], mk_ptr[i + 1]):
+                    dj = dq[mk_idx[k]]
+                    am += mk_m[k] * dj
+                    ak += mk_k[k] * dj
+                dvisc += dq[i] * cc * (rhs[i] - ak - ca0 * am)
+                w5[i] = am
+                lw[i] = ak
         if not np.isfinite(dvisc):  # any non-finite dq shows here; the state is untouched
             istate[I_FAIL_ELEMENT] = -1
             for e in range(nc):
@@ -712,10 +773,11 @@ def newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs
             istate[I_N_LEVEL_CHANGES] = nl + 1
         if tick_new % out_ticks == 0:
             _record(
-                tick_new // out_ticks, q, v, mv, kq, rec_dof, cf, ci, fstate,
+                tick_new // out_ticks, q, v, mv, kq, rec_dof, rec_map, cf, ci, fstate,
                 out_q, out_fn, out_ft, out_st, out_gap, out_slip, out_en,
             )
         if tick_new % sen_ticks == 0:
-            _record_sensors(tick_new // sen_ticks, q, v, a, sen_dof, out_sq, out_sv, out_sa)
+            _record_sensors(tick_new // sen_ticks, q, v, a, sen_dof, sen_map, out_sq, out_sv,
+                            out_sa)
         _lap(prof, P_OUTPUT, c0)
     return STATUS_DONE

@@ -11,6 +11,7 @@ Units are SI throughout: m, s, N, kg, rad/s.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from collections.abc import Callable, Sequence
@@ -399,18 +400,20 @@ def _initial_contact_state(contacts: Contacts, d0: np.ndarray, gap: np.ndarray):
 
 def _level_operators(M, C, K, B, contacts: Contacts, dt: float, n_lev: int, gamma: float,
                      beta_nm: float, contact_stiffness_ratio: float | None,
-                     augment_boost: float):
+                     augment_boost: float, dense: bool):
     """Per step level k (h = dt / 2^k): the factors of K_eff, ``s_mat`` (n_lev, 2n_c, n) =
     (K_eff^-1 Bᵀ)ᵀ, ``w_mat`` (n_lev, 2n_c, 2n_c) = B K_eff^-1 Bᵀ, the smallest level each
     element may be closed at (``lev_req``; None ratio: no criterion), the multiplier update
-    stiffness ``aug_k`` (n_lev, n_c), and the factors packed for the kernel (l_ptr, l_idx,
-    l_val, l_dinv, u_ptr, u_idx, u_val, u_dinv, perm_r, perm_c; first axis the level)."""
+    stiffness ``aug_k`` (n_lev, n_c), the factors packed for the kernel (l_ptr, l_idx,
+    l_val, l_dinv, u_ptr, u_idx, u_val, u_dinv, perm_r, perm_c; first axis the level) and,
+    ``dense``, the transposed inverses ``inv_t`` (n_lev, n, n) (else (n_lev, 0, 0))."""
     n = M.shape[0]
     nc = contacts.n_c
     top = n_lev - 1
     factors = []
     s_list = []
     w_list = []
+    inv_t = np.zeros((n_lev, n, n) if dense else (n_lev, 0, 0))
     Mc = sp.csc_matrix(M)
     Cc = sp.csc_matrix(C)
     Kc = sp.csc_matrix(K)
@@ -422,6 +425,8 @@ def _level_operators(M, C, K, B, contacts: Contacts, dt: float, n_lev: int, gamm
         except np.linalg.LinAlgError as exc:
             raise ValueError(f"K_eff at dt = {h:g} s is singular: {exc}") from exc
         factors.append(fac)
+        if dense:
+            inv_t[k] = fac.splu.solve(np.eye(n)).T
         if nc:
             S = fac.splu.solve(np.ascontiguousarray(B.T))
             s_list.append(np.ascontiguousarray(S.T))
@@ -452,7 +457,7 @@ def _level_operators(M, C, K, B, contacts: Contacts, dt: float, n_lev: int, gamm
             aug_k[k, e] = contacts.k_n[e] + (augment_boost / wee if wee > 0 else 0.0)
     s_mat = np.ascontiguousarray(np.stack(s_list))
     w_mat = np.ascontiguousarray(np.stack(w_list))
-    return factors, s_mat, w_mat, lev_req, aug_k, _pack_factors(factors, n)
+    return factors, s_mat, w_mat, lev_req, aug_k, _pack_factors(factors, n), inv_t
 
 
 def _pack_factors(factors, n: int) -> tuple:
@@ -518,6 +523,8 @@ def simulate_system(
     progress: Callable[[float, float], None] | None = None,
     raise_on_failure: bool = True,
     profile: bool = False,
+    linear_solver: str = "sparse",
+    recovery: np.ndarray | None = None,
 ) -> SystemResult:
     """Integrate ``M q'' + C q' + K q = f(t) + contact forces`` from ``(q0, v0)`` at t = 0.
 
@@ -620,6 +627,15 @@ def simulate_system(
         Count the CPU cycles of each section of a step (``extra['profile_cycles']``, by
         section name, :data:`~rubdiag.kernels.newmark.PROFILE_SECTIONS`); the results are
         the same bits (``benchmarks/bench_breakdown.py``).
+    linear_solver : {"sparse", "dense"}
+        How a step solves with K_eff: sparse LU triangular solves (the default, for large
+        sparse systems), or a product with its dense inverse, and dense products with M and
+        K (for small dense systems such as a reduced model: no indirection, vectorized).
+    recovery : (n_phys, n), optional
+        The integrated coordinates are generalised (a reduced model): physical
+        displacements are ``recovery @ q``. ``record_dofs`` and ``sensor_dofs`` then index
+        the physical DOFs, the kernel records the recovered values, and ``q_final``,
+        ``v_final``, ``a_final`` are physical too.
 
     Returns
     -------
@@ -656,13 +672,24 @@ def simulate_system(
     n_out = int(tick_total // out_ticks) + 1
     if record_dofs is None:
         record_dofs = np.arange(n, dtype=np.int64)
-    record_dofs = _check.indices("record_dofs", record_dofs, n)
+    linear_solver = _check.choice("linear_solver", linear_solver, ("sparse", "dense"))
+    n_phys = n
+    if recovery is not None:
+        recovery = np.asarray(recovery, dtype=np.float64)
+        if recovery.ndim != 2 or recovery.shape[1] != n or not np.all(np.isfinite(recovery)):
+            raise _bad("recovery", f"array of shape {recovery.shape}",
+                       f"finite, shape (n_phys, {n})")
+        n_phys = recovery.shape[0]
+        if record_dofs is None:
+            record_dofs = np.arange(n_phys, dtype=np.int64)
+    record_dofs = _check.indices("record_dofs", record_dofs, n_phys)
     if n_out * max(record_dofs.size, 1) > 5e8:
         raise ValueError(
             f"output of {n_out} samples x {record_dofs.size} DOFs is too large: "
             "increase output_dt or record fewer DOFs"
         )
-    sensor_dofs = _check.indices("sensor_dofs", [] if sensor_dofs is None else sensor_dofs, n)
+    sensor_dofs = _check.indices("sensor_dofs", [] if sensor_dofs is None else sensor_dofs,
+                                 n_phys)
     sen_ticks = np.int64(1) << top
     n_sen = int(tick_total // sen_ticks) + 1 if sensor_dofs.size else 0
     if n_sen * sensor_dofs.size > 5e8:
@@ -713,9 +740,10 @@ def simulate_system(
         raise _bad("a0", "<array>", f"finite, shape ({n},)")
 
     # ---- factorizations, S and W per level
-    factors, s_mat, w_mat, lev_req, aug_k, lu = _level_operators(
+    dense = linear_solver == "dense"
+    factors, s_mat, w_mat, lev_req, aug_k, lu, inv_t = _level_operators(
         M, C, K, B, contacts, dt, n_lev, gamma, beta_nm,
-        None if fixed_step else contact_stiffness_ratio, augment_boost)
+        None if fixed_step else contact_stiffness_ratio, augment_boost, dense)
     l_ptr, l_idx, l_val, l_dinv, u_ptr, u_idx, u_val, u_dinv, perm_r, perm_c = lu
 
     # ---- state, outputs, logs, work
@@ -781,12 +809,14 @@ def simulate_system(
     f_dof = np.ascontiguousarray(force.dofs)
     c_aug = np.ascontiguousarray(contacts.augmented.astype(np.int64))
     prof = np.zeros(P_SIZE if profile else 0, np.int64)
+    empty = np.zeros((0, 0))
     linear = Linear(
         M.indptr.astype(np.int64), M.indices.astype(np.int64), M.data,
         C.indptr.astype(np.int64), C.indices.astype(np.int64), C.data,
-        mk_ptr, mk_idx, mk_m, mk_k)
+        mk_ptr, mk_idx, mk_m, mk_k,
+        M.toarray() if dense else empty, K.toarray() if dense else empty)
     factors_k = Factors(l_ptr, l_idx, l_val, l_dinv, u_ptr, u_idx, u_val, u_dinv, perm_r,
-                        perm_c, s_mat, w_mat)
+                        perm_c, s_mat, w_mat, inv_t)
     force_k = Force(f_dof, f_re, f_im, f_om)
     contacts_k = ContactSet(
         np.ascontiguousarray(contacts.kind), c_dof, basis, np.ascontiguousarray(contacts.gap),
@@ -794,8 +824,11 @@ def simulate_system(
         np.ascontiguousarray(contacts.mu), c_aug, np.ascontiguousarray(contacts.eps), speed,
         lev_req, aug_k)
     state = State(q, v, a, mv, kq, pc, dc, cf, ci, istate, fstate)
-    outputs = Outputs(record_dofs, out_q, out_fn, out_ft, out_st, out_gap, out_slip, out_en,
-                      sensor_dofs, out_sq, out_sv, out_sa)
+    outputs = Outputs(
+        record_dofs, out_q, out_fn, out_ft, out_st, out_gap, out_slip, out_en,
+        sensor_dofs, out_sq, out_sv, out_sa,
+        empty if recovery is None else np.ascontiguousarray(recovery[record_dofs].T),
+        empty if recovery is None else np.ascontiguousarray(recovery[sensor_dofs].T))
     work = Work(wn, wc, wcn, wm, jac, iwork, ciw, prof)
 
     t_setup = time.perf_counter() - t_start
@@ -836,6 +869,9 @@ def simulate_system(
         q, v, a, cf, ci, ep_f, ep_i, sg_f, sg_i, lv_t, lv_l, tot, mx, lvl_count, istate,
         fstate, (sensor_dofs, sen_ticks, out_sq, out_sv, out_sa),
     )
+    if recovery is not None:    # the final state in physical DOFs, like the records
+        result = dataclasses.replace(result, q_final=recovery @ q, v_final=recovery @ v,
+                                     a_final=recovery @ a)
     if profile:
         result.extra["profile_cycles"] = dict(zip(PROFILE_SECTIONS, prof.tolist(), strict=True))
     result.extra.update(
