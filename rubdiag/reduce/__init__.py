@@ -5,6 +5,9 @@
 :func:`check` measures how far the reduced model is from the full one.
 """
 
+from rubdiag.reduce.craig_bampton import CraigBampton, craig_bampton
+from rubdiag.reduce.reduced import ReducedModel, contact_dofs, reduced_model
 from rubdiag.reduce.spec import DEFAULT_CUTOFF_HZ, Reduction
 
-__all__ = ["DEFAULT_CUTOFF_HZ", "Reduction"]
+__all__ = ["DEFAULT_CUTOFF_HZ", "CraigBampton", "ReducedModel", "Reduction", "contact_dofs",
+           "craig_bampton", "reduced_model"]

@@ -1,0 +1,125 @@
+"""A run's linear system as the integrator sees it: the seam between full and reduced model.
+
+:func:`rig_system` turns a :class:`~rubdiag.simulate.run.Run` into a :class:`RigSystem` —
+M, C, K and the unit-speed gyroscopic G, the unbalance load, the contact elements in the
+system's coordinates, the linear steady state to start from, and how to recover physical
+DOFs. The full model gives the sparse 412-DOF matrices and identity recovery; the reduced
+model (``run.reduction``) gives dense Craig–Bampton matrices whose first coordinates are the
+contact DOFs, so the contact elements are the same elements, renumbered. Everything else —
+the gap ramp, the integrator, the result — is shared.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+
+from rubdiag.simulate.run import Run
+from rubdiag.simulate.system import Contacts, HarmonicForce
+
+__all__ = ["RigSystem", "rig_system"]
+
+
+@dataclass(frozen=True)
+class RigSystem:
+    """``M x'' + (C + Ω G) x' + K x = f(t) + contact forces`` in the coordinates x.
+
+    ``M``, ``C``, ``K``, ``G``: sparse (full model) or dense (reduced); ``force``: the
+    unbalance at speed Ω; ``contacts``: in x's numbering; ``x0``, ``v0``: the linear steady
+    state at t = 0; ``approach``: the largest radial approach of that state at the contacts
+    (m); ``recovery``: None (x is q) or T with ``q = T x``; ``linear_solver``: what the
+    integrator uses ("sparse" or "dense"); ``model``: "full" or "reduced"; ``extra``:
+    diagnostics of the reduction."""
+
+    M: object
+    C: object
+    K: object
+    G: object
+    force: HarmonicForce
+    contacts: Contacts
+    x0: np.ndarray
+    v0: np.ndarray
+    approach: float
+    recovery: np.ndarray | None
+    linear_solver: str
+    model: str
+    extra: dict
+
+    def damping(self, speed: float):
+        """``C + Ω G`` at spin speed Ω (rad/s)."""
+        D = self.C + speed * self.G
+        return D.tocsr() if hasattr(D, "tocsr") else D
+
+
+def rig_system(run: Run, model) -> RigSystem:
+    """The linear system of ``run`` on the assembled (Rayleigh-damped) ``model``: full, or
+    Craig–Bampton reduced when ``run.reduction`` is set."""
+    speed = run.speed_rad_s
+    F = model.unbalance_force(run.unbalance, speed)
+    if run.reduction is None:
+        from rubdiag.modal import harmonic_response
+
+        q_hat = harmonic_response(model, speed, run.unbalance).amplitudes
+        x_hat = q_hat
+        loaded = np.flatnonzero(F)
+        force = HarmonicForce(loaded, F[loaded], speed)
+        contacts, approach = _contacts(run, model, q_hat)
+        parts = (model.M, model.C, model.K, model.G)
+        recovery, solver, extra = None, "sparse", {}
+    else:
+        from rubdiag.reduce import reduced_model
+
+        reduced = reduced_model(run.rig, run.reduction)
+        x_hat = reduced.harmonic_response(F, speed)
+        q_hat = reduced.basis.T @ x_hat
+        F_r = reduced.project_force(F)
+        force = HarmonicForce(np.arange(F_r.size), F_r, speed)
+        contacts, approach = _contacts(run, model, q_hat)
+        index = reduced.basis.boundary_index
+        contacts = dataclasses.replace(contacts, dof_a=index(contacts.dof_a),
+                                       dof_b=index(contacts.dof_b))
+        parts = (reduced.M, reduced.C, reduced.K, reduced.G)
+        recovery, solver = reduced.basis.T, "dense"
+        extra = {"n_reduced": reduced.n_reduced, "cutoff_hz": run.reduction.cutoff_hz,
+                 "reduction_seconds": reduced.build_seconds}
+    return RigSystem(*parts, force=force, contacts=contacts, x0=np.real(x_hat),
+                     v0=np.real(1j * speed * x_hat), approach=approach, recovery=recovery,
+                     linear_solver=solver, model="full" if recovery is None else "reduced",
+                     extra=extra)
+
+
+def _contacts(run: Run, model, linear) -> tuple[Contacts, float]:
+    """Contact elements of the run (physical DOFs) and the largest radial approach of the
+    linear response ``linear`` (complex amplitudes of every DOF) at them (m)."""
+    contacts = Contacts.empty()
+    start = 0.0
+    law = run.contact_law
+    if law is not None:
+        geo = model.blade_contacts
+        if law.blades != run.rig.contact.blades:
+            raise ValueError("contact.blades must equal the rig's contact blades (the "
+                             "contact geometry belongs to the rig)")
+        n = len(law.blades)
+        contacts = Contacts.point(geo.tip_dofs, geo.casing_dofs, geo.normal, geo.tangent,
+                                  np.full(n, run.gap_m), law.normal_stiffness_n_m,
+                                  k_t=law.tangential_stiffness_n_m,
+                                  mu=law.friction_coefficient, augmented=law.augmented,
+                                  eps=law.penetration_tolerance_m)
+        rel = linear[geo.tip_dofs] - linear[geo.casing_dofs]          # (n, 2) complex
+        start = float(np.abs(np.sum(rel * geo.normal, axis=1)).max())
+    for sc in run.rig.stator_contacts:
+        dofs = [[model.dofs.index(sc.node, "y"), model.dofs.index(sc.node, "z")]]
+        radius = sc.shaft_radius_m
+        if radius is None:
+            shaft = run.rig.shaft
+            i = min(sc.node - shaft.first_node, shaft.n_elements - 1)
+            radius = 0.5 * shaft.outer_diameters_m[i]
+        contacts = contacts + Contacts.annular(
+            np.array(dofs), np.array([sc.clearance_m]), np.array([radius]), sc.stiffness_n_m,
+            mu=sc.friction_coefficient)
+        a, b = linear[dofs[0][0]], linear[dofs[0][1]]
+        orbit = np.sqrt(0.5 * (abs(a) ** 2 + abs(b) ** 2 + abs(a * a + b * b)))
+        start = max(start, float(orbit))
+    return contacts, start
