@@ -5,9 +5,11 @@
 :func:`check` measures how far the reduced model is from the full one.
 """
 
+from rubdiag.reduce.check import FREQUENCY_TOLERANCE, ReductionCheck, check
 from rubdiag.reduce.craig_bampton import CraigBampton, craig_bampton
 from rubdiag.reduce.reduced import ReducedModel, contact_dofs, reduced_model
-from rubdiag.reduce.spec import DEFAULT_CUTOFF_HZ, Reduction
+from rubdiag.reduce.spec import DEFAULT_CUTOFF_HZ, MARGIN, Reduction
 
-__all__ = ["DEFAULT_CUTOFF_HZ", "CraigBampton", "ReducedModel", "Reduction", "contact_dofs",
+__all__ = ["DEFAULT_CUTOFF_HZ", "FREQUENCY_TOLERANCE", "MARGIN", "CraigBampton", "ReducedModel",
+           "Reduction", "ReductionCheck", "check", "contact_dofs",
            "craig_bampton", "reduced_model"]

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 from rubdiag import _check
 
-__all__ = ["DEFAULT_CUTOFF_HZ", "Reduction"]
+__all__ = ["DEFAULT_CUTOFF_HZ", "MARGIN", "Reduction"]
 
 #: The default cutoff (Hz): 2 × (8 × 6840 rpm / 60) = 1824 Hz, rounded up. 6840 rpm is the
 #: paper rig's second critical speed + 20 %, the top of the speed ranges the shipped dataset
@@ -22,6 +22,9 @@ __all__ = ["DEFAULT_CUTOFF_HZ", "Reduction"]
 #: rig no fixed-interface mode lies between 1442 and 2589 Hz, so any cutoff in that band
 #: gives the same model.
 DEFAULT_CUTOFF_HZ = 2000.0
+#: The cutoff over the band the reduced model answers for (the Craig–Bampton rule's margin):
+#: :func:`rubdiag.reduce.check` holds frequencies below ``cutoff_hz / MARGIN`` to 0.5 %.
+MARGIN = 2.0
 
 
 @dataclass(frozen=True)
@@ -37,9 +40,14 @@ class Reduction:
     def __post_init__(self):
         _check.number("cutoff_hz", self.cutoff_hz, lo=1.0, hi=1e6)
 
+    @property
+    def band_hz(self) -> float:
+        """The band the reduced model answers for (Hz): ``cutoff_hz / MARGIN``."""
+        return self.cutoff_hz / MARGIN
+
     @classmethod
     def for_features(cls, max_speed_rpm: float, max_order: float = 8.0,
-                     margin: float = 2.0) -> Reduction:
+                     margin: float = MARGIN) -> Reduction:
         """The reduction whose cutoff is ``margin × max_order × max_speed_rpm / 60`` Hz:
         every feature line up to order ``max_order`` at up to ``max_speed_rpm`` lies below
         the cutoff with that margin."""

@@ -1,0 +1,64 @@
+"""The reduced paper rig against the full one (``rubdiag.reduce.check``): the tolerances are
+the module's constants, which README's "Reduced model" section quotes."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from rubdiag.model import paper_rig
+from rubdiag.reduce import check, reduced_model
+from rubdiag.reduce.check import FREQUENCY_TOLERANCE, RESPONSE_TOLERANCE, STATIC_TOLERANCE
+
+
+@pytest.fixture(scope="module")
+def report():
+    return check(paper_rig(), n_frequencies=40)
+
+
+def test_the_reduced_paper_rig_passes(report):
+    s = report.summary()
+    assert report.passed, s
+    assert s["n_reduced"] < s["n_full"] / 5       # 52 of 412 coordinates
+    # the criticals of both cases, within 0.5 %
+    crit = report.critical_speeds
+    assert crit.full_rpm.iloc[0] == pytest.approx(1500.0, rel=1e-3)
+    assert crit.full_rpm.iloc[1] == pytest.approx(5700.0, rel=1e-3)
+    assert (crit.error.abs().iloc[:2] <= FREQUENCY_TOLERANCE).all()
+    assert s["static_compliance_error"] <= STATIC_TOLERANCE
+    assert s["max_sensor_response_error_in_band"] <= RESPONSE_TOLERANCE
+
+
+def test_frequencies_are_upper_bounds_at_rest(report):
+    # Rayleigh–Ritz on an undamped, non-rotating structure: never below the full model
+    at_rest = report.frequencies[report.frequencies.speed_rpm == 0]
+    assert len(at_rest) > 20
+    assert (at_rest.error >= -1e-8).all()
+
+
+def test_a_model_too_coarse_for_its_band_fails(monkeypatch):
+    # the check can fail: a model with the modes of a 300-Hz cutoff, answering for the
+    # default 1-kHz band, misses the band's modes
+    import dataclasses
+    import importlib
+
+    from rubdiag.reduce import Reduction
+
+    check_module = importlib.import_module("rubdiag.reduce.check")   # the module, not check()
+
+    rig = paper_rig()
+    coarse = dataclasses.replace(reduced_model(rig, Reduction(cutoff_hz=300.0)),
+                                 reduction=Reduction())
+    monkeypatch.setattr(check_module, "reduced_model", lambda rig, reduction: coarse)
+    report = check(rig, n_frequencies=10)
+    assert not report.passed
+    assert report.summary()["max_frequency_error_in_band"] > FREQUENCY_TOLERANCE
+
+
+def test_one_reduction_per_rig_and_process():
+    rig = paper_rig()
+    a = reduced_model(rig)
+    assert reduced_model(rig) is a
+    np.testing.assert_array_equal(a.M, a.M.T)     # the kernel reads rows as columns
+    np.testing.assert_array_equal(a.K, a.K.T)
+    np.testing.assert_allclose(a.G, -a.G.T, atol=1e-12 * np.abs(a.G).max())
