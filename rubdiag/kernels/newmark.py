@@ -233,16 +233,32 @@ def _force_work(f_dof, f_re, f_im, f_om, t_n, t_1, dq):
 
 @njit
 def _matvec_t(at, x, out):
-    """``out = A x`` for ``at = Aᵀ`` dense: column by column (row j of ``at``), so the
-    inner loop is an independent update of contiguous memory, which vectorizes (a row dot
-    product would be a serial sum: no fastmath, no reordering)."""
-    for i in range(out.shape[0]):
+    """``out = A x`` for ``at = Aᵀ`` dense: column by column (rows of ``at``), four at a
+    time, so the inner loop is an independent update of contiguous memory, which vectorizes
+    (a row dot product would be a serial sum: no fastmath, no reordering)."""
+    n = out.shape[0]
+    m = x.shape[0]
+    for i in range(n):
         out[i] = 0.0
-    for j in range(x.shape[0]):
+    j = 0
+    while j + 4 <= m:
+        x0 = x[j]
+        x1 = x[j + 1]
+        x2 = x[j + 2]
+        x3 = x[j + 3]
+        c0 = at[j]
+        c1 = at[j + 1]
+        c2 = at[j + 2]
+        c3 = at[j + 3]
+        for i in range(n):
+            out[i] += (c0[i] * x0 + c1[i] * x1) + (c2[i] * x2 + c3[i] * x3)
+        j += 4
+    while j < m:
         xj = x[j]
-        col = at[j]
-        for i in range(out.shape[0]):
-            out[i] += col[i] * xj
+        c0 = at[j]
+        for i in range(n):
+            out[i] += c0[i] * xj
+        j += 1
 
 
 @njit
