@@ -421,14 +421,15 @@ def _level_operators(M, C, K, B, contacts: Contacts, dt: float, n_lev: int, gamm
         h = dt / 2**k
         keff = Kc + (gamma / (beta_nm * h)) * Cc + (1.0 / (beta_nm * h * h)) * Mc
         try:
-            fac = factorize(keff)
+            if dense:   # LAPACK on the dense matrix (SuperLU's dense solves take ms each)
+                inv_t[k] = np.linalg.inv(keff.toarray()).T
+            else:
+                fac = factorize(keff)
+                factors.append(fac)
         except np.linalg.LinAlgError as exc:
             raise ValueError(f"K_eff at dt = {h:g} s is singular: {exc}") from exc
-        factors.append(fac)
-        if dense:
-            inv_t[k] = fac.splu.solve(np.eye(n)).T
         if nc:
-            S = fac.splu.solve(np.ascontiguousarray(B.T))
+            S = inv_t[k].T @ B.T if dense else fac.splu.solve(np.ascontiguousarray(B.T))
             s_list.append(np.ascontiguousarray(S.T))
             w_list.append(B @ S)
         else:
@@ -465,8 +466,8 @@ def _pack_factors(factors, n: int) -> tuple:
     axis, index and value rows padded to the largest factor (l_ptr, l_idx, l_val, l_dinv,
     u_ptr, u_idx, u_val, u_dinv, perm_r, perm_c)."""
     n_lev = len(factors)
-    nnz_l = max(1, max(f.l_val.size for f in factors))
-    nnz_u = max(1, max(f.u_val.size for f in factors))
+    nnz_l = max(1, max((f.l_val.size for f in factors), default=0))   # none: dense
+    nnz_u = max(1, max((f.u_val.size for f in factors), default=0))
     l_ptr = np.zeros((n_lev, n + 1), np.int64)
     u_ptr = np.zeros((n_lev, n + 1), np.int64)
     l_idx = np.zeros((n_lev, nnz_l), np.int64)
