@@ -54,11 +54,129 @@ from rubdiag.kernels.contact import (
     STICKING,
     solve_contact,
 )
+from rubdiag.kernels.layout import (
+    CF_E,
+    CF_EP_PEAK_FN,
+    CF_EP_SLIDE_IMPULSE,
+    CF_EP_SLIDE_TIME,
+    CF_EP_START,
+    CF_EP_STICK_IMPULSE,
+    CF_EP_STICK_TIME,
+    CF_FN,
+    CF_FT,
+    CF_GAP,
+    CF_LAM,
+    CF_SEG_START,
+    CF_SLIP,
+    CF_Z,
+    CI_EP_SLIDE_ENTRIES,
+    CI_EP_STEPS,
+    CI_EP_STICK_ENTRIES,
+    CI_STATUS,
+    CR_E,
+    CR_E_TRIAL,
+    CR_FN,
+    CR_FT,
+    CR_GAP,
+    CR_Z,
+    EN_CONTACT,
+    EN_D_FRIC,
+    EN_D_NUM,
+    EN_D_VISC,
+    EN_KINETIC,
+    EN_STRAIN,
+    EN_W_DRIVE,
+    EN_W_EXT,
+    EPF_PEAK_FN,
+    EPF_SLIDE_IMPULSE,
+    EPF_SLIDE_TIME,
+    EPF_STICK_IMPULSE,
+    EPF_STICK_TIME,
+    EPF_T_END,
+    EPF_T_START,
+    EPI_COMPLETE,
+    EPI_ELEMENT,
+    EPI_SLIDE_ENTRIES,
+    EPI_STEPS,
+    EPI_STICK_ENTRIES,
+    F_CONE_EXCESS,
+    F_D_FRIC,
+    F_D_NUM,
+    F_D_VISC,
+    F_E_CONTACT,
+    F_FAIL_TIME,
+    F_W_DRIVE,
+    F_W_EXT,
+    FP_AUG_SHIFT,
+    FP_BETA,
+    FP_DT,
+    FP_GAMMA,
+    FP_GAP_JUMP,
+    FP_NEWTON_TOL,
+    FP_T_RAMP,
+    I_AUG_MAX,
+    I_AUG_PENDING,
+    I_AUG_TOTAL,
+    I_FAIL_CODE,
+    I_FAIL_ELEMENT,
+    I_LEVEL,
+    I_N_ABRUPT_AT_MIN,
+    I_N_ACCEPTED,
+    I_N_EPISODES,
+    I_N_LEVEL_CHANGES,
+    I_N_REJ_ABRUPT,
+    I_N_REJ_NEWTON,
+    I_N_SEGMENTS,
+    I_NEWTON_MAX,
+    I_NEWTON_TOTAL,
+    I_QUIET,
+    I_SAMPLE0_DONE,
+    I_TICK,
+    IP_AUG_STRICT,
+    IP_FIXED,
+    IP_GROW_AFTER,
+    IP_MAX_AUG,
+    IP_MAX_NEWTON,
+    IP_N_LEV,
+    IP_OUT_TICKS,
+    IP_SEN_TICKS,
+    IP_TICK_END,
+    MX_FN,
+    MX_FT,
+    MX_PENETRATION,
+    P_CONTACT,
+    P_LEDGER,
+    P_OUTPUT,
+    P_RHS,
+    P_SIZE,
+    P_SOLVE,
+    P_UPDATE,
+    PROFILE_SECTIONS,
+    SGF_T_END,
+    SGF_T_START,
+    SGI_ELEMENT,
+    SGI_STATUS,
+    TOT_FN_IMPULSE,
+    TOT_FT_IMPULSE,
+    TOT_TIME,
+    WC_D_LIN,
+    WC_D_NEW,
+    WC_P_NEW,
+    WC_V,
+    WC_V2,
+    WCN_DRIVE,
+    WCN_GAP,
+    WCN_GAP_START,
+    WCN_LAM,
+    WN_DQ,
+    WN_KDQ,
+    WN_MDQ,
+    WN_RHS,
+    WN_X,
+)
 from rubdiag.kernels.sparse_lu import csr_matvec, lu_solve
 
 __all__ = [
-    "FS",
-    "IS",
     "PROFILE_SECTIONS",
     "P_SIZE",
     "STATUS_DONE",
@@ -81,91 +199,6 @@ STATUS_DONE = 0  # reached tick_end
 STATUS_NO_CONVERGENCE = 1  # contact iteration failed at the smallest step
 STATUS_NONFINITE = 2  # non-finite state
 STATUS_LOG_FULL = 3  # a log (episodes, segments, level changes) is full: caller grows it
-
-
-class IS:
-    """Indices into the int64 state vector ``istate``."""
-
-    TICK = 0
-    LEVEL = 1
-    QUIET = 2  # accepted steps since the last level change
-    N_ACCEPTED = 3
-    N_REJ_NEWTON = 4
-    N_REJ_ABRUPT = 5
-    NEWTON_TOTAL = 6
-    NEWTON_MAX = 7
-    AUG_TOTAL = 8
-    N_EPISODES = 9
-    N_LEVEL_CHANGES = 10
-    FAIL_ELEMENT = 11
-    N_ABRUPT_AT_MIN = 12
-    SAMPLE0_DONE = 13
-    AUG_MAX = 14
-    FAIL_CODE = 15  # contact-solve code of the failure
-    AUG_PENDING = 16  # steps accepted with the penetration band not yet reached
-    N_SEGMENTS = 17
-    SIZE = 18
-
-
-class FS:
-    """Indices into the float64 state vector ``fstate`` (J unless stated)."""
-
-    W_EXT = 0
-    W_DRIVE = 1
-    D_VISC = 2
-    D_FRIC = 3
-    D_NUM = 4
-    CONE_EXCESS = 5  # max over steps/elements of |F_T| - mu F_N (N)
-    FAIL_TIME = 6  # s
-    E_CONTACT = 7  # contact elastic energy at the current state
-    SIZE = 8
-
-
-# the same indices as module constants (Numba cannot read class attributes)
-I_TICK = 0
-I_LEVEL = 1
-I_QUIET = 2
-I_N_ACCEPTED = 3
-I_N_REJ_NEWTON = 4
-I_N_REJ_ABRUPT = 5
-I_NEWTON_TOTAL = 6
-I_NEWTON_MAX = 7
-I_AUG_TOTAL = 8
-I_N_EPISODES = 9
-I_N_LEVEL_CHANGES = 10
-I_FAIL_ELEMENT = 11
-I_N_ABRUPT_AT_MIN = 12
-I_SAMPLE0_DONE = 13
-I_AUG_MAX = 14
-I_FAIL_CODE = 15
-I_AUG_PENDING = 16
-I_N_SEGMENTS = 17
-I_SIZE = 18
-F_W_EXT = 0
-F_W_DRIVE = 1
-F_D_VISC = 2
-F_D_FRIC = 3
-F_D_NUM = 4
-F_CONE_EXCESS = 5
-F_FAIL_TIME = 6
-F_E_CONTACT = 7
-F_SIZE = 8
-
-# sections of a step whose CPU cycles a profiled run counts (``prof``, length P_SIZE)
-P_RHS = 0  # right-hand side of the increment equation (force, M v, K q, Bᵀp)
-P_SOLVE = 1  # the sparse triangular solves with K_eff
-P_CONTACT = 2  # contact predictor, the contact Newton solve, the abrupt-closing check
-P_UPDATE = 3  # accept: dq += S Δp, M dq and K dq, the new state
-P_LEDGER = 4  # energy ledger, episodes and totals, committing the contact state
-P_OUTPUT = 5  # step-size control and the recorded samples
-P_SIZE = 6
-PROFILE_SECTIONS = ("rhs", "solve", "contact", "update", "ledger", "output")
-
-# parameter vectors
-# fpar: 0 dt, 1 t_ramp, 2 newton_tol, 3 gap_jump, 4 aug_shift, 5 Newmark beta, 6 gamma
-# ipar: 0 n_lev, 1 fixed, 2 grow_after, 3 max_newton, 4 max_aug, 5 tick_end, 6 out_ticks,
-#       7 aug_strict
-
 
 
 # The kernel's arrays in named bundles (Numba compiles namedtuples of arrays as records: a
@@ -318,24 +351,24 @@ def _record(
 ):
     _recover(rec_map, rec_dof, q, out_q[idx])
     for e in range(ci.shape[1]):
-        out_fn[idx, e] = cf[3, e]
-        out_ft[idx, e] = cf[4, e]
-        out_st[idx, e] = ci[0, e]
-        out_gap[idx, e] = cf[5, e]
-        out_slip[idx, e] = cf[2, e]
+        out_fn[idx, e] = cf[CF_FN, e]
+        out_ft[idx, e] = cf[CF_FT, e]
+        out_st[idx, e] = ci[CI_STATUS, e]
+        out_gap[idx, e] = cf[CF_GAP, e]
+        out_slip[idx, e] = cf[CF_SLIP, e]
     ek = 0.0
     es = 0.0
     for i in range(q.shape[0]):
         ek += v[i] * mv[i]
         es += q[i] * kq[i]
-    out_en[idx, 0] = fstate[F_W_EXT]
-    out_en[idx, 1] = fstate[F_W_DRIVE]
-    out_en[idx, 2] = fstate[F_D_VISC]
-    out_en[idx, 3] = fstate[F_D_FRIC]
-    out_en[idx, 4] = fstate[F_D_NUM]
-    out_en[idx, 5] = 0.5 * ek
-    out_en[idx, 6] = 0.5 * es
-    out_en[idx, 7] = fstate[F_E_CONTACT]
+    out_en[idx, EN_W_EXT] = fstate[F_W_EXT]
+    out_en[idx, EN_W_DRIVE] = fstate[F_W_DRIVE]
+    out_en[idx, EN_D_VISC] = fstate[F_D_VISC]
+    out_en[idx, EN_D_FRIC] = fstate[F_D_FRIC]
+    out_en[idx, EN_D_NUM] = fstate[F_D_NUM]
+    out_en[idx, EN_KINETIC] = 0.5 * ek
+    out_en[idx, EN_STRAIN] = 0.5 * es
+    out_en[idx, EN_CONTACT] = fstate[F_E_CONTACT]
 
 
 @njit
@@ -348,10 +381,10 @@ def _record_sensors(idx, q, v, a, sen_dof, sen_map, out_sq, out_sv, out_sa):
 @njit
 def _log_segment(sg_f, sg_i, istate, e, status, t_start, t_end):
     k = istate[I_N_SEGMENTS]
-    sg_f[k, 0] = t_start
-    sg_f[k, 1] = t_end
-    sg_i[k, 0] = e
-    sg_i[k, 1] = status
+    sg_f[k, SGF_T_START] = t_start
+    sg_f[k, SGF_T_END] = t_end
+    sg_i[k, SGI_ELEMENT] = e
+    sg_i[k, SGI_STATUS] = status
     istate[I_N_SEGMENTS] = k + 1
 
 
@@ -368,7 +401,7 @@ def _lap(prof, section, c0):
 
 @njit
 def newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs, logs, work):
-    """Run the time loop from ``istate[TICK]`` to ``ipar[5]`` (tick_end). Returns a status code.
+    """Run the time loop from ``istate[I_TICK]`` to ``ipar[IP_TICK_END]``; a status code.
 
     The arrays come in the bundles :data:`Linear`, :data:`Factors`, :data:`Force`,
     :data:`ContactSet`, :data:`State`, :data:`Outputs`, :data:`Logs` and :data:`Work`; below,
@@ -391,27 +424,25 @@ def newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs
       ``aug_k`` (L, n_c) multiplier update stiffness per level (N/m).
     * state: ``q, v, a`` (n), ``mv = M v``, ``kq = K q`` (n, tracked incrementally);
       ``pc``, ``dc`` (2n_c) contact forces and
-      displacements; ``cf`` (14, n_c) rows e, lam, slip s, F_N, F_T, gap, episode start time,
-      episode peak F_N, trial normal force z, then the episode's sliding time, sticking time,
-      normal impulse while sliding and while sticking, and the current segment's start time;
-      ``ci`` (4, n_c) rows status, episode steps,
-      slide entries, stick entries.
-    * logs: ``ep_f`` (cap, 7) t_start, t_end, peak F_N, sliding time, sticking time, normal
-      impulse while sliding, while sticking; ``ep_i`` (cap, 5) element, steps,
-      slide entries, stick entries, complete; ``sg_f`` (cap, 2) t_start, t_end and ``sg_i``
-      (cap, 2) element, status of every status segment (a maximal run of one closed status:
+      displacements; ``cf`` (CF_SIZE, n_c) float and ``ci`` (CI_SIZE, n_c) int per-element
+      state (the current episode's too), rows ``CF_*``, ``CI_*``
+      (:mod:`rubdiag.kernels.layout` names every row of the packed arrays).
+    * logs: ``ep_f`` (cap, EPF_SIZE), ``ep_i`` (cap, EPI_SIZE) the ended episodes
+      (``EPF_*``, ``EPI_*``); ``sg_f``, ``sg_i`` (cap, SG_SIZE) t_start, t_end and
+      element, status of every status segment (a maximal run of one closed status:
       steps count with their end-of-step status, the episode's interpolated start and end
       bound its first and last segment); ``lv_t``/``lv_l`` level-change log;
-      ``tot`` (n_c, 9) time / normal impulse / tangential impulse per status 1..3;
-      ``mx`` (n_c, 3) max F_N, max |F_T|, max penetration; ``lvl_count`` (L) accepted steps.
-    * work: ``wn`` (6, n), ``wc`` (5, 2n_c), ``wcn`` (3, n_c), ``wm`` (2n_c, 2n_c),
-      ``jac`` (n_c, 4), ``iwork`` (5 n_c) int, ``ciw`` (7, n_c) — nothing is allocated
-      inside the loop.
+      ``tot`` (n_c, TOT_SIZE) time / normal impulse / tangential impulse per status 1..3;
+      ``mx`` (n_c, MX_SIZE) max F_N, max |F_T|, max penetration; ``lvl_count`` (L) accepted
+      steps.
+    * work: ``wn`` (WN_SIZE, n), ``wc`` (WC_SIZE, 2n_c), ``wcn`` (WCN_SIZE, n_c), ``wm``
+      (2n_c, 2n_c), ``jac`` (n_c, 4), ``iwork`` (5 n_c) int, ``ciw`` (CR_SIZE, n_c) —
+      nothing is allocated inside the loop.
     * ``prof`` (P_SIZE) int64: CPU cycles per section of the step (``P_*``), added to when
       not empty (a profiled run; an empty array costs one branch per section).
     * sensors: ``sen_dof`` (n_s) int; ``out_sq``, ``out_sv``, ``out_sa`` (n_sen_out, n_s)
       displacement, velocity and acceleration of those DOFs — the integrator's own state,
-      not differences — every ``ipar[8]`` ticks (a multiple of the largest step, so the
+      not differences — every ``ipar[IP_SEN_TICKS]`` ticks (a multiple of the largest step, so the
       samples are step ends).
     """
     m_ptr, m_idx, m_val, c_ptr, c_idx, c_val, mk_ptr, mk_idx, mk_m, mk_k, m_dense, k_dense = linear
@@ -428,23 +459,23 @@ def newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs
     n = q.shape[0]
     nc = c_kind.shape[0]
     m2 = 2 * nc
-    dt0 = fpar[0]
-    t_ramp = fpar[1]
-    tol = fpar[2]
-    gap_jump = fpar[3]
-    aug_shift = fpar[4]
-    nb = fpar[5]
-    ng = fpar[6]
+    dt0 = fpar[FP_DT]
+    t_ramp = fpar[FP_T_RAMP]
+    tol = fpar[FP_NEWTON_TOL]
+    gap_jump = fpar[FP_GAP_JUMP]
+    aug_shift = fpar[FP_AUG_SHIFT]
+    nb = fpar[FP_BETA]
+    ng = fpar[FP_GAMMA]
     trapezoid = nb == 0.25 and ng == 0.5
-    n_lev = ipar[0]
-    fixed = ipar[1] != 0
-    grow_after = ipar[2]
-    max_newton = ipar[3]
-    max_aug = ipar[4]
-    aug_strict = ipar[7] != 0
-    tick_end = ipar[5]
-    out_ticks = ipar[6]
-    sen_ticks = ipar[8]
+    n_lev = ipar[IP_N_LEV]
+    fixed = ipar[IP_FIXED] != 0
+    grow_after = ipar[IP_GROW_AFTER]
+    max_newton = ipar[IP_MAX_NEWTON]
+    max_aug = ipar[IP_MAX_AUG]
+    aug_strict = ipar[IP_AUG_STRICT] != 0
+    tick_end = ipar[IP_TICK_END]
+    out_ticks = ipar[IP_OUT_TICKS]
+    sen_ticks = ipar[IP_SEN_TICKS]
     top = n_lev - 1
     tick_dt = dt0 / (1 << top)
     ep_cap = ep_f.shape[0]
@@ -452,18 +483,20 @@ def newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs
     lv_cap = lv_t.shape[0]
     dense = inv_t.shape[1] > 0
 
-    x = wn[0]
-    rhs = wn[1]
-    dq = wn[2]
-    lw = wn[3]
-    w5 = wn[5]
-    d_lin = wc[0]
-    d_new = wc[1]
-    p_new = wc[2]
-    wv = wc[3]
-    wv2 = wc[4]
-    gcur = wcn[0]
-    lam_w = wcn[1]
+    x = wn[WN_X]
+    rhs = wn[WN_RHS]
+    dq = wn[WN_DQ]
+    lw = wn[WN_KDQ]
+    w5 = wn[WN_MDQ]
+    d_lin = wc[WC_D_LIN]
+    d_new = wc[WC_D_NEW]
+    p_new = wc[WC_P_NEW]
+    wv = wc[WC_V]
+    wv2 = wc[WC_V2]
+    gcur = wcn[WCN_GAP]
+    lam_w = wcn[WCN_LAM]
+    drive = wcn[WCN_DRIVE]
+    gstart_w = wcn[WCN_GAP_START]
     st_new = iwork[4 * nc : 5 * nc]
     iw = iwork[: 4 * nc]
 
@@ -536,10 +569,10 @@ def newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs
             # multipliers are iterated from 0 within each step (no carry-over: a multiplier
             # kept while the penetration shrinks pushes the contact open impulsively)
             lam_w[e] = 0.0
-            wcn[2, e] = c_speed[e] * h
+            drive[e] = c_speed[e] * h
         code, nit, naug, worst = solve_contact(
             w_mat[lev], d_lin, pc, dc, c_kind, gcur, c_kn, c_kt, c_mu, c_aug, c_eps,
-            lam_w, cf[0], wcn[2], aug_k[lev], aug_shift, max_newton, max_aug, aug_strict, tol,
+            lam_w, cf[CF_E], drive, aug_k[lev], aug_shift, max_newton, max_aug, aug_strict, tol,
             d_new, p_new, jac, ciw, st_new, iw, wm, wv, wv2,
         )
         istate[I_NEWTON_TOTAL] += nit
@@ -572,11 +605,11 @@ def newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs
         abrupt = False
         need = lev
         for e in range(nc):
-            if ci[0, e] == OPEN and st_new[e] != OPEN and -ciw[4, e] > gap_jump:
+            if ci[CI_STATUS, e] == OPEN and st_new[e] != OPEN and -ciw[CR_GAP, e] > gap_jump:
                 abrupt = True
                 if need < lev + 1:
                     need = lev + 1
-            if (ci[0, e] != OPEN or st_new[e] != OPEN) and lev_req[e] > need:
+            if (ci[CI_STATUS, e] != OPEN or st_new[e] != OPEN) and lev_req[e] > need:
                 abrupt = True
                 need = lev_req[e]
         if abrupt and not fixed:
@@ -669,18 +702,18 @@ def newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs
         dfric = 0.0
         ec = 0.0
         if t_ramp > 0.0 and t_n < t_ramp:
-            _gaps_at(t_n, c_g0, c_gstart, t_ramp, wcn[2])
+            _gaps_at(t_n, c_g0, c_gstart, t_ramp, gstart_w)
         for e in range(nc):
-            fn = ciw[0, e]
-            ft = ciw[1, e]
+            fn = ciw[CR_FN, e]
+            ft = ciw[CR_FT, e]
             if t_ramp > 0.0 and t_n < t_ramp:
                 # work of the prescribed gap motion on the contact (trapezoid)
-                wdrive -= 0.5 * (fn + cf[3, e]) * (gcur[e] - wcn[2, e])
+                wdrive -= 0.5 * (fn + cf[CF_FN, e]) * (gcur[e] - gstart_w[e])
             if st_new[e] != OPEN:
                 ec += 0.5 * fn * fn / c_kn[e] + 0.5 * ft * ft / c_kt[e]
                 wdrive -= ft * c_speed[e] * h
                 if st_new[e] == SLIDING:
-                    dfric += abs(ft) * abs(ciw[3, e] - ciw[2, e])
+                    dfric += abs(ft) * abs(ciw[CR_E_TRIAL, e] - ciw[CR_E, e])
         fstate[F_W_DRIVE] += wdrive
         fstate[F_D_FRIC] += dfric
         fstate[F_D_NUM] += -wc_ + wdrive - (ec - fstate[F_E_CONTACT]) - dfric
@@ -688,78 +721,86 @@ def newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs
 
         # per-element bookkeeping: episodes, totals, maxima
         for e in range(nc):
-            so = ci[0, e]
+            so = ci[CI_STATUS, e]
             sn = st_new[e]
-            fn = ciw[0, e]
-            ft = ciw[1, e]
-            zo = cf[8, e]
-            zn = ciw[5, e]
+            fn = ciw[CR_FN, e]
+            ft = ciw[CR_FT, e]
+            zo = cf[CF_Z, e]
+            zn = ciw[CR_Z, e]
             if so == OPEN and sn != OPEN:
                 frac = zo / (zo - zn) if zo < 0.0 else 0.0
-                cf[6, e] = t_n + frac * h
-                cf[7, e] = 0.0
-                for r in range(9, 13):
-                    cf[r, e] = 0.0
-                ci[1, e] = 0
-                ci[2, e] = 0
-                ci[3, e] = 0
-                cf[13, e] = cf[6, e]
+                cf[CF_EP_START, e] = t_n + frac * h
+                cf[CF_EP_PEAK_FN, e] = 0.0
+                cf[CF_EP_SLIDE_TIME, e] = 0.0
+                cf[CF_EP_STICK_TIME, e] = 0.0
+                cf[CF_EP_SLIDE_IMPULSE, e] = 0.0
+                cf[CF_EP_STICK_IMPULSE, e] = 0.0
+                ci[CI_EP_STEPS, e] = 0
+                ci[CI_EP_SLIDE_ENTRIES, e] = 0
+                ci[CI_EP_STICK_ENTRIES, e] = 0
+                cf[CF_SEG_START, e] = cf[CF_EP_START, e]
             elif so != OPEN and sn != OPEN and sn != so:
                 # sliding <-> sticking: the step counts with its new status
-                _log_segment(sg_f, sg_i, istate, e, so, cf[13, e], t_n)
-                cf[13, e] = t_n
+                _log_segment(sg_f, sg_i, istate, e, so, cf[CF_SEG_START, e], t_n)
+                cf[CF_SEG_START, e] = t_n
             if sn != OPEN:
-                ci[1, e] += 1
-                if fn > cf[7, e]:
-                    cf[7, e] = fn
+                ci[CI_EP_STEPS, e] += 1
+                if fn > cf[CF_EP_PEAK_FN, e]:
+                    cf[CF_EP_PEAK_FN, e] = fn
                 if sn == SLIDING and so != SLIDING:
-                    ci[2, e] += 1
+                    ci[CI_EP_SLIDE_ENTRIES, e] += 1
                 if sn == STICKING and so != STICKING:
-                    ci[3, e] += 1
+                    ci[CI_EP_STICK_ENTRIES, e] += 1
                 # each step counts with its end-of-step status, as in ``tot``
-                r = 9 if sn == SLIDING else 10
-                cf[r, e] += h
-                cf[r + 2, e] += fn * h
+                if sn == SLIDING:
+                    cf[CF_EP_SLIDE_TIME, e] += h
+                    cf[CF_EP_SLIDE_IMPULSE, e] += fn * h
+                else:
+                    cf[CF_EP_STICK_TIME, e] += h
+                    cf[CF_EP_STICK_IMPULSE, e] += fn * h
             elif so != OPEN:
                 # episode ends inside this step: interpolate the trial normal force to zero
                 frac = zo / (zo - zn) if zn < 0.0 and zo > 0.0 else 1.0
                 k = istate[I_N_EPISODES]
-                ep_f[k, 0] = cf[6, e]
-                ep_f[k, 1] = t_n + frac * h
-                ep_f[k, 2] = cf[7, e]
-                for r in range(4):
-                    ep_f[k, 3 + r] = cf[9 + r, e]
-                ep_i[k, 0] = e
-                ep_i[k, 1] = ci[1, e]
-                ep_i[k, 2] = ci[2, e]
-                ep_i[k, 3] = ci[3, e]
-                ep_i[k, 4] = 1
+                ep_f[k, EPF_T_START] = cf[CF_EP_START, e]
+                ep_f[k, EPF_T_END] = t_n + frac * h
+                ep_f[k, EPF_PEAK_FN] = cf[CF_EP_PEAK_FN, e]
+                ep_f[k, EPF_SLIDE_TIME] = cf[CF_EP_SLIDE_TIME, e]
+                ep_f[k, EPF_STICK_TIME] = cf[CF_EP_STICK_TIME, e]
+                ep_f[k, EPF_SLIDE_IMPULSE] = cf[CF_EP_SLIDE_IMPULSE, e]
+                ep_f[k, EPF_STICK_IMPULSE] = cf[CF_EP_STICK_IMPULSE, e]
+                ep_i[k, EPI_ELEMENT] = e
+                ep_i[k, EPI_STEPS] = ci[CI_EP_STEPS, e]
+                ep_i[k, EPI_SLIDE_ENTRIES] = ci[CI_EP_SLIDE_ENTRIES, e]
+                ep_i[k, EPI_STICK_ENTRIES] = ci[CI_EP_STICK_ENTRIES, e]
+                ep_i[k, EPI_COMPLETE] = 1
                 istate[I_N_EPISODES] = k + 1
-                _log_segment(sg_f, sg_i, istate, e, so, cf[13, e], ep_f[k, 1])
-            tot[e, sn - 1] += h
-            tot[e, 3 + sn - 1] += fn * h
-            tot[e, 6 + sn - 1] += abs(ft) * h
-            if fn > mx[e, 0]:
-                mx[e, 0] = fn
-            if abs(ft) > mx[e, 1]:
-                mx[e, 1] = abs(ft)
-            if -ciw[4, e] > mx[e, 2]:
-                mx[e, 2] = -ciw[4, e]
+                _log_segment(sg_f, sg_i, istate, e, so, cf[CF_SEG_START, e],
+                             ep_f[k, EPF_T_END])
+            tot[e, TOT_TIME + sn - 1] += h
+            tot[e, TOT_FN_IMPULSE + sn - 1] += fn * h
+            tot[e, TOT_FT_IMPULSE + sn - 1] += abs(ft) * h
+            if fn > mx[e, MX_FN]:
+                mx[e, MX_FN] = fn
+            if abs(ft) > mx[e, MX_FT]:
+                mx[e, MX_FT] = abs(ft)
+            if -ciw[CR_GAP, e] > mx[e, MX_PENETRATION]:
+                mx[e, MX_PENETRATION] = -ciw[CR_GAP, e]
             excess = abs(ft) - c_mu[e] * fn
             if excess > fstate[F_CONE_EXCESS]:
                 fstate[F_CONE_EXCESS] = excess
             # commit the contact state (slip first: it needs the old e)
             if c_kind[e] == KIND_POINT:
-                cf[2, e] = d_new[2 * e + 1]
+                cf[CF_SLIP, e] = d_new[2 * e + 1]
             elif sn != OPEN:
-                cf[2, e] += ciw[3, e] - cf[0, e]
-            ci[0, e] = sn
-            cf[0, e] = ciw[2, e] if sn != OPEN else 0.0
-            cf[1, e] = lam_w[e] if sn != OPEN else 0.0
-            cf[3, e] = fn
-            cf[4, e] = ft
-            cf[5, e] = ciw[4, e]
-            cf[8, e] = zn
+                cf[CF_SLIP, e] += ciw[CR_E_TRIAL, e] - cf[CF_E, e]
+            ci[CI_STATUS, e] = sn
+            cf[CF_E, e] = ciw[CR_E, e] if sn != OPEN else 0.0
+            cf[CF_LAM, e] = lam_w[e] if sn != OPEN else 0.0
+            cf[CF_FN, e] = fn
+            cf[CF_FT, e] = ft
+            cf[CF_GAP, e] = ciw[CR_GAP, e]
+            cf[CF_Z, e] = zn
         for i in range(m2):
             pc[i] = p_new[i]
         # contact displacements of the committed state (d_new up to the Newton tolerance)
@@ -773,7 +814,7 @@ def newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs
         istate[I_QUIET] += 1
         floor_lev = 0
         for e in range(nc):
-            if ci[0, e] != OPEN and lev_req[e] > floor_lev:
+            if ci[CI_STATUS, e] != OPEN and lev_req[e] > floor_lev:
                 floor_lev = lev_req[e]
         if (
             not fixed

@@ -22,7 +22,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from rubdiag import _check
-from rubdiag.kernels import ensure_fresh_cache
+from rubdiag.kernels import ensure_fresh_cache, layout
 from rubdiag.kernels.contact import (
     AUGMENT_FAILED,
     KIND_ANNULAR,
@@ -35,9 +35,6 @@ from rubdiag.kernels.contact import (
     element_law,
 )
 from rubdiag.kernels.newmark import (
-    FS,
-    IS,
-    P_SIZE,
     PROFILE_SECTIONS,
     STATUS_DONE,
     STATUS_LOG_FULL,
@@ -373,28 +370,28 @@ def _initial_contact_state(contacts: Contacts, d0: np.ndarray, gap: np.ndarray):
     displacements ``d0`` at gaps ``gap``."""
     nc = contacts.n_c
     p0 = np.zeros(2 * nc)
-    cf = np.zeros((14, nc))
-    ci = np.zeros((4, nc), dtype=np.int64)
+    cf = np.zeros((layout.CF_SIZE, nc))
+    ci = np.zeros((layout.CI_SIZE, nc), dtype=np.int64)
     e_c0 = 0.0
     for e in range(nc):
-        out = element_law(
+        p_n, p_t, _, _, _, _, st, fn, ft, e_new, _, g, z = element_law(
             int(contacts.kind[e]), d0[2 * e], d0[2 * e + 1], d0[2 * e], d0[2 * e + 1],
             float(gap[e]), float(contacts.k_n[e]), float(contacts.k_t[e]),
             float(contacts.mu[e]), 0.0, 0.0, 0.0,
         )
-        p0[2 * e : 2 * e + 2] = out[0:2]
-        st = int(out[6])
-        ci[0, e] = st
-        cf[0, e] = out[9]
-        cf[2, e] = d0[2 * e + 1] if contacts.kind[e] == KIND_POINT else 0.0
-        cf[3, e] = out[7]
-        cf[4, e] = out[8]
-        cf[5, e] = out[11]
-        cf[8, e] = out[12]
+        p0[2 * e : 2 * e + 2] = p_n, p_t
+        st = int(st)
+        ci[layout.CI_STATUS, e] = st
+        cf[layout.CF_E, e] = e_new
+        cf[layout.CF_SLIP, e] = d0[2 * e + 1] if contacts.kind[e] == KIND_POINT else 0.0
+        cf[layout.CF_FN, e] = fn
+        cf[layout.CF_FT, e] = ft
+        cf[layout.CF_GAP, e] = g
+        cf[layout.CF_Z, e] = z
         if st != OPEN:
-            ci[2, e] = int(st == SLIDING)
-            ci[3, e] = int(st == STICKING)
-            e_c0 += 0.5 * out[7] ** 2 / contacts.k_n[e] + 0.5 * out[8] ** 2 / contacts.k_t[e]
+            ci[layout.CI_EP_SLIDE_ENTRIES, e] = int(st == SLIDING)
+            ci[layout.CI_EP_STICK_ENTRIES, e] = int(st == STICKING)
+            e_c0 += 0.5 * fn**2 / contacts.k_n[e] + 0.5 * ft**2 / contacts.k_t[e]
     return p0, cf, ci, e_c0
 
 
@@ -770,46 +767,56 @@ def simulate_system(
     out_st = np.zeros((n_out, nc), np.int64)
     out_gap = np.zeros((n_out, nc))
     out_slip = np.zeros((n_out, nc))
-    out_en = np.zeros((n_out, 8))
+    out_en = np.zeros((n_out, layout.EN_SIZE))
     out_sq = np.zeros((n_sen, sensor_dofs.size))
     out_sv = np.zeros_like(out_sq)
     out_sa = np.zeros_like(out_sq)
-    ep_f = np.zeros((episode_capacity, 7))
-    ep_i = np.zeros((episode_capacity, 5), np.int64)
-    sg_f = np.zeros((4 * episode_capacity, 2))
-    sg_i = np.zeros((4 * episode_capacity, 2), np.int64)
+    ep_f = np.zeros((episode_capacity, layout.EPF_SIZE))
+    ep_i = np.zeros((episode_capacity, layout.EPI_SIZE), np.int64)
+    sg_f = np.zeros((4 * episode_capacity, layout.SG_SIZE))
+    sg_i = np.zeros((4 * episode_capacity, layout.SG_SIZE), np.int64)
     lv_cap = 256
     lv_t = np.zeros(lv_cap)
     lv_l = np.zeros(lv_cap, np.int64)
-    tot = np.zeros((nc, 9))
-    mx = np.zeros((nc, 3))
+    tot = np.zeros((nc, layout.TOT_SIZE))
+    mx = np.zeros((nc, layout.MX_SIZE))
     lvl_count = np.zeros(n_lev, np.int64)
-    istate = np.zeros(IS.SIZE, np.int64)
-    fstate = np.zeros(FS.SIZE)
-    fstate[FS.E_CONTACT] = e_c0
-    fstate[FS.FAIL_TIME] = np.nan
-    istate[IS.FAIL_ELEMENT] = -1
-    wn = np.zeros((6, n))
-    wc = np.zeros((5, 2 * nc))
-    wcn = np.zeros((3, nc))
+    istate = np.zeros(layout.I_SIZE, np.int64)
+    fstate = np.zeros(layout.F_SIZE)
+    fstate[layout.F_E_CONTACT] = e_c0
+    fstate[layout.F_FAIL_TIME] = np.nan
+    istate[layout.I_FAIL_ELEMENT] = -1
+    wn = np.zeros((layout.WN_SIZE, n))
+    wc = np.zeros((layout.WC_SIZE, 2 * nc))
+    wcn = np.zeros((layout.WCN_SIZE, nc))
     wm = np.zeros((2 * nc, 2 * nc))
     jac = np.zeros((nc, 4))
     iwork = np.zeros(5 * nc, np.int64)
-    ciw = np.zeros((7, nc))
-    fpar = np.array(
-        [dt, t_ramp, newton_tol, gap_jump, 0.98 if augment_boost > 0 else 0.0, beta_nm, gamma]
-    )  # the 0.98 shift is the boosted update's landing point in the band (see augment_boost)
-    ipar = np.array(
-        [n_lev, int(bool(fixed_step)), grow_after, max_newton, max_augment, 0, out_ticks,
-         int(bool(augment_strict)), sen_ticks],
-        dtype=np.int64,
-    )
+    ciw = np.zeros((layout.CR_SIZE, nc))
+    fpar = np.zeros(layout.FP_SIZE)
+    fpar[layout.FP_DT] = dt
+    fpar[layout.FP_T_RAMP] = t_ramp
+    fpar[layout.FP_NEWTON_TOL] = newton_tol
+    fpar[layout.FP_GAP_JUMP] = gap_jump
+    # the boosted update's landing point in the band (see augment_boost)
+    fpar[layout.FP_AUG_SHIFT] = 0.98 if augment_boost > 0 else 0.0
+    fpar[layout.FP_BETA] = beta_nm
+    fpar[layout.FP_GAMMA] = gamma
+    ipar = np.zeros(layout.IP_SIZE, np.int64)
+    ipar[layout.IP_N_LEV] = n_lev
+    ipar[layout.IP_FIXED] = int(bool(fixed_step))
+    ipar[layout.IP_GROW_AFTER] = grow_after
+    ipar[layout.IP_MAX_NEWTON] = max_newton
+    ipar[layout.IP_MAX_AUG] = max_augment
+    ipar[layout.IP_OUT_TICKS] = out_ticks
+    ipar[layout.IP_AUG_STRICT] = int(bool(augment_strict))
+    ipar[layout.IP_SEN_TICKS] = sen_ticks
     f_re = np.ascontiguousarray(force.amplitudes.real)
     f_im = np.ascontiguousarray(force.amplitudes.imag)
     f_om = np.ascontiguousarray(force.omega)
     f_dof = np.ascontiguousarray(force.dofs)
     c_aug = np.ascontiguousarray(contacts.augmented.astype(np.int64))
-    prof = np.zeros(P_SIZE if profile else 0, np.int64)
+    prof = np.zeros(layout.P_SIZE if profile else 0, np.int64)
     empty = np.zeros((0, 0))
     linear = Linear(
         M.indptr.astype(np.int64), M.indices.astype(np.int64), M.data,
@@ -838,7 +845,7 @@ def simulate_system(
     chunk = max(np.int64(1), tick_total // n_chunks)
     code = STATUS_DONE
     while True:
-        ipar[5] = min(tick_total, istate[IS.TICK] + chunk)
+        ipar[layout.IP_TICK_END] = min(tick_total, istate[layout.I_TICK] + chunk)
         tk = time.perf_counter()
         code = newmark_contact(
             linear, factors_k, force_k, contacts_k, fpar, ipar, state,
@@ -846,22 +853,22 @@ def simulate_system(
         )
         t_kernel += time.perf_counter() - tk
         if code == STATUS_LOG_FULL:
-            if istate[IS.N_EPISODES] + nc > ep_f.shape[0]:
-                cap = 2 * ep_f.shape[0] + nc
-                ep_f = np.concatenate([ep_f, np.zeros((cap - ep_f.shape[0], 7))])
-                ep_i = np.concatenate([ep_i, np.zeros((cap - ep_i.shape[0], 5), np.int64)])
-            if istate[IS.N_SEGMENTS] + nc > sg_f.shape[0]:
+            if istate[layout.I_N_EPISODES] + nc > ep_f.shape[0]:
+                more = ep_f.shape[0] + nc
+                ep_f = np.concatenate([ep_f, np.zeros((more, layout.EPF_SIZE))])
+                ep_i = np.concatenate([ep_i, np.zeros((more, layout.EPI_SIZE), np.int64)])
+            if istate[layout.I_N_SEGMENTS] + nc > sg_f.shape[0]:
                 sg_f = np.concatenate([sg_f, np.zeros_like(sg_f)])
                 sg_i = np.concatenate([sg_i, np.zeros_like(sg_i)])
-            if istate[IS.N_LEVEL_CHANGES] + 2 > lv_t.shape[0]:
+            if istate[layout.I_N_LEVEL_CHANGES] + 2 > lv_t.shape[0]:
                 lv_t = np.concatenate([lv_t, np.zeros(lv_t.shape[0])])
                 lv_l = np.concatenate([lv_l, np.zeros(lv_l.shape[0], np.int64)])
             continue
         if code != STATUS_DONE:
             break
         if progress is not None:
-            progress(float(istate[IS.TICK]) * dt / 2**top, n_big * dt)
-        if istate[IS.TICK] >= tick_total:
+            progress(float(istate[layout.I_TICK]) * dt / 2**top, n_big * dt)
+        if istate[layout.I_TICK] >= tick_total:
             break
 
     result = _package(
@@ -877,7 +884,7 @@ def simulate_system(
         result.extra["profile_cycles"] = dict(zip(PROFILE_SECTIONS, prof.tolist(), strict=True))
     result.extra.update(
         setup_seconds=t_setup, kernel_seconds=t_kernel, contact_level_required=lev_req,
-        augment_pending=int(istate[IS.AUG_PENDING]),
+        augment_pending=int(istate[layout.I_AUG_PENDING]),
         lu_nnz=[f.nnz for f in factors], lu_ordering=[f.ordering for f in factors],
     )
     if result.status != 0 and raise_on_failure:
@@ -892,42 +899,56 @@ def _package(
     sensors,
 ) -> SystemResult:
     top = n_lev - 1
-    tick = int(istate[IS.TICK])
+    tick = int(istate[layout.I_TICK])
     t_final = tick * dt / 2**top
     n_written = tick // int(out_ticks) + 1
-    ne = int(istate[IS.N_EPISODES])
-    open_el = np.flatnonzero(ci[0] != OPEN)
-    element = np.concatenate([ep_i[:ne, 0], open_el]) + 1     # public numbering from 1
+    ne = int(istate[layout.I_N_EPISODES])
+    ep_f, ep_i = ep_f[:ne], ep_i[:ne]
+    open_el = np.flatnonzero(ci[layout.CI_STATUS] != OPEN)
+
+    def ended_then_open(ended, current):
+        """The logged (ended) episodes' values, then those of the still open ones."""
+        return np.concatenate([ended, current[open_el]])
+
+    still_open = np.full(open_el.size, t_final)
     episodes = EpisodeLog(
-        element=element.astype(np.int64),
-        t_start=np.concatenate([ep_f[:ne, 0], cf[6, open_el]]),
-        t_end=np.concatenate([ep_f[:ne, 1], np.full(open_el.size, t_final)]),
-        n_steps=np.concatenate([ep_i[:ne, 1], ci[1, open_el]]).astype(np.int64),
-        peak_normal_force=np.concatenate([ep_f[:ne, 2], cf[7, open_el]]),
-        n_slide_entries=np.concatenate([ep_i[:ne, 2], ci[2, open_el]]).astype(np.int64),
-        n_stick_entries=np.concatenate([ep_i[:ne, 3], ci[3, open_el]]).astype(np.int64),
-        slide_time=np.concatenate([ep_f[:ne, 3], cf[9, open_el]]),
-        stick_time=np.concatenate([ep_f[:ne, 4], cf[10, open_el]]),
-        slide_impulse=np.concatenate([ep_f[:ne, 5], cf[11, open_el]]),
-        stick_impulse=np.concatenate([ep_f[:ne, 6], cf[12, open_el]]),
-        complete=np.concatenate([ep_i[:ne, 4] == 1, np.zeros(open_el.size, bool)]),
+        element=ended_then_open(ep_i[:, layout.EPI_ELEMENT], np.arange(ci.shape[1])) + 1,
+        t_start=ended_then_open(ep_f[:, layout.EPF_T_START], cf[layout.CF_EP_START]),
+        t_end=np.concatenate([ep_f[:, layout.EPF_T_END], still_open]),
+        n_steps=ended_then_open(ep_i[:, layout.EPI_STEPS], ci[layout.CI_EP_STEPS]),
+        peak_normal_force=ended_then_open(ep_f[:, layout.EPF_PEAK_FN],
+                                          cf[layout.CF_EP_PEAK_FN]),
+        n_slide_entries=ended_then_open(ep_i[:, layout.EPI_SLIDE_ENTRIES],
+                                        ci[layout.CI_EP_SLIDE_ENTRIES]),
+        n_stick_entries=ended_then_open(ep_i[:, layout.EPI_STICK_ENTRIES],
+                                        ci[layout.CI_EP_STICK_ENTRIES]),
+        slide_time=ended_then_open(ep_f[:, layout.EPF_SLIDE_TIME], cf[layout.CF_EP_SLIDE_TIME]),
+        stick_time=ended_then_open(ep_f[:, layout.EPF_STICK_TIME], cf[layout.CF_EP_STICK_TIME]),
+        slide_impulse=ended_then_open(ep_f[:, layout.EPF_SLIDE_IMPULSE],
+                                      cf[layout.CF_EP_SLIDE_IMPULSE]),
+        stick_impulse=ended_then_open(ep_f[:, layout.EPF_STICK_IMPULSE],
+                                      cf[layout.CF_EP_STICK_IMPULSE]),
+        complete=np.concatenate([ep_i[:, layout.EPI_COMPLETE] == 1,
+                                 np.zeros(open_el.size, bool)]),
     )
-    ns = int(istate[IS.N_SEGMENTS])
+    ns = int(istate[layout.I_N_SEGMENTS])
     segments = StatusLog(
-        element=np.concatenate([sg_i[:ns, 0], open_el]).astype(np.int64) + 1,
-        status=np.concatenate([sg_i[:ns, 1], ci[0, open_el]]).astype(np.int8),
-        t_start=np.concatenate([sg_f[:ns, 0], cf[13, open_el]]),
-        t_end=np.concatenate([sg_f[:ns, 1], np.full(open_el.size, t_final)]),
+        element=ended_then_open(sg_i[:ns, layout.SGI_ELEMENT], np.arange(ci.shape[1])) + 1,
+        status=ended_then_open(sg_i[:ns, layout.SGI_STATUS],
+                               ci[layout.CI_STATUS]).astype(np.int8),
+        t_start=ended_then_open(sg_f[:ns, layout.SGF_T_START], cf[layout.CF_SEG_START]),
+        t_end=np.concatenate([sg_f[:ns, layout.SGF_T_END], still_open]),
     )
     status = {STATUS_DONE: 0, STATUS_NO_CONVERGENCE: 1, STATUS_NONFINITE: 2}[code]
-    fail_t = float(fstate[FS.FAIL_TIME]) if status else float("nan")
-    fail_e = int(istate[IS.FAIL_ELEMENT]) + 1 if status else 0     # 0: no element
+    fail_t = float(fstate[layout.F_FAIL_TIME]) if status else float("nan")
+    fail_e = int(istate[layout.I_FAIL_ELEMENT]) + 1 if status else 0     # 0: no element
     if status == 0:
-        message = f"Reached t = {t_final:.6g} s in {int(istate[IS.N_ACCEPTED])} steps."
+        message = f"Reached t = {t_final:.6g} s in {int(istate[layout.I_N_ACCEPTED])} steps."
     elif status == 1:
         why = {NEWTON_FAILED: "Newton iterations exhausted",
                AUGMENT_FAILED: "augmentation did not reach eps",
-               SINGULAR: "singular contact Jacobian"}.get(int(istate[IS.FAIL_CODE]), "unknown")
+               SINGULAR: "singular contact Jacobian"}.get(int(istate[layout.I_FAIL_CODE]),
+                                                          "unknown")
         message = (
             f"Contact iteration did not converge ({why}) at t = {fail_t:.9g} s, contact element "
             f"{fail_e}, even at the smallest step {dt_min:.3g} s; results kept up to "
@@ -939,7 +960,7 @@ def _package(
             f"State became non-finite at t = {fail_t:.9g} s ({where}); results kept up to "
             f"t = {t_final:.9g} s."
         )
-    nl = int(istate[IS.N_LEVEL_CHANGES])
+    nl = int(istate[layout.I_N_LEVEL_CHANGES])
     sl = slice(0, n_written)
     return SystemResult(
         t=np.arange(n_written) * output_dt,
@@ -950,23 +971,23 @@ def _package(
         contact_status=out_st[sl].astype(np.int8),
         contact_gap=out_gap[sl],
         contact_slip=out_slip[sl],
-        work_external=out_en[sl, 0],
-        work_drive=out_en[sl, 1],
-        dissipated_viscous=out_en[sl, 2],
-        dissipated_friction=out_en[sl, 3],
-        contact_algorithmic=out_en[sl, 4],
-        kinetic=out_en[sl, 5],
-        strain=out_en[sl, 6],
-        contact_elastic=out_en[sl, 7],
+        work_external=out_en[sl, layout.EN_W_EXT],
+        work_drive=out_en[sl, layout.EN_W_DRIVE],
+        dissipated_viscous=out_en[sl, layout.EN_D_VISC],
+        dissipated_friction=out_en[sl, layout.EN_D_FRIC],
+        contact_algorithmic=out_en[sl, layout.EN_D_NUM],
+        kinetic=out_en[sl, layout.EN_KINETIC],
+        strain=out_en[sl, layout.EN_STRAIN],
+        contact_elastic=out_en[sl, layout.EN_CONTACT],
         episodes=episodes,
         status_segments=segments,
-        time_in_status=tot[:, 0:3].copy(),
-        normal_impulse=tot[:, 3:6].copy(),
-        tangential_impulse=tot[:, 6:9].copy(),
-        max_normal_force=mx[:, 0].copy(),
-        max_tangential_force=mx[:, 1].copy(),
-        max_penetration=mx[:, 2].copy(),
-        max_cone_excess=float(fstate[FS.CONE_EXCESS]),
+        time_in_status=tot[:, layout.TOT_TIME:layout.TOT_TIME + 3].copy(),
+        normal_impulse=tot[:, layout.TOT_FN_IMPULSE:layout.TOT_FN_IMPULSE + 3].copy(),
+        tangential_impulse=tot[:, layout.TOT_FT_IMPULSE:layout.TOT_FT_IMPULSE + 3].copy(),
+        max_normal_force=mx[:, layout.MX_FN].copy(),
+        max_tangential_force=mx[:, layout.MX_FT].copy(),
+        max_penetration=mx[:, layout.MX_PENETRATION].copy(),
+        max_cone_excess=float(fstate[layout.F_CONE_EXCESS]),
         dt=dt,
         dt_min=dt / 2**top,
         output_dt=output_dt,
@@ -974,14 +995,14 @@ def _package(
         steps_per_level=lvl_count.copy(),
         level_change_t=lv_t[:nl].copy(),
         level_change_level=lv_l[:nl].copy(),
-        n_steps=int(istate[IS.N_ACCEPTED]),
-        n_rejected_newton=int(istate[IS.N_REJ_NEWTON]),
-        n_rejected_abrupt=int(istate[IS.N_REJ_ABRUPT]),
-        n_abrupt_at_min=int(istate[IS.N_ABRUPT_AT_MIN]),
-        newton_iterations=int(istate[IS.NEWTON_TOTAL]),
-        newton_iterations_max=int(istate[IS.NEWTON_MAX]),
-        augment_iterations=int(istate[IS.AUG_TOTAL]),
-        augment_iterations_max=int(istate[IS.AUG_MAX]),
+        n_steps=int(istate[layout.I_N_ACCEPTED]),
+        n_rejected_newton=int(istate[layout.I_N_REJ_NEWTON]),
+        n_rejected_abrupt=int(istate[layout.I_N_REJ_ABRUPT]),
+        n_abrupt_at_min=int(istate[layout.I_N_ABRUPT_AT_MIN]),
+        newton_iterations=int(istate[layout.I_NEWTON_TOTAL]),
+        newton_iterations_max=int(istate[layout.I_NEWTON_MAX]),
+        augment_iterations=int(istate[layout.I_AUG_TOTAL]),
+        augment_iterations_max=int(istate[layout.I_AUG_MAX]),
         t_final=t_final,
         q_final=q.copy(),
         v_final=v.copy(),
