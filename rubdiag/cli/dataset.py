@@ -120,7 +120,7 @@ def _dry_run(design, args) -> int:
     print(f"example: point 0 ({point}), replicate 0 -> {run.speed_rpm:.1f} rpm, g0 = "
           f"{run.gap_m * 1e3:.4g} mm, mu = {law.friction_coefficient:.4g}, "
           f"{run.duration_s:g} s simulated ({run.discard_s:g} s discarded), dt = "
-          f"{run.dt_s:g} s; run_id {example.run_id}")
+          f"{run.dt_s:g} s, {run.model_kind} model; run_id {example.run_id}")
     if not todo:
         print("nothing to run")
         return 0

@@ -5,6 +5,8 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from rubdiag.cli._model import add_model_options, reduction
+
 
 def register(sub) -> None:
     p = sub.add_parser(
@@ -22,6 +24,7 @@ def register(sub) -> None:
                    help="start left out of the statistics (s, default 0.3)")
     p.add_argument("--rig", type=Path, help="rig TOML file (default: the study's paper rig)")
     p.add_argument("--no-figures", action="store_true", help="write the tables only")
+    add_model_options(p)
     p.set_defaults(func=_table2)
 
     p = sub.add_parser(
@@ -45,7 +48,9 @@ def _table2(args) -> int:
     if args.jobs is not None and args.jobs < 1:
         raise ValueError(f"--jobs = {args.jobs} is out of range (allowed: >= 1)")
     start = time.perf_counter()
-    options = {} if args.rig is None else {"rig": load_rig(args.rig)}
+    options = {"reduction": reduction(args)}
+    if args.rig is not None:
+        options["rig"] = load_rig(args.rig)
     output_folder(args.out)
     try:
         table = table2(args.out, jobs=args.jobs, duration_s=args.duration_s,

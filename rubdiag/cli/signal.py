@@ -152,8 +152,10 @@ def summary_lines(table) -> list[str]:
                          f"1× {one}")
             lines.append(f"  {describe_spectrum(row, prefixes=('',))}")
             continue
-        lines.append(f"{row['source']}: {row['label'] or 'run'}, {row['speed_rpm']:.0f} rpm, "
-                     f"{row['window_s']:.3g} s analysed, dt = {row['dt_s']:g} s")
+        reduced = ", reduced model" if row.get("model") == "reduced" else ""
+        lines.append(f"{row['source']}: {row['label'] or 'run'}{reduced}, "
+                     f"{row['speed_rpm']:.0f} rpm, {row['window_s']:.3g} s analysed, "
+                     f"dt = {row['dt_s']:g} s")
         signals = [(p, name) for p, name in (("shaft", "shaft"), ("blade", "blade tip"),
                                              ("casing", "casing")) if f"{p}_rms" in row]
         lines.append("  1× (RMS): " + ", ".join(

@@ -7,6 +7,8 @@ import sys
 import time
 from pathlib import Path
 
+from rubdiag.cli._model import add_model_options, reduction
+
 
 def register(sub) -> None:
     p = sub.add_parser(
@@ -35,6 +37,7 @@ def register(sub) -> None:
     p.add_argument("--rig", type=Path, help="rig TOML file (default: the study's paper rig)")
     p.add_argument("--out", type=Path, help="save the result (.npz) here; the folder must "
                    "exist")
+    add_model_options(p)
     p.add_argument("--json", action="store_true", help="print one JSON object (SI units)")
     p.set_defaults(func=_simulate)
 
@@ -66,9 +69,10 @@ def _simulate(args) -> int:
     if not 0.0 < args.gap_mm <= 100.0:
         raise ValueError(f"--gap-mm = {args.gap_mm:g} is out of range (allowed: > 0 and "
                          "<= 100)")
+    model = reduction(args)
     rig = load_rig(args.rig)
     options = dict(duration_s=args.duration_s, discard_s=args.discard_s, dt_s=args.dt_s,
-                   output_rate_hz=args.output_rate_hz)
+                   output_rate_hz=args.output_rate_hz, reduction=model)
     if args.mu is not None:
         if rig.contact is None:
             raise ValueError("--mu needs a rig with blade-casing contacts")
@@ -91,6 +95,8 @@ def _simulate(args) -> int:
     w0, w1 = summary["window_s"]
     print(f"{run.label} at {run.speed_rpm:.0f} rpm: {summary['message']} "
           f"({summary['wall_s']:.1f} s wall)")
+    if model is not None:
+        print(f"model: reduced (Craig-Bampton, modes below {model.cutoff_hz:g} Hz)")
     print(f"window {w0:g}-{w1:g} s: contact-1 max force {summary['contact1_max_force_n']:.1f} N, "
           f"all elements {summary['max_contact_force_n']:.1f} N")
     print(f"contact 1 entries: sliding {summary['contact1_sliding_entries']}, sticking "

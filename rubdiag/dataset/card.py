@@ -18,6 +18,7 @@ from rubdiag.dataset.factors import FACTORS
 from rubdiag.dataset.ids import SCHEMA_VERSION
 from rubdiag.dataset.labels import LABELS, MEASURES, RUB_STATES, SEVERITIES
 from rubdiag.dataset.rows import ID_COLUMNS, PROVENANCE, SEPARATOR
+from rubdiag.dataset.schema import MODEL_COLUMN
 
 __all__ = ["column_map", "write_card"]
 
@@ -31,8 +32,8 @@ _AMPLITUDE = re.compile(r"^(amp_|rms$|bb_\d+x_rms$|sb_\d+x_(lower|upper)$|combo_
 
 
 # text and boolean columns
-_NO_UNIT = ("run_id", "point_id", "rub", "rub_state", "severity", "rubdiag_version", "status",
-            "message")
+_NO_UNIT = ("run_id", "point_id", "model", "rub", "rub_state", "severity", "rubdiag_version",
+            "status", "message")
 
 
 def _unit(feature: str, signal_unit: str = "") -> str:
@@ -57,8 +58,8 @@ def column_map(columns, sensors=()) -> pd.DataFrame:
         channel, feature = "", name
         if name in ID_COLUMNS:
             group = "id"
-        elif name == "speed_rpm":       # the run's speed, also when a factor set it
-            group = "run"
+        elif name in ("speed_rpm", MODEL_COLUMN):   # the run's speed (also when a factor set
+            group = "run"                              # it) and which model simulated it
         elif name in FACTORS:
             group = "factor"
         elif name in MEASURES:
@@ -130,7 +131,7 @@ makes the same runs, bit for bit, on any machine and any number of workers.
 
 Sampling: {design.method}, {design.n} design points × {design.replicates} replicate(s) =
 {design.n_runs} runs (seed {design.seed}); {design.duration_s:g} s simulated per run, the
-first {design.discard_s:g} s discarded. Factors:
+first {design.discard_s:g} s discarded; model: {_model(design)}. Factors:
 
 {factors}
 
@@ -165,6 +166,13 @@ gives each one's group, channel, feature and unit. Read the rows with
 `rubdiag.dataset.load(DIR)` (one row per run) or `pandas.read_parquet(DIR / "features")`.
 Group splits by `point_id`: replicates of a design point are near-copies.
 """
+
+
+def _model(design) -> str:
+    if design.reduction is None:
+        return "the full finite-element model"
+    return (f"the reduced-order model (Craig–Bampton, fixed-interface modes below "
+            f"{design.reduction.cutoff_hz:g} Hz)")
 
 
 def _status(counts: pd.Series) -> str:

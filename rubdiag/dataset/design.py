@@ -6,6 +6,8 @@ A design file has three tables::
     rig = "paper"             # preset name, a rig TOML path, or a rig table (the resolved form)
     duration_s = 2.3          # Run.duration_s (default 2.3)
     discard_s = 0.3           # Run.discard_s (default 0.3)
+    reduced = false           # true: every run simulates the reduced-order model
+    reduction_cutoff_hz = 2000.0  # optional, implies reduced: the Craig–Bampton cutoff (Hz)
 
     [sampling]
     method = "lhs"            # "grid" (default) | "lhs" | "sobol" | "random"
@@ -52,8 +54,15 @@ gap-ramp length ``gap_ramps_s(replicates, duration_s)[r]`` — the standard 0.1 
 ±2 % (:func:`rubdiag.dataset.sampling.ramp_offsets`). ``discard_s`` must be at least the
 longest ramp, so that no analysis window holds the ramp's transient.
 
+**Model.** ``reduced = true`` makes every run ``Run(..., reduction=Reduction())``: the
+Craig–Bampton model of :mod:`rubdiag.reduce` with its default cutoff (2 kHz);
+``reduction_cutoff_hz`` sets another cutoff and implies ``reduced`` (with ``reduced = false``
+it is an error). Every row says which model made it (its ``model`` column).
+
 **Resolved form.** :meth:`Design.to_dict` / :meth:`Design.to_toml` write everything a run
-depends on: the rig as a table (a rig file may change; a resolved design does not), the
+depends on: the model (``reduced = true`` and the cutoff; nothing for the full model, so
+that the resolved form of a design made before reductions existed is unchanged), the rig
+as a table (a rig file may change; a resolved design does not), the
 factors in canonical order with numbers as floats, the grid's point count as ``n``, the
 seed, and the critical speeds that ``speed_ratio`` refers to (``critical_speeds_rad_s``,
 computed once from the rig, so that the resolved design makes bit-identical runs on any
@@ -87,6 +96,7 @@ from rubdiag.dataset.sampling import (
     unit_samples,
 )
 from rubdiag.model.rig import Rig, Unbalance
+from rubdiag.reduce import Reduction
 from rubdiag.simulate import Run, Sensor, default_sensors
 from rubdiag.simulate.sensors import check_sensors
 
@@ -96,7 +106,8 @@ __all__ = ["MIN_REVOLUTIONS", "Design", "DesignRun"]
 MIN_REVOLUTIONS = 10.0
 
 _SECTIONS = {
-    "base": ("rig", "duration_s", "discard_s", "critical_speeds_rad_s"),
+    "base": ("rig", "duration_s", "discard_s", "reduced", "reduction_cutoff_hz",
+             "critical_speeds_rad_s"),
     "sampling": ("method", "n", "seed", "replicates"),
     "factors": tuple(FACTORS),
     "labels": ("severity_threshold", "full_contact_share"),
@@ -127,7 +138,9 @@ class Design:
     kept as a tuple of factors in canonical order. ``n`` is the number of design points
     (required by the sampling methods; for ``grid`` it is set to the product of the levels).
     ``critical_speeds_rad_s[c-1]`` is case c's reference speed of ``speed_ratio``; computed
-    from the rig when ``None`` and needed.
+    from the rig when ``None`` and needed. ``reduction`` (a
+    :class:`~rubdiag.reduce.Reduction`, or None for the full model) goes into every run;
+    the TOML form is ``[base] reduced`` / ``reduction_cutoff_hz``.
     """
 
     rig: Rig
@@ -142,6 +155,7 @@ class Design:
     labels: LabelRules = field(default_factory=LabelRules)
     noise: NoiseFloors = field(default_factory=NoiseFloors)
     sensors: tuple[Sensor, ...] | None = None
+    reduction: Reduction | None = None
 
     def __post_init__(self):
         def set_(name, value):
@@ -155,6 +169,9 @@ class Design:
         if self.rig.loading is None:
             raise ValueError(f"base.rig = {self.rig.name!r} has no [loading] (the unbalance "
                              "magnitudes and case patterns)")
+        if self.reduction is not None and not isinstance(self.reduction, Reduction):
+            raise _check.wrong_type("reduction", type(self.reduction).__name__,
+                                    "a Reduction or None")
         if isinstance(self.labels, Mapping):
             set_("labels", LabelRules(**self.labels))
         if not isinstance(self.labels, LabelRules):
@@ -272,6 +289,8 @@ class Design:
                                          f"(allowed: {', '.join(_SECTIONS[section])})")
         base = dict(data.get("base", {}))
         base["rig"] = _rig(base.get("rig", "paper"), root)
+        base["reduction"] = _reduction(base.pop("reduced", None),
+                                       base.pop("reduction_cutoff_hz", None))
         factors = tuple(Factor.from_spec(k, v) for k, v in data.get("factors", {}).items())
         sensors = data.get("sensors")
         if isinstance(sensors, Mapping):
@@ -285,6 +304,9 @@ class Design:
         from rubdiag.model.io import rig_to_dict
 
         base = {"duration_s": self.duration_s, "discard_s": self.discard_s}
+        if self.reduction is not None:
+            base["reduced"] = True
+            base["reduction_cutoff_hz"] = float(self.reduction.cutoff_hz)
         if self.critical_speeds_rad_s is not None:
             base["critical_speeds_rad_s"] = list(self.critical_speeds_rad_s)
         base["rig"] = rig_to_dict(self.rig)
@@ -379,7 +401,7 @@ class Design:
         return Run(rig=rig, speed_rad_s=speed, unbalance=Unbalance(magnitudes, phases),
                    gap_m=None if gap is None else gap * 1e-3, duration_s=self.duration_s,
                    discard_s=self.discard_s, contact=_contact(rig, point), gap_ramp_s=ramp_s,
-                   sensors=self.sensors,
+                   sensors=self.sensors, reduction=self.reduction,
                    label=f"{_describe(point)}, replicate {replicate}")
 
 
@@ -460,6 +482,25 @@ def _rig(value, root) -> Rig:
         raise ValueError(f"base.rig: {exc}") from None
 
 
+def _reduction(reduced, cutoff_hz) -> Reduction | None:
+    """The reduction of ``[base] reduced`` and ``reduction_cutoff_hz`` (see the module
+    docstring), or None: the full model."""
+    if reduced is not None and not isinstance(reduced, bool):
+        raise _check.wrong_type("base.reduced", reduced, "true or false")
+    if cutoff_hz is None:
+        return Reduction() if reduced else None
+    if reduced is False:
+        raise ValueError(f"base.reduction_cutoff_hz = {_check.plain(cutoff_hz)} is given with "
+                         "base.reduced = false (allowed: reduced = true, or no "
+                         "reduction_cutoff_hz for the full model)")
+    try:
+        return Reduction(cutoff_hz=cutoff_hz)
+    except ValueError as exc:      # "cutoff_hz = … is out of range": name the design's key
+        text = str(exc)
+        raise type(exc)(f"base.reduction_{text}" if text.startswith("cutoff_hz")
+                        else f"base.reduction_cutoff_hz: {text}") from None
+
+
 def _contact(rig: Rig, point: Mapping):
     """The contact law of a point, or None (the rig's) when no contact factor is given."""
     law = rig.contact
@@ -497,4 +538,6 @@ def _toml_value(value) -> str:
         return "[" + ", ".join(_toml_value(v) for v in value) + "]"
     if isinstance(value, str):
         return f'"{value}"'
+    if isinstance(value, bool):
+        return "true" if value else "false"
     return repr(value)   # int, or float in its shortest round-trip form (valid TOML)

@@ -9,6 +9,11 @@ that two descriptions of the same simulation get the same id:
   are the same run);
 - the free-text ``label`` is left out (it changes no number of the result).
 
+A full-model run's description has no ``reduction`` key (``run_to_dict`` writes it only when
+set), so its ids are those it had before reduced models existed; a reduced run's ids differ
+from the full run's of the same cell, ``point_id`` included (another model is another
+simulation, not a replicate).
+
 The hash is SHA-256 of canonical JSON — keys sorted, no spaces, every number as a float
 written by ``repr`` (shortest round-trip form, so ``1`` and ``1.0``, ``0.0`` and ``-0.0``,
 which a ``Run`` compares equal, hash equal), non-finite numbers refused — together with

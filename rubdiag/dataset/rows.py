@@ -12,7 +12,8 @@ while it runs (the linear algebra is then the same on every worker, and parallel
 across runs).
 
 Columns, in order: :data:`ID_COLUMNS`, the design point's factors (as the design names
-them), ``speed_rpm`` (the run's speed), the measures and labels, the sensor features
+them), ``speed_rpm`` (the run's speed), ``model`` (``"full"`` or ``"reduced"``: which model
+the run simulated, in every row, failed ones included), the measures and labels, the sensor features
 ``CHANNEL__FEATURE`` (e.g. ``shaft11_y_disp__amp_1x``, :mod:`rubdiag.signal.table`), the
 ground truth a plant cannot measure — contact statistics ``contact<k>__…`` and
 ``contacts__…`` (:mod:`rubdiag.runs.contact_stats`) and ``truth__casing_max_y_m`` — then
@@ -31,7 +32,7 @@ import numpy as np
 from rubdiag._version import __version__
 from rubdiag.dataset.labels import LabelRules, label_run
 from rubdiag.dataset.noise import NoiseFloors, add_noise, noise_seed
-from rubdiag.dataset.schema import ID_COLUMNS, PROVENANCE, SEPARATOR, STATUSES
+from rubdiag.dataset.schema import ID_COLUMNS, MODEL_COLUMN, PROVENANCE, SEPARATOR, STATUSES
 
 __all__ = ["ID_COLUMNS", "PROVENANCE", "SEPARATOR", "STATUSES", "RunTimeout", "make_row",
            "make_row_and_waveforms"]
@@ -58,7 +59,8 @@ def make_row_and_waveforms(item, rules: LabelRules | None = None,
     noise = NoiseFloors() if noise is None else noise
     start = time.perf_counter()
     row = {"run_id": item.run_id, "point_id": item.point_id, "replicate": item.replicate,
-           **item.point, "speed_rpm": item.run.speed_rpm}
+           **item.point, "speed_rpm": item.run.speed_rpm,
+           MODEL_COLUMN: item.run.model_kind}
     waves = None
     with threadpool_limits(limits=1):
         try:

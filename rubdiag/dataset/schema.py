@@ -13,6 +13,11 @@ SCHEMA_VERSION = 1
 SEPARATOR = "__"
 
 ID_COLUMNS = ("run_id", "point_id", "replicate")
+#: The ``model`` column: which model made the row (``Run.model_kind``). Metadata, never a
+#: feature; a dataset made before the column existed is of the full model, and
+#: :func:`rubdiag.dataset.load` fills it so.
+MODEL_COLUMN = "model"
+MODEL_KINDS = ("full", "reduced")
 PROVENANCE = ("rubdiag_version", "status", "message", "wall_s", "simulate_s")
 #: ``status`` of a row: finished; stopped by the simulator (no convergence, non-finite
 #: state); over the per-run wall-time limit; anything else that raised.

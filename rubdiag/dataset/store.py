@@ -40,7 +40,7 @@ import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from rubdiag.dataset.schema import SCHEMA_VERSION
+from rubdiag.dataset.schema import MODEL_COLUMN, SCHEMA_VERSION
 
 __all__ = ["DatasetFolder", "acquisition", "load", "load_waveforms", "write_waveforms"]
 
@@ -251,7 +251,9 @@ def acquisition(root: str | Path) -> dict:
 
 
 def load(root: str | Path) -> pd.DataFrame:
-    """The rows of a dataset folder, one per run (ordered as written)."""
+    """The rows of a dataset folder, one per run (ordered as written). A folder made before
+    rows had a ``model`` column holds runs of the full model: the column is filled with
+    ``"full"`` (after ``speed_rpm``)."""
     folder = DatasetFolder(root)
     if not (folder.root / "design.toml").is_file():
         raise ValueError(f"{folder.root}: not a rubdiag dataset folder (no design.toml)")
@@ -259,7 +261,11 @@ def load(root: str | Path) -> pd.DataFrame:
     if not frames:
         return pd.DataFrame()
     rows = pd.concat(frames, ignore_index=True)
-    return rows.drop_duplicates("run_id", keep="last").reset_index(drop=True)
+    rows = rows.drop_duplicates("run_id", keep="last").reset_index(drop=True)
+    if MODEL_COLUMN not in rows:
+        at = rows.columns.get_loc("speed_rpm") + 1 if "speed_rpm" in rows else len(rows.columns)
+        rows.insert(at, MODEL_COLUMN, "full")
+    return rows
 
 
 def _existing_parent(path: Path) -> Path:

@@ -30,8 +30,9 @@ def ensemble(cases, gap_ramps_s=GAP_RAMPS_S, jobs: int | None = None, rig=None,
     """Feature rows of the paper cases ``cases`` ((case, gap_mm) pairs), each run once per
     gap-ramp length in ``gap_ramps_s``; columns ``case``, ``gap_mm``, ``gap_ramp_s`` first.
 
-    ``options`` go to :meth:`rubdiag.simulate.Run.paper_case` (``duration_s``, ``dt_s`` …);
-    the runs go to ``jobs`` processes (default: all cores).
+    ``options`` go to :meth:`rubdiag.simulate.Run.paper_case` (``duration_s``, ``dt_s``,
+    ``reduction`` …; each row's ``model`` column says "full" or "reduced"); the runs go to
+    ``jobs`` processes (default: all cores).
     """
     from rubdiag.simulate import Run
 

@@ -5,6 +5,12 @@ second with them out of phase; each with g0 = 2.3 mm (light) and 1.9 mm (serious
 go to parallel processes; each finished run is saved as ``DIR/runs/case{c}_{intensity}.npz``
 before the next is waited for, so an interrupted reproduction resumes where it stopped (a
 saved run is reused when its description equals the one asked for).
+
+With ``reduction=Reduction(...)`` the four runs simulate the reduced-order model; their
+files are ``DIR/runs/case{c}_{intensity}_reduced_{cutoff}hz.npz``, so a reduced and a full
+reproduction into the same folder never take or overwrite each other's runs. The table's
+``model`` column says which model made it ("full" or "reduced"), and a last line of the
+Markdown table names the reduction (the full model's Markdown is as it always was).
 """
 
 from __future__ import annotations
@@ -74,6 +80,14 @@ def _simulate_to(run, path: str) -> tuple[str, float]:
     return path, time.perf_counter() - start
 
 
+def run_file(stem: str, run) -> str:
+    """The file name of a case's saved run: ``case1_light.npz`` for the full model,
+    ``case1_light_reduced_2000hz.npz`` for a reduction with a 2-kHz cutoff."""
+    if run.reduction is None:
+        return f"{stem}.npz"
+    return f"{stem}_reduced_{run.reduction.cutoff_hz:g}hz.npz"
+
+
 def _cached(path: Path, run):
     from rubdiag.simulate import load_result
 
@@ -91,7 +105,8 @@ def reproduce(out_dir: str | Path = "out", jobs: int | None = None, duration_s: 
               **options) -> dict:
     """Run (or reuse) the four cases; returns ``{stem: SimulationResult}``.
 
-    ``options`` go to :class:`~rubdiag.simulate.Run` (``dt_s``, ``contact`` …).
+    ``options`` go to :class:`~rubdiag.simulate.Run` (``dt_s``, ``contact``,
+    ``reduction`` …); the saved runs are named by :func:`run_file`.
     """
     from rubdiag.model import paper_rig
 
@@ -102,10 +117,10 @@ def reproduce(out_dir: str | Path = "out", jobs: int | None = None, duration_s: 
     run_dir.mkdir(parents=True, exist_ok=True)
     results, todo = {}, {}
     for stem, run in runs.items():
-        cached = _cached(run_dir / f"{stem}.npz", run)
+        cached = _cached(run_dir / run_file(stem, run), run)
         if cached is not None:
             results[stem] = cached
-            log(f"{stem}: reused {run_dir / (stem + '.npz')}")
+            log(f"{stem}: reused {run_dir / run_file(stem, run)}")
         else:
             todo[stem] = run
     if todo:
@@ -113,7 +128,7 @@ def reproduce(out_dir: str | Path = "out", jobs: int | None = None, duration_s: 
         log(f"simulating {len(todo)} case(s), {duration_s:g} s each, on {jobs} process(es)")
         start = time.perf_counter()
         with ProcessPoolExecutor(max_workers=jobs) as pool:
-            futures = {pool.submit(_simulate_to, run, str(run_dir / f"{stem}.npz")): stem
+            futures = {pool.submit(_simulate_to, run, str(run_dir / run_file(stem, run))): stem
                        for stem, run in todo.items()}
             try:
                 for done, future in enumerate(as_completed(futures), start=1):
@@ -135,7 +150,11 @@ def table2(out_dir: str | Path | None = "out", jobs: int | None = None,
     figures to ``out_dir`` and return the table (one row per case, ours beside the study's
     ``paper_…`` values).
 
+    ``options`` go to :class:`~rubdiag.simulate.Run` (``reduction=Reduction()`` for the
+    reduced-order model, see the module docstring).
+
     Columns: ``case``, ``intensity``, ``gap_mm``, ``speed_rpm``, ``window_s``, ``dt_s``,
+    ``model`` ("full" or "reduced"),
     ``rotor_max_y_mm`` (shaft node 11), ``casing_max_y_um``, ``contact1_min_force_n``
     (smallest per-episode peak, episodes of >= 2 steps), ``contact1_p05_force_n``,
     ``contact1_max_force_n``, ``contact1_sliding_entries`` / ``…_sticking_entries`` (in the
@@ -159,6 +178,7 @@ def table2(out_dir: str | Path | None = "out", jobs: int | None = None,
         "discard_s": discard_s,
         "window_s": feats["window_s"],
         "dt_s": feats["dt_s"],
+        "model": [results[c.stem].run.model_kind for c in CASES],
         "rotor_max_y_mm": [results[c.stem].displacement("shaft 11 y", True).max() * 1e3
                            for c in CASES],
         "casing_max_y_um": feats["casing_max_y_m"] * 1e6,
@@ -172,7 +192,7 @@ def table2(out_dir: str | Path | None = "out", jobs: int | None = None,
     paper = paper_values().set_index(["case", "intensity"])
     for ours, theirs in _PAPER_COLUMNS.items():
         table[f"paper_{ours}"] = [paper.loc[(c.case, c.intensity), theirs] for c in CASES]
-    _write(table, feats, out)
+    _write(table, feats, out, results[CASES[0].stem].run.reduction)
     if figures:
         from rubdiag.paper.figures import write_figures
 
@@ -196,15 +216,16 @@ def write_csv(frame: pd.DataFrame, path: Path, digits: int = DIGITS) -> None:
     frame.to_csv(path, index=False, float_format=f"%.{digits}g")
 
 
-def _write(table: pd.DataFrame, feats: pd.DataFrame, out: Path) -> None:
+def _write(table: pd.DataFrame, feats: pd.DataFrame, out: Path, reduction=None) -> None:
     out.mkdir(parents=True, exist_ok=True)
     write_csv(table, out / "table2.csv", DIGITS)
     write_csv(feats, out / "features.csv", DIGITS)
-    (out / "table2.md").write_text(to_markdown(table), encoding="utf-8")
+    (out / "table2.md").write_text(to_markdown(table, reduction), encoding="utf-8")
 
 
-def to_markdown(table: pd.DataFrame) -> str:
-    """Table 2 as Markdown: ours | the study's, cell by cell."""
+def to_markdown(table: pd.DataFrame, reduction=None) -> str:
+    """Table 2 as Markdown: ours | the study's, cell by cell; with ``reduction`` (the runs'
+    :class:`~rubdiag.reduce.Reduction`) a last line says the reduced model made it."""
     header = ("| case | g0 (mm) | speed (rpm) | casing max y (µm) | contact-1 min / max force "
               "(N) | contact-1 sliding / sticking entries | sticking share | spectrum "
               "features (shaft 11, blade tip) |\n|---|---|---|---|---|---|---|---|\n")
@@ -225,4 +246,7 @@ def to_markdown(table: pd.DataFrame) -> str:
             "step may halve it; on the paper rig it never does). Minimum force: smallest "
             "per-episode peak over episodes of at least 2 steps (not converged in dt: see "
             "README, Time-step convergence).\n")
+    if reduction is not None:
+        note += (f"\nModel: reduced (Craig-Bampton, fixed-interface modes below "
+                 f"{reduction.cutoff_hz:g} Hz); the study's values are from its full model.\n")
     return header + "\n".join(lines) + "\n" + note

@@ -87,8 +87,8 @@ def run_features(results, **options) -> pd.DataFrame:
 
     ``options`` are those of :func:`rubdiag.signal.features` (``band``, ``threshold``,
     ``window`` …). Columns: ``label``, ``status``, ``speed_rpm``, ``gap_m``,
-    ``friction_coefficient``, ``dt_s``, ``window_s``, then ``shaft_…``, ``blade_…``,
-    ``casing_…`` spectral features, then the contact statistics.
+    ``friction_coefficient``, ``dt_s``, ``model`` ("full" or "reduced"), ``window_s``, then
+    ``shaft_…``, ``blade_…``, ``casing_…`` spectral features, then the contact statistics.
     """
     from rubdiag.simulate import SimulationResult, load_result
 
@@ -106,7 +106,7 @@ def run_features(results, **options) -> pd.DataFrame:
             "label": run.label, "status": result.status,
             "gap_m": run.gap_m if run.gap_m is not None else np.nan,
             "friction_coefficient": law.friction_coefficient if law else np.nan,
-            "dt_s": run.dt_s,
+            "dt_s": run.dt_s, "model": run.model_kind,
         }])
         spectra = prefixed_features(run_signals(result), result.fs, run.speed_rpm, **options)
         stats = pd.DataFrame([contact_statistics(result)])

@@ -28,6 +28,7 @@ from rubdiag import _check
 from rubdiag._version import __version__
 from rubdiag.model.io import rig_from_dict, rig_to_dict
 from rubdiag.model.rig import BladeContact, Unbalance
+from rubdiag.reduce import Reduction
 from rubdiag.simulate.result import EpisodeLog, SimulationDiverged, StatusLog, SystemResult
 from rubdiag.simulate.run import Run
 from rubdiag.simulate.sensors import Sensor, sensor_dofs, sensor_signals
@@ -238,6 +239,7 @@ class SimulationResult:
         window = self.window
         out = {
             "label": self.run.label,
+            "model": self.run.model_kind,
             "status": self.status,
             "message": self.message,
             "speed_rpm": self.run.speed_rpm,
@@ -394,10 +396,18 @@ def _jsonable(value):
 
 def run_to_dict(run: Run) -> dict:
     """``run`` as plain JSON-ready data (the rig as in its TOML file, SI units): what result
-    files store and run ids hash; :func:`run_from_dict` reads it back."""
+    files store and run ids hash; :func:`run_from_dict` reads it back.
+
+    ``reduction`` is written only when set (``{"cutoff_hz": …}``): a run of the full model
+    has the description it had before reductions existed, so its run id and its result
+    files stay as they were."""
     out = {}
     for f in dataclasses.fields(Run):
         value = getattr(run, f.name)
+        if f.name == "reduction":
+            if value is not None:
+                out[f.name] = {"cutoff_hz": float(value.cutoff_hz)}
+            continue
         if f.name == "rig":
             value = rig_to_dict(value)
         elif f.name == "sensors":
@@ -410,8 +420,10 @@ def run_to_dict(run: Run) -> dict:
 
 
 def run_from_dict(data: dict) -> Run:
-    """The :class:`Run` of :func:`run_to_dict`'s data."""
+    """The :class:`Run` of :func:`run_to_dict`'s data (no ``reduction``: the full model)."""
     data = dict(data)
+    if data.get("reduction") is not None:
+        data["reduction"] = Reduction(**data["reduction"])
     data["sensors"] = tuple(Sensor(**s) for s in data.get("sensors", ()))
     data["rig"] = rig_from_dict(data["rig"])
     u = data["unbalance"]

@@ -352,8 +352,8 @@ BAD = [
     (edit("sampling", replicate=2),
      r"unknown key 'sampling.replicate' \(allowed: method, n, seed, replicates\)"),
     (edit("base", duration=2.3),
-     r"unknown key 'base.duration' \(allowed: rig, duration_s, discard_s, "
-     r"critical_speeds_rad_s\)"),
+     r"unknown key 'base.duration' \(allowed: rig, duration_s, discard_s, reduced, "
+     r"reduction_cutoff_hz, critical_speeds_rad_s\)"),
     ({**GOOD, "noises": {}},
      r"unknown table \[noises\] \(allowed: base, sampling, factors, labels, noise, "
      r"sensors\)"),

@@ -376,8 +376,10 @@ def test_timeouts_are_rows_and_a_retry_replaces_them(sub_design, reference, refe
     assert (rows["status"] == "timeout").all()
     assert rows["message"].str.contains("0.001 s").all(), rows["message"].tolist()
     # no labels, measures or features: no run succeeded to fix those columns
-    assert set(rows.columns) == {*ID_COLUMNS, *items[0].point, "speed_rpm", *PROVENANCE}
+    assert set(rows.columns) == {*ID_COLUMNS, *items[0].point, "speed_rpm", "model",
+                                 *PROVENANCE}
     assert rows[["point_id", "gap_mm", "speed_rpm"]].notna().all().all()
+    assert (rows["model"] == "full").all()            # failed rows say their model too
     assert readme_counts(out)["status"] == {"timeout": 2}
 
     summary = generate(sub_design, out, jobs=1, progress=False, retry_failed=True)
@@ -413,7 +415,7 @@ def test_timeouts_among_stored_rows_have_null_labels(design, reference, referenc
     assert sorted(failed["run_id"]) == missing and (failed["status"] == "timeout").all()
     point = design.runs()[0].point
     empty = [c for c in all_columns if c not in ID_COLUMNS and c not in PROVENANCE
-             and c not in point and c != "speed_rpm"]
+             and c not in point and c not in ("speed_rpm", "model")]
     assert set(LABELS) | set(MEASURES) <= set(empty) and len(empty) > 50
     assert failed[empty].isna().all().all()
     assert failed[["point_id", "replicate", "gap_mm", "speed_rpm"]].notna().all().all()
@@ -535,3 +537,8 @@ def test_columns_csv_lists_the_columns_with_units(reference):
     assert {c for c, g in group.items() if g == "label"} == set(LABELS)
     assert {c for c, g in group.items() if g == "provenance"} == set(PROVENANCE)
     assert {c for c, g in group.items() if g == "id"} == set(ID_COLUMNS)
+    # which model made the row: metadata of the run, as the speed, without a unit
+    assert {c for c, g in group.items() if g == "run"} == {"speed_rpm", "model"}
+    assert unit["model"] == ""
+    assert (rows["model"] == "full").all()
+    assert list(rows.columns).index("model") == list(rows.columns).index("speed_rpm") + 1

@@ -13,6 +13,7 @@ import pytest
 from rubdiag.dataset import SCHEMA_VERSION, Design, canonical_run, point_id, run_id
 from rubdiag.dataset import ids as ids_module
 from rubdiag.model import Unbalance
+from rubdiag.reduce import Reduction
 from rubdiag.simulate import Run, Sensor
 
 DESIGN = """
@@ -88,6 +89,7 @@ def _changes(run):
         "contact": dataclasses.replace(rig.contact, friction_coefficient=0.3),
         "gap_ramp_s": 0.099,
         "sensors": (Sensor("shaft 4", "y"),),
+        "reduction": Reduction(),
     }
 
 
