@@ -30,9 +30,10 @@ from rubdiag.model.io import rig_from_dict, rig_to_dict
 from rubdiag.model.rig import BladeContact, Unbalance
 from rubdiag.reduce import Reduction
 from rubdiag.simulate.result import EpisodeLog, SimulationDiverged, StatusLog, SystemResult
+from rubdiag.simulate.rig_system import rig_system
 from rubdiag.simulate.run import Run
 from rubdiag.simulate.sensors import Sensor, sensor_dofs, sensor_signals
-from rubdiag.simulate.system import Contacts, HarmonicForce, simulate_system
+from rubdiag.simulate.system import simulate_system
 
 __all__ = ["SimulationResult", "load_result", "response_points", "simulate"]
 
@@ -60,40 +61,6 @@ def _dof(model, label: str) -> int:
     return model.dofs.index(node, direction)
 
 
-def _contacts(run: Run, model, linear) -> tuple[Contacts, float]:
-    """Contact elements of the run and the gap at which the ramp starts (m)."""
-    contacts = Contacts.empty()
-    start = 0.0
-    law = run.contact_law
-    if law is not None:
-        geo = model.blade_contacts
-        if law.blades != run.rig.contact.blades:
-            raise ValueError("contact.blades must equal the rig's contact blades (the "
-                             "contact geometry belongs to the rig)")
-        n = len(law.blades)
-        contacts = Contacts.point(geo.tip_dofs, geo.casing_dofs, geo.normal, geo.tangent,
-                                  np.full(n, run.gap_m), law.normal_stiffness_n_m,
-                                  k_t=law.tangential_stiffness_n_m,
-                                  mu=law.friction_coefficient, augmented=law.augmented,
-                                  eps=law.penetration_tolerance_m)
-        rel = linear[geo.tip_dofs] - linear[geo.casing_dofs]          # (n, 2) complex
-        start = float(np.abs(np.sum(rel * geo.normal, axis=1)).max())
-    for sc in run.rig.stator_contacts:
-        dofs = [[model.dofs.index(sc.node, "y"), model.dofs.index(sc.node, "z")]]
-        radius = sc.shaft_radius_m
-        if radius is None:
-            shaft = run.rig.shaft
-            i = min(sc.node - shaft.first_node, shaft.n_elements - 1)
-            radius = 0.5 * shaft.outer_diameters_m[i]
-        contacts = contacts + Contacts.annular(
-            np.array(dofs), np.array([sc.clearance_m]), np.array([radius]), sc.stiffness_n_m,
-            mu=sc.friction_coefficient)
-        a, b = linear[dofs[0][0]], linear[dofs[0][1]]
-        orbit = np.sqrt(0.5 * (abs(a) ** 2 + abs(b) ** 2 + abs(a * a + b * b)))
-        start = max(start, float(orbit))
-    return contacts, start
-
-
 def simulate(run: Run, progress: Callable[[float, float], None] | None = None,
              raise_on_failure: bool = True) -> SimulationResult:
     """Integrate ``run`` and return its :class:`SimulationResult`.
@@ -105,39 +72,36 @@ def simulate(run: Run, progress: Callable[[float, float], None] | None = None,
     result is returned with ``status != 0``).
     """
     from rubdiag.assembly import assemble
-    from rubdiag.modal import harmonic_response, with_rayleigh
+    from rubdiag.modal import with_rayleigh
 
     if not isinstance(run, Run):
         raise _check.wrong_type("run", run, "a Run, e.g. Run.paper_case(1, 2.0)")
     start_time = time.perf_counter()
     model = with_rayleigh(assemble(run.rig))
     speed = run.speed_rad_s
-    linear = harmonic_response(model, speed, run.unbalance)
-    F = model.unbalance_force(run.unbalance, speed)
-    loaded = np.flatnonzero(F)
-    force = HarmonicForce(loaded, F[loaded], speed)
-    contacts, approach = _contacts(run, model, linear.amplitudes)
+    rs = rig_system(run, model)
     gap_ramp = None
-    if len(contacts) and run.gap_ramp_s > 0:
-        g0 = contacts.gap
-        gap_ramp = (run.gap_ramp_s, np.maximum(g0, _RAMP_MARGIN * approach))
+    if len(rs.contacts) and run.gap_ramp_s > 0:
+        g0 = rs.contacts.gap
+        gap_ramp = (run.gap_ramp_s, np.maximum(g0, _RAMP_MARGIN * rs.approach))
     points = response_points(run.rig)
     record = [_dof(model, p) for p in points]
+    info = {"linear_approach_m": rs.approach, "model": rs.model, **rs.extra}
     try:
         system = simulate_system(
-            model.M, (model.C + speed * model.G).tocsr(), model.K, force, contacts,
-            linear.displacement(0.0), linear.velocity(0.0), duration=run.duration_s,
-            dt=run.dt_s, dt_min=run.dt_min_s, fixed_step=run.fixed_step,
-            output_dt=run.output_dt_s, record_dofs=record, sensor_dofs=sensor_dofs(run),
-            gap_ramp=gap_ramp, omega=speed,
+            rs.M, rs.damping(speed), rs.K, rs.force, rs.contacts, rs.x0, rs.v0,
+            duration=run.duration_s, dt=run.dt_s, dt_min=run.dt_min_s,
+            fixed_step=run.fixed_step, output_dt=run.output_dt_s, record_dofs=record,
+            sensor_dofs=sensor_dofs(run), gap_ramp=gap_ramp, omega=speed,
+            linear_solver=rs.linear_solver, recovery=rs.recovery,
             progress=progress, raise_on_failure=True)
     except SimulationDiverged as exc:
-        exc.result.extra["linear_approach_m"] = approach
+        exc.result.extra.update(info)
         partial = SimulationResult(run, points, exc.result, time.perf_counter() - start_time)
         if raise_on_failure:
             raise SimulationDiverged(str(exc), partial) from None
         return partial
-    system.extra["linear_approach_m"] = approach
+    system.extra.update(info)
     return SimulationResult(run, points, system, time.perf_counter() - start_time)
 
 
