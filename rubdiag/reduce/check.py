@@ -12,7 +12,8 @@ which holds every order up to 8× at 6840 rpm):
   ``Z(ω) = K − ω² M + iω (C + Ω G)``: static (ω = 0; exact for Craig–Bampton, whose
   constraint modes span every static boundary load) and dynamic;
 * **frequency responses** — from the contact forces and the unbalance DOFs to the contact
-  coordinates and the sensors (``default_sensors``: bearings, disc, casing).
+  coordinates and the DOFs of ``rubdiag.simulate.default_sensors`` (bearings, disc,
+  casing).
 
 Errors of the matrices are relative Frobenius norms, ``‖H_r − H‖ / ‖H‖``, per frequency.
 The tolerance on frequencies and critical speeds in the band is :data:`FREQUENCY_TOLERANCE`
@@ -113,7 +114,6 @@ def check(rig, reduction: Reduction | None = None, speeds_rpm=None,
     """
     from rubdiag.assembly import assemble
     from rubdiag.modal import critical_speeds, with_rayleigh
-    from rubdiag.simulate.sensors import default_sensors
 
     reduced = reduced_model(rig, reduction)
     model = with_rayleigh(assemble(rig))
@@ -126,7 +126,7 @@ def check(rig, reduction: Reduction | None = None, speeds_rpm=None,
     speeds = np.asarray(speeds_rpm, dtype=float) * np.pi / 30.0
     freqs = np.geomspace(1.0, cutoff, n_frequencies)
     B = _contact_matrix(model)
-    sensors = [model.dofs.index(s.point, s.direction) for s in default_sensors(rig)]
+    sensors = _sensor_dofs(model)
     loads = np.flatnonzero(model.unbalance_force(rig.unbalance(1), 1.0))
     rows_f, rows_c, rows_r = [], [], []
     for speed in speeds:
@@ -165,6 +165,18 @@ def _contact_matrix(model) -> np.ndarray:
             B[2 * e + r, tip] += axis
             B[2 * e + r, casing] -= axis
     return B
+
+
+def _sensor_dofs(model) -> list[int]:
+    """The DOFs of ``rubdiag.simulate.default_sensors``: y and z at the bearings and the
+    bladed disc, y of the casing at contact element 1."""
+    rig = model.rig
+    disc = rig.blades.disc_node if rig.blades is not None else rig.discs[0].node
+    nodes = sorted({b.node for b in rig.bearings} | {disc})
+    dofs = [model.dofs.index(f"shaft {n}", d) for n in nodes for d in ("y", "z")]
+    if rig.contact is not None and rig.casing is not None:
+        dofs.append(model.dofs.index(f"casing {rig.contact_casing_node(1)}", "y"))
+    return dofs
 
 
 def _natural_frequencies_hz(M, D, K, below_hz: float) -> np.ndarray:

@@ -62,3 +62,15 @@ def test_one_reduction_per_rig_and_process():
     np.testing.assert_array_equal(a.M, a.M.T)     # the kernel reads rows as columns
     np.testing.assert_array_equal(a.K, a.K.T)
     np.testing.assert_allclose(a.G, -a.G.T, atol=1e-12 * np.abs(a.G).max())
+
+
+def test_sensor_dofs_are_those_of_the_default_sensors():
+    # check() sits below rubdiag.simulate, so it names the default sensors' DOFs itself
+    from rubdiag.assembly import assemble
+    from rubdiag.reduce.check import _sensor_dofs
+    from rubdiag.simulate import default_sensors
+
+    rig = paper_rig()
+    model = assemble(rig)
+    expected = [model.dofs.index(s.point, s.direction) for s in default_sensors(rig)]
+    assert _sensor_dofs(model) == expected
