@@ -18,7 +18,9 @@ K Δq``) from one pass over the union pattern of M and K on Δq; ``C Δq`` follo
 ``K_eff Δq = rhs`` and gives the viscous dissipation ``Δqᵀ C Δq / h`` of the step. A step thus
 costs one sparse product pass, one LU solve and the contact columns of ``S = K_eff^-1 B^T``;
 the kinetic and strain energies at the samples are dot products. (γ ≠ 1/2 uses products with
-M and C for the right-hand side and recomputes M v: three more products.)
+M and C for the right-hand side and recomputes M v: three more products.) A dense system (a
+reduced model) replaces the LU solve by a product with ``K_eff^-1`` and the pass over the
+pattern by dense products with M and K.
 
 Step sizes are levels ``h_k = dt / 2^k`` (k = 0..n_lev-1). Time is an integer tick count
 (tick = dt / 2^(n_lev-1)), so sample times and level changes are exact. A step at level k
@@ -32,8 +34,32 @@ contact-stiffness criterion (``lev_req``). At the smallest level (i) stops the r
 steps at a level the step doubles (when aligned, and not below any closed element's
 ``lev_req``). In fixed-step mode nothing is rejected: (i) stops the run.
 
+The kernel, part by part. :func:`newmark_contact` is the step controller: the loop, the
+order of the parts, rejections and level changes. A trial step: :func:`_rhs_average` (or
+:func:`_rhs_general`, γ != 1/2), the linear solve (``lu_solve``, or a product with the dense
+inverse), :func:`_contact_inputs` and :func:`~rubdiag.kernels.contact.solve_contact` (the
+contact Newton solve in the Schur complement), :func:`_level_needed` (abrupt closing,
+contact stiffness). The accept: :func:`_increment` (``dq += S Δp``), :func:`_mk_products`
+(M dq, K dq and the viscous dissipation in one pass; dense: :func:`_dissipation`),
+:func:`_new_state`. The books: :func:`_energy_ledger`, :func:`_log_episodes` (episodes and
+status segments), :func:`_commit_contacts` (totals, maxima, the new contact state). Then
+:func:`_advance` (the clock, step growth) and :func:`_record` / :func:`_record_sensors` at
+the sample ticks.
+
+The parts take the plain arrays they use, not the bundles, and are written so that Numba
+can drop the reference counting of their array arguments, which otherwise costs two atomic
+operations per array per call (the parts that took whole bundles were 0.3-0.4 µs per step
+slower): no array used in one branch of an ``if`` only (the controller picks
+``_rhs_average`` or ``_rhs_general``, dense or sparse products), and no ``ZeroDivisionError``
+paths (``error_model="numpy"``; no divisor there can be 0: h, β, γ, k_N, k_T > 0 and the
+tick counts are checked by the caller), nor calls that could return one (``_gaps_at`` is
+inlined). What is left is the call itself, about 15 ns with 20 arrays. (To check a part:
+compile without the disk cache and count ``NRT_incref`` in ``part.inspect_llvm()``.)
+
 Everything is preallocated by the caller (:mod:`rubdiag.simulate.system`); the kernel can be
-re-entered: all state lives in the arrays passed in.
+re-entered: all state lives in the arrays passed in. The rows of the packed arrays (``cf``,
+``ci``, ``ciw``, the work rows, ``fpar``, ``ipar`` …) are named in
+:mod:`rubdiag.kernels.layout`.
 """
 
 from __future__ import annotations
@@ -202,34 +228,64 @@ STATUS_LOG_FULL = 3  # a log (episodes, segments, level changes) is full: caller
 
 
 # The kernel's arrays in named bundles (Numba compiles namedtuples of arrays as records: a
-# swapped pair of same-typed arrays is a wrong name here, not a silent wrong result).
-#: The linear system: CSR of M and C (γ != 1/2 only), the union pattern of M and K with
-#: both value arrays.
-#: A dense system (a reduced model) also gives M and K as dense (n, n) arrays; a sparse one
-#: gives them empty, (0, 0).
+# swapped pair of same-typed arrays is a wrong name here, not a silent wrong result). n DOF,
+# n_c contacts, L step levels; float64 unless int64.
+#: The linear system: CSR of M and C (``m_ptr, m_idx, m_val``, ``c_*``; used by γ != 1/2
+#: only), the union pattern of M and K in CSR with both value arrays (``mk_ptr``,
+#: ``mk_idx``, ``mk_m``, ``mk_k``). A dense system (a reduced model) also gives M and K as
+#: dense (n, n) arrays ``m_dense``, ``k_dense``; a sparse one gives them empty, (0, 0).
 Linear = namedtuple("Linear", "m_ptr m_idx m_val c_ptr c_idx c_val mk_ptr mk_idx mk_m mk_k "
                     "m_dense k_dense")
-#: Per step level (first axis): K_eff's LU factors as CSR without diagonals, S = (K_eff^-1
-#: Bᵀ)ᵀ and W = B S; a dense system gives ``inv_t`` = (K_eff^-1)ᵀ (L, n, n) instead of the
-#: LU factors (and a sparse one an empty (L, 0, 0)).
+#: Per step level (first axis L): K_eff's SuperLU factors as CSR without diagonals
+#: (``l_ptr`` (L, n+1), ``l_idx``/``l_val`` (L, nnz_max), ``l_dinv`` (L, n) the inverse
+#: diagonal, the same for U, ``perm_r``/``perm_c`` (L, n)), ``s_mat`` (L, 2n_c, n) =
+#: (K_eff^-1 Bᵀ)ᵀ and ``w_mat`` (L, 2n_c, 2n_c) = B S. A dense system gives ``inv_t`` =
+#: (K_eff^-1)ᵀ (L, n, n) instead of the LU factors (a sparse one an empty (L, 0, 0)).
 Factors = namedtuple("Factors", "l_ptr l_idx l_val l_dinv u_ptr u_idx u_val u_dinv "
                      "perm_r perm_c s_mat w_mat inv_t")
-#: The harmonic force f_k(t) = re cos(om t) - im sin(om t) at DOF ``dof``.
+#: The harmonic force f_k(t) = re cos(om t) - im sin(om t) (N, om in rad/s) at DOF ``dof``
+#: (int).
 Force = namedtuple("Force", "dof re im om")
-#: The contact elements and their per-level data.
+#: The contact elements (n_c): ``kind`` (int), ``dof`` (n_c, 4) int (a_y, a_z, b_y, b_z,
+#: -1 = ground), ``basis`` (n_c, 4) rows of the local 2x2 basis, ``g0``, ``gstart`` (m: the
+#: gap, and the gap at t = 0 of a gap ramp), ``kn``, ``kt`` (N/m), ``mu``, ``aug`` (int: 1 =
+#: augmented Lagrangian), ``eps`` (m), ``speed`` (Ω R, m/s), ``lev_req`` (int) the smallest
+#: level at which a step with the element closed is allowed (contact-stiffness criterion),
+#: ``aug_k`` (L, n_c) the multiplier update stiffness per level (N/m).
 ContactSet = namedtuple("ContactSet", "kind dof basis g0 gstart kn kt mu aug eps speed "
                         "lev_req aug_k")
-#: The state carried from step to step (and from call to call).
+#: The state carried from step to step (and from call to call): ``q, v, a`` (n), ``mv = M v``
+#: and ``kq = K q`` (n, tracked incrementally), ``pc``, ``dc`` (2n_c) contact forces and
+#: displacements, ``cf`` (CF_SIZE, n_c) and ``ci`` (CI_SIZE, n_c) int each element's state
+#: and current episode, ``istate`` (I_SIZE) int counters, ``fstate`` (F_SIZE) the energy
+#: ledger.
 State = namedtuple("State", "q v a mv kq pc dc cf ci istate fstate")
-#: The recorded samples and sensor stream. Recorded values are ``q[rec_dof]`` (and
-#: ``q[sen_dof]``), or, when ``rec_map`` (n, n_rec) and ``sen_map`` (n, n_s) are not empty,
-#: the recovered ``rec_mapᵀ q`` (``sen_mapᵀ q``): the physical DOFs of a reduced model.
+#: The recorded samples (every ``ipar[IP_OUT_TICKS]`` ticks): ``q`` (n_out, n_rec) at
+#: ``rec_dof`` (int); per element ``fn``, ``ft``, ``st`` (int), ``gap``, ``slip`` (n_out,
+#: n_c); ``en`` (n_out, EN_SIZE) the energy ledger; and the sensor stream (every
+#: ``ipar[IP_SEN_TICKS]`` ticks, a multiple of the largest step, so samples are step ends):
+#: ``sq``, ``sv``, ``sa`` (n_sen_out, n_s) displacement, velocity, acceleration at
+#: ``sen_dof`` — the integrator's own state, not differences. Recorded values are
+#: ``q[rec_dof]`` (``q[sen_dof]``), or, when ``rec_map`` (n, n_rec) and ``sen_map`` (n, n_s)
+#: are not empty, the recovered ``rec_mapᵀ q`` (``sen_mapᵀ q``): the physical DOFs of a
+#: reduced model.
 Outputs = namedtuple("Outputs", "rec_dof q fn ft st gap slip en sen_dof sq sv sa rec_map "
                      "sen_map")
-#: Event logs and totals (the caller grows the logs on STATUS_LOG_FULL).
+#: Event logs and totals (the caller grows the logs on STATUS_LOG_FULL): the ended episodes
+#: ``ep_f`` (cap, EPF_SIZE), ``ep_i`` (cap, EPI_SIZE) int; every status segment (a maximal
+#: run of one closed status: steps count with their end-of-step status, an episode's
+#: interpolated start and end bound its first and last segment) ``sg_f``, ``sg_i`` (cap,
+#: SG_SIZE); the level changes ``lv_t``, ``lv_l`` (int); ``tot`` (n_c, TOT_SIZE) time,
+#: normal and tangential impulse per status; ``mx`` (n_c, MX_SIZE) largest F_N, |F_T|,
+#: penetration; ``lvl_count`` (L) int accepted steps per level.
 Logs = namedtuple("Logs", "ep_f ep_i sg_f sg_i lv_t lv_l tot mx lvl_count")
-#: Work arrays (nothing is allocated in the loop) and the cycle counters.
+#: Work arrays (nothing is allocated in the loop): ``wn`` (WN_SIZE, n), ``wc`` (WC_SIZE,
+#: 2n_c), ``wcn`` (WCN_SIZE, n_c), ``wm`` (2n_c, 2n_c), ``jac`` (n_c, 4), ``iwork`` (5 n_c)
+#: int, ``ciw`` (CR_SIZE, n_c) the contact solve's results; and ``prof`` (P_SIZE) int64, the
+#: CPU cycles per section of a step (``P_*``), counted when not empty (an empty array costs
+#: one branch per section).
 Work = namedtuple("Work", "wn wc wcn wm jac iwork ciw prof")
+
 
 @njit
 def _add_force(f_dof, f_re, f_im, f_om, t, scale, out):
@@ -305,15 +361,14 @@ def _recover(mapt, dofs, x, out):
         _matvec_t(mapt, x, out)
 
 
-@njit
+@njit(error_model="numpy", inline="always")
 def _gaps_at(t, g0, gstart, t_ramp, out):
-    if t_ramp > 0.0 and t < t_ramp:
-        frac = 1.0 - t / t_ramp
-        for e in range(g0.shape[0]):
-            out[e] = g0[e] + (gstart[e] - g0[e]) * frac
-    else:
-        for e in range(g0.shape[0]):
-            out[e] = g0[e]
+    """The gaps at time ``t``: ``g0``, or on the gap ramp (``t < t_ramp``) linearly from
+    ``gstart`` at t = 0."""
+    ramp = t_ramp > 0.0 and t < t_ramp
+    frac = 1.0 - t / t_ramp if ramp else 0.0
+    for e in range(g0.shape[0]):
+        out[e] = g0[e] + (gstart[e] - g0[e]) * frac if ramp else g0[e]
 
 
 @njit
@@ -344,11 +399,381 @@ def _add_bt_p(c_dof, c_basis, p, scale, out):
             out[c_dof[e, 3]] -= scale * fz
 
 
+# ---- a trial step: the linear predictor, the contact solve's inputs, the level check
+
+
+@njit(error_model="numpy")
+def _rhs_average(h, t_n, t_1, mv, kq, pc, f_dof, f_re, f_im, f_om, c_dof, c_basis, rhs):
+    """``rhs`` of the increment equation for average acceleration (module docstring):
+    ``f_{n+1} + f_n + 2 Bᵀ p_n + 4/h M v_n - 2 K q_n``, no product."""
+    # r_n = M (4/h v + 2 a) + 2 C v = 4/h M v + 2 (f_n + B^T p_n - K q)
+    c4 = 4.0 / h
+    for i in range(rhs.shape[0]):
+        rhs[i] = c4 * mv[i] - 2.0 * kq[i]
+    # + Δf + 2 f_n = f_{n+1} + f_n
+    _add_force(f_dof, f_re, f_im, f_om, t_n, 1.0, rhs)
+    _add_bt_p(c_dof, c_basis, pc, 2.0, rhs)
+    _add_force(f_dof, f_re, f_im, f_om, t_1, 1.0, rhs)
+
+
+@njit(error_model="numpy")
+def _rhs_general(nb, ng, h, t_n, t_1, v, a, f_dof, f_re, f_im, f_om, m_ptr, m_idx, m_val,
+                 c_ptr, c_idx, c_val, x, cx, rhs):
+    """``rhs`` of the increment equation for Newmark β = ``nb``, γ = ``ng``: ``Δf + M (v_n
+    / (β h) + a_n / (2β)) + C (γ/β v_n - h (1 - γ/(2β)) a_n)``; ``x``, ``cx`` (n) work."""
+    ca2 = 1.0 / (nb * h)
+    ca3 = 1.0 / (2.0 * nb)
+    for i in range(rhs.shape[0]):
+        x[i] = ca2 * v[i] + ca3 * a[i]
+    csr_matvec(m_ptr, m_idx, m_val, x, rhs)
+    cy1 = ng / nb
+    cy2 = -h * (1.0 - ng / (2.0 * nb))
+    for i in range(rhs.shape[0]):
+        x[i] = cy1 * v[i] + cy2 * a[i]
+    csr_matvec(c_ptr, c_idx, c_val, x, cx)
+    for i in range(rhs.shape[0]):
+        rhs[i] += cx[i]
+    _add_force(f_dof, f_re, f_im, f_om, t_n, -1.0, rhs)
+    _add_force(f_dof, f_re, f_im, f_om, t_1, 1.0, rhs)
+
+
+@njit(error_model="numpy")
+def _contact_inputs(h, t_1, t_ramp, dq, dc, c_dof, c_basis, c_g0, c_gstart, c_speed,
+                    d_lin, gap, lam, drive):
+    """What the contact solve starts from: the predictor's contact displacements ``d_lin =
+    B (q + dq_lin) = d_n + B dq_lin``, the gaps at the step end, the multipliers and each
+    element's surface travel Ω R h."""
+    _contact_coords(c_dof, c_basis, dq, d_lin)
+    for i in range(d_lin.shape[0]):
+        d_lin[i] += dc[i]
+    _gaps_at(t_1, c_g0, c_gstart, t_ramp, gap)
+    for e in range(lam.shape[0]):
+        # multipliers are iterated from 0 within each step (no carry-over: a multiplier
+        # kept while the penetration shrinks pushes the contact open impulsively)
+        lam[e] = 0.0
+        drive[e] = c_speed[e] * h
+
+
+@njit
+def _level_needed(lev, fpar, ci, st_new, ciw, lev_req):
+    """The level a converged step at ``lev`` must be retried at (``lev``: none): one down
+    when an element open at the start ends deeper than ``fpar[FP_GAP_JUMP]`` (an abrupt
+    closing), and at least the ``lev_req`` of every element closed at the start or end."""
+    gap_jump = fpar[FP_GAP_JUMP]
+    need = lev
+    for e in range(st_new.shape[0]):
+        was_open = ci[CI_STATUS, e] == OPEN
+        if was_open and st_new[e] != OPEN and -ciw[CR_GAP, e] > gap_jump:
+            need = max(need, lev + 1)
+        if (not was_open or st_new[e] != OPEN) and lev_req[e] > need:
+            need = lev_req[e]
+    return need
+
+
+# ---- the accept: the increment, its products, the new state
+
+
+@njit
+def _increment(lev, s_mat, pc, p_new, c_dof, c_basis, dp, dq, rhs):
+    """The accepted step's increment ``dq += S Δp`` (Δp = ``p_new - pc``, into ``dp``) and
+    ``rhs += Bᵀ Δp``: the right-hand side ``K_eff dq = rhs`` actually solved."""
+    for j in range(dp.shape[0]):
+        dpj = p_new[j] - pc[j]
+        dp[j] = dpj
+        if dpj != 0.0:
+            for i in range(dq.shape[0]):
+                dq[i] += dpj * s_mat[lev, j, i]
+    _add_bt_p(c_dof, c_basis, dp, 1.0, rhs)
+
+
+@njit(error_model="numpy")
+def _mk_products(nb, ng, h, mk_ptr, mk_idx, mk_m, mk_k, dq, rhs, mdq, kdq):
+    """``mdq = M dq`` and ``kdq = K dq`` in one pass over the union pattern of M and K.
+    Returns ``dqᵀ C dq`` (h times the step's viscous dissipation h v̄ᵀ C v̄, v̄ = dq / h),
+    with ``C dq = (rhs - K dq - M dq / (β h²)) β h / γ`` from ``K_eff dq = rhs``; not
+    finite when dq is not."""
+    ca0 = 1.0 / (nb * h * h)
+    cc = nb * h / ng
+    dvisc = 0.0
+    for i in range(dq.shape[0]):
+        am = 0.0
+        ak = 0.0
+        for k in range(mk_ptr[i], mk_ptr[i + 1]):
+            dj = dq[mk_idx[k]]
+            am += mk_m[k] * dj
+            ak += mk_k[k] * dj
+        dvisc += dq[i] * cc * (rhs[i] - ak - ca0 * am)
+        mdq[i] = am
+        kdq[i] = ak
+    return dvisc
+
+
+@njit(error_model="numpy")
+def _dissipation(nb, ng, h, dq, rhs, mdq, kdq):
+    """``dqᵀ C dq`` from ``M dq``, ``K dq`` and ``K_eff dq = rhs`` (see :func:`_mk_products`),
+    for dense M and K, whose products come first."""
+    ca0 = 1.0 / (nb * h * h)
+    cc = nb * h / ng
+    dvisc = 0.0
+    for i in range(dq.shape[0]):
+        dvisc += dq[i] * cc * (rhs[i] - kdq[i] - ca0 * mdq[i])
+    return dvisc
+
+
+@njit(error_model="numpy")
+def _new_state(nb, ng, h, dq, mdq, kdq, q, v, a, mv, kq):
+    """The state at the end of the accepted step from ``dq`` and its products (``mv`` is
+    right for average acceleration only: the caller recomputes it otherwise)."""
+    ca0 = 1.0 / (nb * h * h)
+    ca2 = 1.0 / (nb * h)
+    ca3 = 1.0 / (2.0 * nb) - 1.0
+    cmv = ng / (nb * h)
+    for i in range(q.shape[0]):
+        an = ca0 * dq[i] - ca2 * v[i] - ca3 * a[i]
+        v[i] = v[i] + h * ((1.0 - ng) * a[i] + ng * an)
+        a[i] = an
+        q[i] += dq[i]
+        kq[i] += kdq[i]
+        mv[i] = cmv * mdq[i] - mv[i]  # M v_{n+1} = 2/h M dq - M v_n (trapezoid)
+
+
+# ---- the books: energy, episodes and segments, totals, the contact state
+
+
+@njit(error_model="numpy")
+def _energy_ledger(h, t_n, t_1, t_ramp, dvisc, dq, f_dof, f_re, f_im, f_om, pc, p_new, st_new,
+                   ciw, cf, c_dof, c_basis, c_g0, c_gstart, c_kn, c_kt, c_speed, gap,
+                   gap_start, bdq, fstate):
+    """The energy ledger of the accepted step (``fstate``): the external work, the viscous
+    dissipation (``dvisc / h``), and the contact terms: the drive work (the prescribed gap
+    motion, the surface travel), the friction dissipation, the contact elastic energy, and
+    the algorithmic remainder of the work the contact forces did on the structure, ``B dq ·
+    (p_n + p_{n+1}) / 2``. Reads ``cf`` before the commit."""
+    fstate[F_D_VISC] += dvisc / h
+    fstate[F_W_EXT] += _force_work(f_dof, f_re, f_im, f_om, t_n, t_1, dq)
+    _contact_coords(c_dof, c_basis, dq, bdq)
+    w_struct = 0.0
+    for i in range(bdq.shape[0]):
+        w_struct += bdq[i] * 0.5 * (p_new[i] + pc[i])
+    wdrive = 0.0
+    dfric = 0.0
+    ec = 0.0
+    ramp = t_ramp > 0.0 and t_n < t_ramp
+    _gaps_at(t_n, c_g0, c_gstart, t_ramp, gap_start)
+    for e in range(st_new.shape[0]):
+        fn = ciw[CR_FN, e]
+        ft = ciw[CR_FT, e]
+        if ramp:
+            # work of the prescribed gap motion on the contact (trapezoid)
+            wdrive -= 0.5 * (fn + cf[CF_FN, e]) * (gap[e] - gap_start[e])
+        if st_new[e] != OPEN:
+            ec += 0.5 * fn * fn / c_kn[e] + 0.5 * ft * ft / c_kt[e]
+            wdrive -= ft * c_speed[e] * h
+            if st_new[e] == SLIDING:
+                dfric += abs(ft) * abs(ciw[CR_E_TRIAL, e] - ciw[CR_E, e])
+    fstate[F_W_DRIVE] += wdrive
+    fstate[F_D_FRIC] += dfric
+    fstate[F_D_NUM] += -w_struct + wdrive - (ec - fstate[F_E_CONTACT]) - dfric
+    fstate[F_E_CONTACT] = ec
+
+
+@njit
+def _log_segment(sg_f, sg_i, istate, e, status, t_start, t_end):
+    """Log element ``e``'s segment of one closed ``status`` from ``t_start`` to ``t_end``."""
+    k = istate[I_N_SEGMENTS]
+    sg_f[k, SGF_T_START] = t_start
+    sg_f[k, SGF_T_END] = t_end
+    sg_i[k, SGI_ELEMENT] = e
+    sg_i[k, SGI_STATUS] = status
+    istate[I_N_SEGMENTS] = k + 1
+
+
+@njit(error_model="numpy")
+def _log_episodes(h, t_n, st_new, ciw, cf, ci, istate, ep_f, ep_i, sg_f, sg_i):
+    """Each element's current episode (a maximal run of closed steps) and status segment
+    over the accepted step: opened, counted, or ended and logged (``ep_*``, ``sg_*``). A
+    step counts with its end-of-step status; the episode's start and end are where the
+    trial normal force z crosses 0 within the step. Reads the old status in ``ci``."""
+    for e in range(st_new.shape[0]):
+        so = ci[CI_STATUS, e]
+        sn = st_new[e]
+        fn = ciw[CR_FN, e]
+        zo = cf[CF_Z, e]
+        zn = ciw[CR_Z, e]
+        if so == OPEN and sn != OPEN:
+            frac = zo / (zo - zn) if zo < 0.0 else 0.0
+            cf[CF_EP_START, e] = t_n + frac * h
+            cf[CF_EP_PEAK_FN, e] = 0.0
+            cf[CF_EP_SLIDE_TIME, e] = 0.0
+            cf[CF_EP_STICK_TIME, e] = 0.0
+            cf[CF_EP_SLIDE_IMPULSE, e] = 0.0
+            cf[CF_EP_STICK_IMPULSE, e] = 0.0
+            ci[CI_EP_STEPS, e] = 0
+            ci[CI_EP_SLIDE_ENTRIES, e] = 0
+            ci[CI_EP_STICK_ENTRIES, e] = 0
+            cf[CF_SEG_START, e] = cf[CF_EP_START, e]
+        elif so != OPEN and sn != OPEN and sn != so:
+            # sliding <-> sticking: the step counts with its new status
+            _log_segment(sg_f, sg_i, istate, e, so, cf[CF_SEG_START, e], t_n)
+            cf[CF_SEG_START, e] = t_n
+        if sn != OPEN:
+            ci[CI_EP_STEPS, e] += 1
+            if fn > cf[CF_EP_PEAK_FN, e]:
+                cf[CF_EP_PEAK_FN, e] = fn
+            if sn == SLIDING and so != SLIDING:
+                ci[CI_EP_SLIDE_ENTRIES, e] += 1
+            if sn == STICKING and so != STICKING:
+                ci[CI_EP_STICK_ENTRIES, e] += 1
+            if sn == SLIDING:
+                cf[CF_EP_SLIDE_TIME, e] += h
+                cf[CF_EP_SLIDE_IMPULSE, e] += fn * h
+            else:
+                cf[CF_EP_STICK_TIME, e] += h
+                cf[CF_EP_STICK_IMPULSE, e] += fn * h
+        elif so != OPEN:
+            # episode ends inside this step: interpolate the trial normal force to zero
+            frac = zo / (zo - zn) if zn < 0.0 and zo > 0.0 else 1.0
+            k = istate[I_N_EPISODES]
+            ep_f[k, EPF_T_START] = cf[CF_EP_START, e]
+            ep_f[k, EPF_T_END] = t_n + frac * h
+            ep_f[k, EPF_PEAK_FN] = cf[CF_EP_PEAK_FN, e]
+            ep_f[k, EPF_SLIDE_TIME] = cf[CF_EP_SLIDE_TIME, e]
+            ep_f[k, EPF_STICK_TIME] = cf[CF_EP_STICK_TIME, e]
+            ep_f[k, EPF_SLIDE_IMPULSE] = cf[CF_EP_SLIDE_IMPULSE, e]
+            ep_f[k, EPF_STICK_IMPULSE] = cf[CF_EP_STICK_IMPULSE, e]
+            ep_i[k, EPI_ELEMENT] = e
+            ep_i[k, EPI_STEPS] = ci[CI_EP_STEPS, e]
+            ep_i[k, EPI_SLIDE_ENTRIES] = ci[CI_EP_SLIDE_ENTRIES, e]
+            ep_i[k, EPI_STICK_ENTRIES] = ci[CI_EP_STICK_ENTRIES, e]
+            ep_i[k, EPI_COMPLETE] = 1
+            istate[I_N_EPISODES] = k + 1
+            _log_segment(sg_f, sg_i, istate, e, so, cf[CF_SEG_START, e], ep_f[k, EPF_T_END])
+
+
+@njit
+def _commit_contacts(h, c_kind, c_mu, c_dof, c_basis, st_new, ciw, d_new, lam, p_new, q, tot,
+                     mx, fstate, cf, ci, pc, dc):
+    """The accepted step's totals and maxima per element (``tot``, ``mx``, the cone excess),
+    then its contact state becomes the current one (``cf``, ``ci``, ``pc``, and ``dc`` from
+    the new ``q``: ``d_new`` only up to the Newton tolerance)."""
+    for e in range(st_new.shape[0]):
+        sn = st_new[e]
+        fn = ciw[CR_FN, e]
+        ft = ciw[CR_FT, e]
+        tot[e, TOT_TIME + sn - 1] += h
+        tot[e, TOT_FN_IMPULSE + sn - 1] += fn * h
+        tot[e, TOT_FT_IMPULSE + sn - 1] += abs(ft) * h
+        if fn > mx[e, MX_FN]:
+            mx[e, MX_FN] = fn
+        if abs(ft) > mx[e, MX_FT]:
+            mx[e, MX_FT] = abs(ft)
+        if -ciw[CR_GAP, e] > mx[e, MX_PENETRATION]:
+            mx[e, MX_PENETRATION] = -ciw[CR_GAP, e]
+        excess = abs(ft) - c_mu[e] * fn
+        if excess > fstate[F_CONE_EXCESS]:
+            fstate[F_CONE_EXCESS] = excess
+        # slip first: it needs the old e
+        if c_kind[e] == KIND_POINT:
+            cf[CF_SLIP, e] = d_new[2 * e + 1]
+        elif sn != OPEN:
+            cf[CF_SLIP, e] += ciw[CR_E_TRIAL, e] - cf[CF_E, e]
+        ci[CI_STATUS, e] = sn
+        cf[CF_E, e] = ciw[CR_E, e] if sn != OPEN else 0.0
+        cf[CF_LAM, e] = lam[e] if sn != OPEN else 0.0
+        cf[CF_FN, e] = fn
+        cf[CF_FT, e] = ft
+        cf[CF_GAP, e] = ciw[CR_GAP, e]
+        cf[CF_Z, e] = ciw[CR_Z, e]
+    for i in range(pc.shape[0]):
+        pc[i] = p_new[i]
+    _contact_coords(c_dof, c_basis, q, dc)
+
+
+# ---- step control, failures and the records
+
+
+@njit
+def _count_iterations(code, nit, naug, istate):
+    """Count a contact solve's iterations; its code, with a step accepted before the
+    multipliers reached the band (``AUGMENT_PENDING``, counted) as converged."""
+    istate[I_NEWTON_TOTAL] += nit
+    istate[I_AUG_TOTAL] += naug
+    pending = code == AUGMENT_PENDING
+    istate[I_AUG_PENDING] += 1 if pending else 0
+    return 0 if pending else code
+
+
+@njit
+def _contact_failure(istate, fstate, code, worst, t):
+    """Note a failed contact solve (its code, the element of its worst row, the time); the
+    kernel's status."""
+    istate[I_FAIL_ELEMENT] = worst // 2 if worst >= 0 else -1
+    istate[I_FAIL_CODE] = code
+    fstate[F_FAIL_TIME] = t
+    return STATUS_NONFINITE if code == NONFINITE else STATUS_NO_CONVERGENCE
+
+
+@njit
+def _nonfinite_increment(istate, fstate, d_new, t):
+    """Note a non-finite increment (the first element with non-finite contact
+    displacements, if any, and the time); the kernel's status."""
+    istate[I_FAIL_ELEMENT] = -1
+    for e in range(d_new.shape[0] // 2):
+        if not (np.isfinite(d_new[2 * e]) and np.isfinite(d_new[2 * e + 1])):
+            istate[I_FAIL_ELEMENT] = e
+            break
+    fstate[F_FAIL_TIME] = t
+    return STATUS_NONFINITE
+
+
+@njit
+def _change_level(istate, lv_t, lv_l, t, level):
+    """Go on at ``level`` from time ``t`` (logged)."""
+    istate[I_LEVEL] = level
+    istate[I_QUIET] = 0
+    k = istate[I_N_LEVEL_CHANGES]
+    lv_t[k] = t
+    lv_l[k] = level
+    istate[I_N_LEVEL_CHANGES] = k + 1
+
+
+@njit(error_model="numpy")
+def _advance(lev, nt, fixed, grow_after, ci, lev_req, istate, lvl_count):
+    """Count the accepted step of ``nt`` ticks at ``lev`` and move the clock on. Returns the
+    new tick and whether the next step may be twice as long: after ``grow_after`` quiet
+    steps at this level, when the new tick is aligned to it and every closed element allows
+    it (``lev_req``)."""
+    tick = istate[I_TICK] + nt
+    istate[I_TICK] = tick
+    istate[I_N_ACCEPTED] += 1
+    lvl_count[lev] += 1
+    quiet = istate[I_QUIET] + 1
+    istate[I_QUIET] = quiet
+    grow = not fixed and lev > 0 and quiet >= grow_after and tick % (2 * nt) == 0
+    for e in range(lev_req.shape[0]):
+        if ci[CI_STATUS, e] != OPEN and lev_req[e] >= lev:
+            grow = False
+    return tick, grow
+
+
+@njit
+def _logs_full(nc, istate, ep_f, sg_f, lv_t):
+    """Whether a step could overflow the episode, segment or level-change log (a step logs
+    at most one episode and one segment per element, and one level change)."""
+    episodes = istate[I_N_EPISODES] + nc > ep_f.shape[0]
+    segments = istate[I_N_SEGMENTS] + nc > sg_f.shape[0]
+    levels = istate[I_N_LEVEL_CHANGES] + 2 > lv_t.shape[0]
+    return episodes or segments or levels
+
+
 @njit
 def _record(
     idx, q, v, mv, kq, rec_dof, rec_map, cf, ci, fstate,
     out_q, out_fn, out_ft, out_st, out_gap, out_slip, out_en,
 ):
+    """Record sample ``idx``: the recorded DOFs, each element's force, status, gap and slip,
+    and the energy ledger with the kinetic and strain energies ``vᵀ M v / 2``, ``qᵀ K q /
+    2``."""
     _recover(rec_map, rec_dof, q, out_q[idx])
     for e in range(ci.shape[1]):
         out_fn[idx, e] = cf[CF_FN, e]
@@ -373,19 +798,10 @@ def _record(
 
 @njit
 def _record_sensors(idx, q, v, a, sen_dof, sen_map, out_sq, out_sv, out_sa):
+    """Record sensor sample ``idx``: displacement, velocity and acceleration."""
     _recover(sen_map, sen_dof, q, out_sq[idx])
     _recover(sen_map, sen_dof, v, out_sv[idx])
     _recover(sen_map, sen_dof, a, out_sa[idx])
-
-
-@njit
-def _log_segment(sg_f, sg_i, istate, e, status, t_start, t_end):
-    k = istate[I_N_SEGMENTS]
-    sg_f[k, SGF_T_START] = t_start
-    sg_f[k, SGF_T_END] = t_end
-    sg_i[k, SGI_ELEMENT] = e
-    sg_i[k, SGI_STATUS] = status
-    istate[I_N_SEGMENTS] = k + 1
 
 
 @njit
@@ -401,49 +817,12 @@ def _lap(prof, section, c0):
 
 @njit
 def newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs, logs, work):
-    """Run the time loop from ``istate[I_TICK]`` to ``ipar[IP_TICK_END]``; a status code.
+    """Run the time loop from ``istate[I_TICK]`` to ``ipar[IP_TICK_END]``; a ``STATUS_*``.
 
-    The arrays come in the bundles :data:`Linear`, :data:`Factors`, :data:`Force`,
-    :data:`ContactSet`, :data:`State`, :data:`Outputs`, :data:`Logs` and :data:`Work`; below,
-    by the local names the kernel unpacks them to (n DOF, n_c contacts, L = n_lev levels;
-    all float64 unless int64):
-
-    * CSR of M and C (used by the γ != 1/2 path only); the union pattern of M and K in CSR
-      with both value arrays (``mk_ptr``, ``mk_idx``, ``mk_m``, ``mk_k``); per level (first
-      axis L) the SuperLU factors as CSR without diagonals (``l_ptr`` (L, n+1),
-      ``l_idx``/``l_val`` (L, nnz_max), ``l_dinv`` (L, n) inverse diagonal, same for U,
-      ``perm_r``/``perm_c`` (L, n)), ``s_mat`` (L, 2n_c, n) = (K_eff^-1 B^T)^T,
-      ``w_mat`` (L, 2n_c, 2n_c) = B S.
-    * force: ``f_dof`` (int), ``f_re``, ``f_im`` (N), ``f_om`` (rad/s):
-      f_k(t) = f_re cos(om t) - f_im sin(om t) at DOF f_dof.
-    * contacts (n_c): ``c_kind`` (int), ``c_dof`` (n_c, 4) int (a_y, a_z, b_y, b_z, -1 =
-      ground), ``c_basis`` (n_c, 4) rows of the local 2x2 basis, ``c_g0``, ``c_gstart`` (m),
-      ``c_kn``, ``c_kt`` (N/m), ``c_mu``, ``c_aug`` (int), ``c_eps`` (m), ``c_speed``
-      (Omega R, m/s), ``lev_req`` (int) the smallest level at
-      which a step with the element closed is allowed (contact stiffness criterion);
-      ``aug_k`` (L, n_c) multiplier update stiffness per level (N/m).
-    * state: ``q, v, a`` (n), ``mv = M v``, ``kq = K q`` (n, tracked incrementally);
-      ``pc``, ``dc`` (2n_c) contact forces and
-      displacements; ``cf`` (CF_SIZE, n_c) float and ``ci`` (CI_SIZE, n_c) int per-element
-      state (the current episode's too), rows ``CF_*``, ``CI_*``
-      (:mod:`rubdiag.kernels.layout` names every row of the packed arrays).
-    * logs: ``ep_f`` (cap, EPF_SIZE), ``ep_i`` (cap, EPI_SIZE) the ended episodes
-      (``EPF_*``, ``EPI_*``); ``sg_f``, ``sg_i`` (cap, SG_SIZE) t_start, t_end and
-      element, status of every status segment (a maximal run of one closed status:
-      steps count with their end-of-step status, the episode's interpolated start and end
-      bound its first and last segment); ``lv_t``/``lv_l`` level-change log;
-      ``tot`` (n_c, TOT_SIZE) time / normal impulse / tangential impulse per status 1..3;
-      ``mx`` (n_c, MX_SIZE) max F_N, max |F_T|, max penetration; ``lvl_count`` (L) accepted
-      steps.
-    * work: ``wn`` (WN_SIZE, n), ``wc`` (WC_SIZE, 2n_c), ``wcn`` (WCN_SIZE, n_c), ``wm``
-      (2n_c, 2n_c), ``jac`` (n_c, 4), ``iwork`` (5 n_c) int, ``ciw`` (CR_SIZE, n_c) —
-      nothing is allocated inside the loop.
-    * ``prof`` (P_SIZE) int64: CPU cycles per section of the step (``P_*``), added to when
-      not empty (a profiled run; an empty array costs one branch per section).
-    * sensors: ``sen_dof`` (n_s) int; ``out_sq``, ``out_sv``, ``out_sa`` (n_sen_out, n_s)
-      displacement, velocity and acceleration of those DOFs — the integrator's own state,
-      not differences — every ``ipar[IP_SEN_TICKS]`` ticks (a multiple of the largest step, so the
-      samples are step ends).
+    The step controller: each pass tries one step at the current level, then rejects it (a
+    level down), stops the run or accepts it (module docstring). The arrays come in the
+    bundles (:data:`Linear` … :data:`Work`), unpacked once; ``fpar``, ``ipar`` hold the
+    run's parameters. ``STATUS_LOG_FULL``: a log could overflow (the caller grows it).
     """
     m_ptr, m_idx, m_val, c_ptr, c_idx, c_val, mk_ptr, mk_idx, mk_m, mk_k, m_dense, k_dense = linear
     (l_ptr, l_idx, l_val, l_dinv, u_ptr, u_idx, u_val, u_dinv, perm_r, perm_c, s_mat,
@@ -456,385 +835,106 @@ def newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs
      out_sv, out_sa, rec_map, sen_map) = outputs
     ep_f, ep_i, sg_f, sg_i, lv_t, lv_l, tot, mx, lvl_count = logs
     wn, wc, wcn, wm, jac, iwork, ciw, prof = work
-    n = q.shape[0]
     nc = c_kind.shape[0]
-    m2 = 2 * nc
-    dt0 = fpar[FP_DT]
-    t_ramp = fpar[FP_T_RAMP]
-    tol = fpar[FP_NEWTON_TOL]
-    gap_jump = fpar[FP_GAP_JUMP]
-    aug_shift = fpar[FP_AUG_SHIFT]
-    nb = fpar[FP_BETA]
-    ng = fpar[FP_GAMMA]
+    dt0, t_ramp, nb, ng = fpar[FP_DT], fpar[FP_T_RAMP], fpar[FP_BETA], fpar[FP_GAMMA]
     trapezoid = nb == 0.25 and ng == 0.5
-    n_lev = ipar[IP_N_LEV]
-    fixed = ipar[IP_FIXED] != 0
-    grow_after = ipar[IP_GROW_AFTER]
-    max_newton = ipar[IP_MAX_NEWTON]
-    max_aug = ipar[IP_MAX_AUG]
-    aug_strict = ipar[IP_AUG_STRICT] != 0
-    tick_end = ipar[IP_TICK_END]
-    out_ticks = ipar[IP_OUT_TICKS]
-    sen_ticks = ipar[IP_SEN_TICKS]
-    top = n_lev - 1
+    top, fixed = ipar[IP_N_LEV] - 1, ipar[IP_FIXED] != 0
+    out_ticks, sen_ticks = ipar[IP_OUT_TICKS], ipar[IP_SEN_TICKS]
     tick_dt = dt0 / (1 << top)
-    ep_cap = ep_f.shape[0]
-    sg_cap = sg_f.shape[0]
-    lv_cap = lv_t.shape[0]
     dense = inv_t.shape[1] > 0
+    x, rhs, dq, kdq, mdq = wn[WN_X], wn[WN_RHS], wn[WN_DQ], wn[WN_KDQ], wn[WN_MDQ]
+    d_lin, d_new, p_new, wv, dp = wc[WC_D_LIN], wc[WC_D_NEW], wc[WC_P_NEW], wc[WC_V], wc[WC_V2]
+    gap, lam, drive, gap_start = wcn[WCN_GAP], wcn[WCN_LAM], wcn[WCN_DRIVE], wcn[WCN_GAP_START]
+    st_new, iw = iwork[4 * nc : 5 * nc], iwork[: 4 * nc]
 
-    x = wn[WN_X]
-    rhs = wn[WN_RHS]
-    dq = wn[WN_DQ]
-    lw = wn[WN_KDQ]
-    w5 = wn[WN_MDQ]
-    d_lin = wc[WC_D_LIN]
-    d_new = wc[WC_D_NEW]
-    p_new = wc[WC_P_NEW]
-    wv = wc[WC_V]
-    wv2 = wc[WC_V2]
-    gcur = wcn[WCN_GAP]
-    lam_w = wcn[WCN_LAM]
-    drive = wcn[WCN_DRIVE]
-    gstart_w = wcn[WCN_GAP_START]
-    st_new = iwork[4 * nc : 5 * nc]
-    iw = iwork[: 4 * nc]
-
+    tick = istate[I_TICK]
     if istate[I_SAMPLE0_DONE] == 0:
-        if istate[I_TICK] % out_ticks == 0:
-            _record(
-                istate[I_TICK] // out_ticks, q, v, mv, kq, rec_dof, rec_map, cf, ci, fstate,
-                out_q, out_fn, out_ft, out_st, out_gap, out_slip, out_en,
-            )
-        if istate[I_TICK] % sen_ticks == 0:
-            _record_sensors(istate[I_TICK] // sen_ticks, q, v, a, sen_dof, sen_map, out_sq,
-                            out_sv, out_sa)
+        if tick % out_ticks == 0:
+            _record(tick // out_ticks, q, v, mv, kq, rec_dof, rec_map, cf, ci, fstate, out_q,
+                    out_fn, out_ft, out_st, out_gap, out_slip, out_en)
+        if tick % sen_ticks == 0:
+            _record_sensors(tick // sen_ticks, q, v, a, sen_dof, sen_map, out_sq, out_sv, out_sa)
         istate[I_SAMPLE0_DONE] = 1
 
-    while istate[I_TICK] < tick_end:
-        if (
-            istate[I_N_EPISODES] + nc > ep_cap
-            or istate[I_N_SEGMENTS] + nc > sg_cap
-            or istate[I_N_LEVEL_CHANGES] + 2 > lv_cap
-        ):
+    while tick < ipar[IP_TICK_END]:
+        if _logs_full(nc, istate, ep_f, sg_f, lv_t):
             return STATUS_LOG_FULL
         c0 = cycles() if prof.shape[0] else 0
-        tick = istate[I_TICK]
         lev = istate[I_LEVEL]
         nt = np.int64(1) << (top - lev)
         h = dt0 / (1 << lev)
         t_n = tick * tick_dt
         t_1 = (tick + nt) * tick_dt
 
-        # right-hand side of the increment equation (see the module docstring)
+        # ---- a trial step: the linear predictor, then the contact solve
         if trapezoid:
-            # r_n = M (4/h v + 2 a) + 2 C v = 4/h M v + 2 (f_n + B^T p_n - K q): no product
-            c4 = 4.0 / h
-            for i in range(n):
-                rhs[i] = c4 * mv[i] - 2.0 * kq[i]
-            # + Δf + 2 f_n = f_{n+1} + f_n (f_{n+1} added below)
-            _add_force(f_dof, f_re, f_im, f_om, t_n, 1.0, rhs)
-            _add_bt_p(c_dof, c_basis, pc, 2.0, rhs)
+            _rhs_average(h, t_n, t_1, mv, kq, pc, f_dof, f_re, f_im, f_om, c_dof, c_basis, rhs)
         else:
-            ca2 = 1.0 / (nb * h)
-            ca3 = 1.0 / (2.0 * nb)
-            for i in range(n):
-                x[i] = ca2 * v[i] + ca3 * a[i]
-            csr_matvec(m_ptr, m_idx, m_val, x, rhs)
-            cy1 = ng / nb
-            cy2 = -h * (1.0 - ng / (2.0 * nb))
-            for i in range(n):
-                x[i] = cy1 * v[i] + cy2 * a[i]
-            csr_matvec(c_ptr, c_idx, c_val, x, w5)
-            for i in range(n):
-                rhs[i] += w5[i]
-            _add_force(f_dof, f_re, f_im, f_om, t_n, -1.0, rhs)
-        _add_force(f_dof, f_re, f_im, f_om, t_1, 1.0, rhs)
+            _rhs_general(nb, ng, h, t_n, t_1, v, a, f_dof, f_re, f_im, f_om, m_ptr, m_idx, m_val,
+                         c_ptr, c_idx, c_val, x, mdq, rhs)
         c0 = _lap(prof, P_RHS, c0)
         if dense:
             _matvec_t(inv_t[lev], rhs, dq)
         else:
-            lu_solve(
-                l_ptr[lev], l_idx[lev], l_val[lev], l_dinv[lev],
-                u_ptr[lev], u_idx[lev], u_val[lev], u_dinv[lev],
-                perm_r[lev], perm_c[lev], rhs, dq, lw,
-            )
+            lu_solve(l_ptr[lev], l_idx[lev], l_val[lev], l_dinv[lev], u_ptr[lev], u_idx[lev],
+                     u_val[lev], u_dinv[lev], perm_r[lev], perm_c[lev], rhs, dq, kdq)
         c0 = _lap(prof, P_SOLVE, c0)
-        # predictor contact displacements d_lin = B (q + dq_lin) = d_n + B dq_lin
-        _contact_coords(c_dof, c_basis, dq, d_lin)
-        for i in range(m2):
-            d_lin[i] += dc[i]
-        _gaps_at(t_1, c_g0, c_gstart, t_ramp, gcur)
-        for e in range(nc):
-            # multipliers are iterated from 0 within each step (no carry-over: a multiplier
-            # kept while the penetration shrinks pushes the contact open impulsively)
-            lam_w[e] = 0.0
-            drive[e] = c_speed[e] * h
+        _contact_inputs(h, t_1, t_ramp, dq, dc, c_dof, c_basis, c_g0, c_gstart, c_speed, d_lin,
+                        gap, lam, drive)
         code, nit, naug, worst = solve_contact(
-            w_mat[lev], d_lin, pc, dc, c_kind, gcur, c_kn, c_kt, c_mu, c_aug, c_eps,
-            lam_w, cf[CF_E], drive, aug_k[lev], aug_shift, max_newton, max_aug, aug_strict, tol,
-            d_new, p_new, jac, ciw, st_new, iw, wm, wv, wv2,
-        )
-        istate[I_NEWTON_TOTAL] += nit
-        istate[I_AUG_TOTAL] += naug
-        if code == AUGMENT_PENDING:
-            istate[I_AUG_PENDING] += 1
-            code = 0
-        if code == NONFINITE:
-            istate[I_FAIL_ELEMENT] = worst // 2 if worst >= 0 else -1
-            istate[I_FAIL_CODE] = code
-            fstate[F_FAIL_TIME] = t_1
-            return STATUS_NONFINITE
-        if code != 0:
-            if fixed or lev == top:
-                istate[I_FAIL_ELEMENT] = worst // 2 if worst >= 0 else -1
-                istate[I_FAIL_CODE] = code
-                fstate[F_FAIL_TIME] = t_1
-                return STATUS_NO_CONVERGENCE
-            istate[I_LEVEL] = lev + 1
-            istate[I_QUIET] = 0
-            istate[I_N_REJ_NEWTON] += 1
-            nl = istate[I_N_LEVEL_CHANGES]
-            lv_t[nl] = t_n
-            lv_l[nl] = lev + 1
-            istate[I_N_LEVEL_CHANGES] = nl + 1
-            _lap(prof, P_CONTACT, c0)
-            continue
-        # abrupt closing: open at the start, deeper than gap_jump at the end; or a closed
-        # element whose contact stiffness is too stiff for this step (lev_req)
-        abrupt = False
-        need = lev
-        for e in range(nc):
-            if ci[CI_STATUS, e] == OPEN and st_new[e] != OPEN and -ciw[CR_GAP, e] > gap_jump:
-                abrupt = True
-                if need < lev + 1:
-                    need = lev + 1
-            if (ci[CI_STATUS, e] != OPEN or st_new[e] != OPEN) and lev_req[e] > need:
-                abrupt = True
-                need = lev_req[e]
-        if abrupt and not fixed:
+            w_mat[lev], d_lin, pc, dc, c_kind, gap, c_kn, c_kt, c_mu, c_aug, c_eps, lam,
+            cf[CF_E], drive, aug_k[lev], fpar[FP_AUG_SHIFT], ipar[IP_MAX_NEWTON],
+            ipar[IP_MAX_AUG], ipar[IP_AUG_STRICT] != 0, fpar[FP_NEWTON_TOL],
+            d_new, p_new, jac, ciw, st_new, iw, wm, wv, dp)
+        code = _count_iterations(code, nit, naug, istate)
+        if code == NONFINITE or (code != 0 and (fixed or lev == top)):
+            return _contact_failure(istate, fstate, code, worst, t_1)
+        # rejected: the contact solve failed (one level down), or converged to an abrupt
+        # closing or too stiff a contact for this step (down to the level needed)
+        need = lev + 1 if code != 0 else _level_needed(lev, fpar, ci, st_new, ciw, lev_req)
+        if need > lev and not fixed:
             if lev < top:
-                if need > top:
-                    need = top
-                istate[I_LEVEL] = need
-                istate[I_QUIET] = 0
-                istate[I_N_REJ_ABRUPT] += 1
-                nl = istate[I_N_LEVEL_CHANGES]
-                lv_t[nl] = t_n
-                lv_l[nl] = need
-                istate[I_N_LEVEL_CHANGES] = nl + 1
+                _change_level(istate, lv_t, lv_l, t_n, min(need, top))
+                istate[I_N_REJ_NEWTON if code != 0 else I_N_REJ_ABRUPT] += 1
                 _lap(prof, P_CONTACT, c0)
                 continue
-            istate[I_N_ABRUPT_AT_MIN] += 1
-
+            istate[I_N_ABRUPT_AT_MIN] += 1  # abrupt at the smallest step: accepted, counted
         c0 = _lap(prof, P_CONTACT, c0)
-        # ---- accept: displacement increment dq = dq_lin + S (p_new - p_n)
-        for j in range(m2):
-            dp = p_new[j] - pc[j]
-            if dp != 0.0:
-                srow = s_mat[lev, j]
-                for i in range(n):
-                    dq[i] += dp * srow[i]
-        if nit > istate[I_NEWTON_MAX]:
-            istate[I_NEWTON_MAX] = nit
-        if naug > istate[I_AUG_MAX]:
-            istate[I_AUG_MAX] = naug
 
-        # external work (trapezoid on the sparse force) before q changes
-        wext = _force_work(f_dof, f_re, f_im, f_om, t_n, t_1, dq)
-        # B^T Δp completes the right-hand side actually solved: K_eff dq = rhs
-        for j in range(m2):
-            wv2[j] = p_new[j] - pc[j]
-        _add_bt_p(c_dof, c_basis, wv2, 1.0, rhs)
-        # M dq and K dq in one pass over the union pattern; C dq from K_eff dq = rhs;
-        # viscous dissipation of the step h v̄ᵀ C v̄ = dqᵀ C dq / h (v̄ = dq / h, trapezoid)
-        ca0 = 1.0 / (nb * h * h)
-        cc = nb * h / ng
-        dvisc = 0.0
+        # ---- accept: dq, the new state, the books
+        istate[I_NEWTON_MAX] = max(istate[I_NEWTON_MAX], nit)
+        istate[I_AUG_MAX] = max(istate[I_AUG_MAX], naug)
+        _increment(lev, s_mat, pc, p_new, c_dof, c_basis, dp, dq, rhs)
         if dense:   # M and K are symmetric: row j is column j
-            _matvec_t(m_dense, dq, w5)
-            _matvec_t(k_dense, dq, lw)
-            for i in range(n):
-                dvisc += dq[i] * cc * (rhs[i] - lw[i] - ca0 * w5[i])
+            _matvec_t(m_dense, dq, mdq)
+            _matvec_t(k_dense, dq, kdq)
+            dvisc = _dissipation(nb, ng, h, dq, rhs, mdq, kdq)
         else:
-            for i in range(n):
-                am = 0.0
-                ak = 0.0
-                for k in range(mk_ptr[i], mk_ptr[i + 1]):
-                    dj = dq[mk_idx[k]]
-                    am += mk_m[k] * dj
-                    ak += mk_k[k] * dj
-                dvisc += dq[i] * cc * (rhs[i] - ak - ca0 * am)
-                w5[i] = am
-                lw[i] = ak
+            dvisc = _mk_products(nb, ng, h, mk_ptr, mk_idx, mk_m, mk_k, dq, rhs, mdq, kdq)
         if not np.isfinite(dvisc):  # any non-finite dq shows here; the state is untouched
-            istate[I_FAIL_ELEMENT] = -1
-            for e in range(nc):
-                if not (np.isfinite(d_new[2 * e]) and np.isfinite(d_new[2 * e + 1])):
-                    istate[I_FAIL_ELEMENT] = e
-                    break
-            fstate[F_FAIL_TIME] = t_1
-            return STATUS_NONFINITE
-        fstate[F_D_VISC] += dvisc / h
-        fstate[F_W_EXT] += wext
-        # new state
-        ca2 = 1.0 / (nb * h)
-        ca3 = 1.0 / (2.0 * nb) - 1.0
-        cmv = ng / (nb * h)
-        for i in range(n):
-            an = ca0 * dq[i] - ca2 * v[i] - ca3 * a[i]
-            v[i] = v[i] + h * ((1.0 - ng) * a[i] + ng * an)
-            a[i] = an
-            q[i] += dq[i]
-            kq[i] += lw[i]
-            mv[i] = cmv * w5[i] - mv[i]  # M v_{n+1} = 2/h M dq - M v_n (trapezoid)
+            return _nonfinite_increment(istate, fstate, d_new, t_1)
+        _new_state(nb, ng, h, dq, mdq, kdq, q, v, a, mv, kq)
         if not trapezoid:
             # M v_{n+1} also has a term h (1 - γ/(2β)) M a_n that is not tracked: recompute
             csr_matvec(m_ptr, m_idx, m_val, v, mv)
-
         c0 = _lap(prof, P_UPDATE, c0)
-        # contact energy ledger: work of the contact forces on the structure, B dq . p_avg
-        _contact_coords(c_dof, c_basis, dq, wv)
-        wc_ = 0.0
-        for i in range(m2):
-            wc_ += wv[i] * 0.5 * (p_new[i] + pc[i])
-        wdrive = 0.0
-        dfric = 0.0
-        ec = 0.0
-        if t_ramp > 0.0 and t_n < t_ramp:
-            _gaps_at(t_n, c_g0, c_gstart, t_ramp, gstart_w)
-        for e in range(nc):
-            fn = ciw[CR_FN, e]
-            ft = ciw[CR_FT, e]
-            if t_ramp > 0.0 and t_n < t_ramp:
-                # work of the prescribed gap motion on the contact (trapezoid)
-                wdrive -= 0.5 * (fn + cf[CF_FN, e]) * (gcur[e] - gstart_w[e])
-            if st_new[e] != OPEN:
-                ec += 0.5 * fn * fn / c_kn[e] + 0.5 * ft * ft / c_kt[e]
-                wdrive -= ft * c_speed[e] * h
-                if st_new[e] == SLIDING:
-                    dfric += abs(ft) * abs(ciw[CR_E_TRIAL, e] - ciw[CR_E, e])
-        fstate[F_W_DRIVE] += wdrive
-        fstate[F_D_FRIC] += dfric
-        fstate[F_D_NUM] += -wc_ + wdrive - (ec - fstate[F_E_CONTACT]) - dfric
-        fstate[F_E_CONTACT] = ec
-
-        # per-element bookkeeping: episodes, totals, maxima
-        for e in range(nc):
-            so = ci[CI_STATUS, e]
-            sn = st_new[e]
-            fn = ciw[CR_FN, e]
-            ft = ciw[CR_FT, e]
-            zo = cf[CF_Z, e]
-            zn = ciw[CR_Z, e]
-            if so == OPEN and sn != OPEN:
-                frac = zo / (zo - zn) if zo < 0.0 else 0.0
-                cf[CF_EP_START, e] = t_n + frac * h
-                cf[CF_EP_PEAK_FN, e] = 0.0
-                cf[CF_EP_SLIDE_TIME, e] = 0.0
-                cf[CF_EP_STICK_TIME, e] = 0.0
-                cf[CF_EP_SLIDE_IMPULSE, e] = 0.0
-                cf[CF_EP_STICK_IMPULSE, e] = 0.0
-                ci[CI_EP_STEPS, e] = 0
-                ci[CI_EP_SLIDE_ENTRIES, e] = 0
-                ci[CI_EP_STICK_ENTRIES, e] = 0
-                cf[CF_SEG_START, e] = cf[CF_EP_START, e]
-            elif so != OPEN and sn != OPEN and sn != so:
-                # sliding <-> sticking: the step counts with its new status
-                _log_segment(sg_f, sg_i, istate, e, so, cf[CF_SEG_START, e], t_n)
-                cf[CF_SEG_START, e] = t_n
-            if sn != OPEN:
-                ci[CI_EP_STEPS, e] += 1
-                if fn > cf[CF_EP_PEAK_FN, e]:
-                    cf[CF_EP_PEAK_FN, e] = fn
-                if sn == SLIDING and so != SLIDING:
-                    ci[CI_EP_SLIDE_ENTRIES, e] += 1
-                if sn == STICKING and so != STICKING:
-                    ci[CI_EP_STICK_ENTRIES, e] += 1
-                # each step counts with its end-of-step status, as in ``tot``
-                if sn == SLIDING:
-                    cf[CF_EP_SLIDE_TIME, e] += h
-                    cf[CF_EP_SLIDE_IMPULSE, e] += fn * h
-                else:
-                    cf[CF_EP_STICK_TIME, e] += h
-                    cf[CF_EP_STICK_IMPULSE, e] += fn * h
-            elif so != OPEN:
-                # episode ends inside this step: interpolate the trial normal force to zero
-                frac = zo / (zo - zn) if zn < 0.0 and zo > 0.0 else 1.0
-                k = istate[I_N_EPISODES]
-                ep_f[k, EPF_T_START] = cf[CF_EP_START, e]
-                ep_f[k, EPF_T_END] = t_n + frac * h
-                ep_f[k, EPF_PEAK_FN] = cf[CF_EP_PEAK_FN, e]
-                ep_f[k, EPF_SLIDE_TIME] = cf[CF_EP_SLIDE_TIME, e]
-                ep_f[k, EPF_STICK_TIME] = cf[CF_EP_STICK_TIME, e]
-                ep_f[k, EPF_SLIDE_IMPULSE] = cf[CF_EP_SLIDE_IMPULSE, e]
-                ep_f[k, EPF_STICK_IMPULSE] = cf[CF_EP_STICK_IMPULSE, e]
-                ep_i[k, EPI_ELEMENT] = e
-                ep_i[k, EPI_STEPS] = ci[CI_EP_STEPS, e]
-                ep_i[k, EPI_SLIDE_ENTRIES] = ci[CI_EP_SLIDE_ENTRIES, e]
-                ep_i[k, EPI_STICK_ENTRIES] = ci[CI_EP_STICK_ENTRIES, e]
-                ep_i[k, EPI_COMPLETE] = 1
-                istate[I_N_EPISODES] = k + 1
-                _log_segment(sg_f, sg_i, istate, e, so, cf[CF_SEG_START, e],
-                             ep_f[k, EPF_T_END])
-            tot[e, TOT_TIME + sn - 1] += h
-            tot[e, TOT_FN_IMPULSE + sn - 1] += fn * h
-            tot[e, TOT_FT_IMPULSE + sn - 1] += abs(ft) * h
-            if fn > mx[e, MX_FN]:
-                mx[e, MX_FN] = fn
-            if abs(ft) > mx[e, MX_FT]:
-                mx[e, MX_FT] = abs(ft)
-            if -ciw[CR_GAP, e] > mx[e, MX_PENETRATION]:
-                mx[e, MX_PENETRATION] = -ciw[CR_GAP, e]
-            excess = abs(ft) - c_mu[e] * fn
-            if excess > fstate[F_CONE_EXCESS]:
-                fstate[F_CONE_EXCESS] = excess
-            # commit the contact state (slip first: it needs the old e)
-            if c_kind[e] == KIND_POINT:
-                cf[CF_SLIP, e] = d_new[2 * e + 1]
-            elif sn != OPEN:
-                cf[CF_SLIP, e] += ciw[CR_E_TRIAL, e] - cf[CF_E, e]
-            ci[CI_STATUS, e] = sn
-            cf[CF_E, e] = ciw[CR_E, e] if sn != OPEN else 0.0
-            cf[CF_LAM, e] = lam_w[e] if sn != OPEN else 0.0
-            cf[CF_FN, e] = fn
-            cf[CF_FT, e] = ft
-            cf[CF_GAP, e] = ciw[CR_GAP, e]
-            cf[CF_Z, e] = zn
-        for i in range(m2):
-            pc[i] = p_new[i]
-        # contact displacements of the committed state (d_new up to the Newton tolerance)
-        _contact_coords(c_dof, c_basis, q, dc)
-
+        _energy_ledger(h, t_n, t_1, t_ramp, dvisc, dq, f_dof, f_re, f_im, f_om, pc, p_new,
+                       st_new, ciw, cf, c_dof, c_basis, c_g0, c_gstart, c_kn, c_kt, c_speed,
+                       gap, gap_start, wv, fstate)
+        _log_episodes(h, t_n, st_new, ciw, cf, ci, istate, ep_f, ep_i, sg_f, sg_i)
+        _commit_contacts(h, c_kind, c_mu, c_dof, c_basis, st_new, ciw, d_new, lam, p_new, q,
+                         tot, mx, fstate, cf, ci, pc, dc)
         c0 = _lap(prof, P_LEDGER, c0)
-        tick_new = tick + nt
-        istate[I_TICK] = tick_new
-        istate[I_N_ACCEPTED] += 1
-        lvl_count[lev] += 1
-        istate[I_QUIET] += 1
-        floor_lev = 0
-        for e in range(nc):
-            if ci[CI_STATUS, e] != OPEN and lev_req[e] > floor_lev:
-                floor_lev = lev_req[e]
-        if (
-            not fixed
-            and lev > floor_lev
-            and istate[I_QUIET] >= grow_after
-            and tick_new % (2 * nt) == 0
-        ):
-            istate[I_LEVEL] = lev - 1
-            istate[I_QUIET] = 0
-            nl = istate[I_N_LEVEL_CHANGES]
-            lv_t[nl] = t_1
-            lv_l[nl] = lev - 1
-            istate[I_N_LEVEL_CHANGES] = nl + 1
-        if tick_new % out_ticks == 0:
-            _record(
-                tick_new // out_ticks, q, v, mv, kq, rec_dof, rec_map, cf, ci, fstate,
-                out_q, out_fn, out_ft, out_st, out_gap, out_slip, out_en,
-            )
-        if tick_new % sen_ticks == 0:
-            _record_sensors(tick_new // sen_ticks, q, v, a, sen_dof, sen_map, out_sq, out_sv,
-                            out_sa)
+
+        # ---- the next step's size, the samples
+        tick, grow = _advance(lev, nt, fixed, ipar[IP_GROW_AFTER], ci, lev_req, istate,
+                              lvl_count)
+        if grow:
+            _change_level(istate, lv_t, lv_l, t_1, lev - 1)
+        if tick % out_ticks == 0:
+            _record(tick // out_ticks, q, v, mv, kq, rec_dof, rec_map, cf, ci, fstate, out_q,
+                    out_fn, out_ft, out_st, out_gap, out_slip, out_en)
+        if tick % sen_ticks == 0:
+            _record_sensors(tick // sen_ticks, q, v, a, sen_dof, sen_map, out_sq, out_sv, out_sa)
         _lap(prof, P_OUTPUT, c0)
     return STATUS_DONE
