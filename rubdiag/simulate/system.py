@@ -16,6 +16,7 @@ import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 import scipy.sparse as sp
@@ -324,14 +325,63 @@ def _check_contacts(ct: Contacts, n: int) -> None:
         )
 
 
-# --------------------------------------------------------------------------------------------
-# the public entry point
-# --------------------------------------------------------------------------------------------
-def _time_grid(duration, dt, dt_min, fixed_step: bool, output_dt):
-    """The checked step sizes and the tick grid of a run: ``dt``, the smallest step, the
-    number of step levels (dt / 2^k), the number of largest steps ``n_big``, the output
-    interval, and, in ticks of the smallest step, the run's length and the output
-    interval (parameters as :func:`simulate_system`)."""
+def _checked_system(M, C, K, force, contacts, q0, v0):
+    """The linear system, load, contacts and initial state, checked and converted (CSR
+    float64 matrices, float64 vectors; None load or contacts: none)."""
+    M = _check_matrix("M", M, None)
+    n = M.shape[0]
+    C = _check_matrix("C", C, n)
+    K = _check_matrix("K", K, n)
+    force = HarmonicForce.zero() if force is None else force
+    contacts = Contacts.empty() if contacts is None else contacts
+    q0 = np.asarray(q0, dtype=np.float64).reshape(-1)
+    v0 = np.asarray(v0, dtype=np.float64).reshape(-1)
+    for name, vec in (("q0", q0), ("v0", v0)):
+        if vec.shape != (n,):
+            raise ValueError(f"{name} has shape {vec.shape}: must be ({n},)")
+        if not np.all(np.isfinite(vec)):
+            raise _bad(name, f"<array with {int(np.sum(~np.isfinite(vec)))} non-finite>", "finite")
+    if force.dofs.size:
+        if np.any(force.dofs < 0) or np.any(force.dofs >= n):
+            raise _bad("force.dofs", force.dofs.tolist(), f"DOF indices in [0, {n})")
+        if not (np.all(np.isfinite(force.amplitudes)) and np.all(np.isfinite(force.omega))):
+            raise _bad("force", "amplitudes/omega with NaN or inf", "finite")
+    _check_contacts(contacts, n)
+    return M, C, K, force, contacts, q0, v0
+
+
+class _TimeGrid(NamedTuple):
+    """A run's checked step sizes and its grid of ticks (a tick is the smallest step)."""
+
+    dt: float  # the largest step (s)
+    dt_min: float  # the smallest step asked for (s)
+    n_lev: int  # step levels dt / 2^k, k < n_lev
+    n_big: int  # the run's length in largest steps
+    output_dt: float  # s
+    tick_total: np.int64  # the run's length in ticks
+    out_ticks: np.int64  # ticks between recorded samples
+
+    @property
+    def top(self) -> int:
+        """The smallest step's level."""
+        return self.n_lev - 1
+
+    @property
+    def n_out(self) -> int:
+        """Recorded samples, t = 0 included."""
+        return int(self.tick_total // self.out_ticks) + 1
+
+    @property
+    def sen_ticks(self) -> np.int64:
+        """Ticks between sensor samples: every largest step."""
+        return np.int64(1) << self.top
+
+    def n_sensor_samples(self, n_sensors: int) -> int:
+        return int(self.tick_total // self.sen_ticks) + 1 if n_sensors else 0
+
+
+def _time_grid(duration, dt, dt_min, fixed_step: bool, output_dt) -> _TimeGrid:
+    """The checked step sizes and tick grid of a run (parameters as :func:`simulate_system`)."""
     dt = _check_scalar("dt", dt, 0.0, lo_open=True, allowed="finite and > 0 s")
     duration = _check_scalar("duration", duration, 0.0, lo_open=True, allowed="finite and > 0 s")
     if duration < dt * (1 - 1e-9):
@@ -361,13 +411,96 @@ def _time_grid(duration, dt, dt_min, fixed_step: bool, output_dt):
             raise _bad("output_dt", output_dt, f"a positive integer multiple of dt = {dt:g} s")
     tick_total = np.int64(n_big) << top
     out_ticks = np.int64(m_out) << top
-    return dt, dt_min_, n_lev, n_big, output_dt, tick_total, out_ticks
+    return _TimeGrid(dt, dt_min_, n_lev, n_big, output_dt, tick_total, out_ticks)
 
 
+def _checked_records(grid: _TimeGrid, n: int, record_dofs, sensor_dofs, recovery):
+    """``recovery`` (None or (n_phys, n) float64), ``record_dofs`` and ``sensor_dofs``
+    (int64 indices of the physical DOFs), checked, and the outputs' sizes."""
+    if record_dofs is None:
+        record_dofs = np.arange(n, dtype=np.int64)
+    n_phys = n
+    if recovery is not None:
+        recovery = np.asarray(recovery, dtype=np.float64)
+        if recovery.ndim != 2 or recovery.shape[1] != n or not np.all(np.isfinite(recovery)):
+            raise _bad("recovery", f"array of shape {recovery.shape}",
+                       f"finite, shape (n_phys, {n})")
+        n_phys = recovery.shape[0]
+    record_dofs = _check.indices("record_dofs", record_dofs, n_phys)
+    if grid.n_out * max(record_dofs.size, 1) > 5e8:
+        raise ValueError(
+            f"output of {grid.n_out} samples x {record_dofs.size} DOFs is too large: "
+            "increase output_dt or record fewer DOFs"
+        )
+    sensor_dofs = _check.indices("sensor_dofs", [] if sensor_dofs is None else sensor_dofs,
+                                 n_phys)
+    n_sen = grid.n_sensor_samples(sensor_dofs.size)
+    if n_sen * sensor_dofs.size > 5e8:
+        raise ValueError(f"sensor output of {n_sen} samples x {sensor_dofs.size} DOFs is too "
+                         "large: record fewer sensors or shorten the run")
+    return recovery, record_dofs, sensor_dofs
+
+
+@dataclass(frozen=True)
+class _Settings:
+    """:func:`simulate_system`'s numerical settings, checked (see its parameters)."""
+
+    omega: float
+    gamma: float
+    max_newton: int
+    max_augment: int
+    grow_after: int
+    newton_tol: float
+    augment_boost: float
+    augment_strict: bool
+    gap_jump: float
+    contact_stiffness_ratio: float | None
+    episode_capacity: int
+
+    @property
+    def beta(self) -> float:
+        """Newmark β = (γ + 1/2)² / 4."""
+        return 0.25 * (self.gamma + 0.5) ** 2
+
+    @classmethod
+    def checked(cls, omega, gamma, max_newton, max_augment, grow_after, newton_tol,
+                augment_boost, augment_strict, gap_jump, contact_stiffness_ratio,
+                episode_capacity) -> _Settings:
+        ratio = contact_stiffness_ratio
+        return cls(
+            omega=_check_scalar("omega", omega),
+            gamma=_check_scalar("gamma", gamma, 0.5, 1.0),
+            max_newton=_check.integer("max_newton", max_newton, lo=0),
+            max_augment=_check.integer("max_augment", max_augment, lo=0),
+            grow_after=_check.integer("grow_after", grow_after, lo=1),
+            newton_tol=_check_scalar("newton_tol", newton_tol, 0.0, lo_open=True),
+            augment_boost=_check_scalar("augment_boost", augment_boost, 0.0, 1.0),
+            augment_strict=bool(augment_strict),
+            gap_jump=_check_scalar("gap_jump", gap_jump, 0.0, lo_open=True),
+            contact_stiffness_ratio=None if ratio is None else _check_scalar(
+                "contact_stiffness_ratio", ratio, 0.0, lo_open=True),
+            episode_capacity=_check.integer("episode_capacity", episode_capacity, lo=1),
+        )
+
+
+def _checked_gap_ramp(gap_ramp, contacts: Contacts):
+    """``t_ramp`` (s; 0 = no ramp) and every element's gap at t = 0 (m)."""
+    if gap_ramp is None:
+        return 0.0, contacts.gap.copy()
+    t_ramp = _check_scalar("gap_ramp[0] (t_ramp)", gap_ramp[0], 0.0)
+    g_start = np.broadcast_to(np.asarray(gap_ramp[1], dtype=np.float64), (contacts.n_c,)).copy()
+    if not np.all(np.isfinite(g_start)) or np.any(g_start < contacts.gap):
+        raise _bad("gap_ramp[1] (g_start)", gap_ramp[1], ">= every element's gap g0, finite")
+    return t_ramp, g_start
+
+
+# --------------------------------------------------------------------------------------------
+# set-up: the state at t = 0, the operators of each step size
+# --------------------------------------------------------------------------------------------
 def _initial_contact_state(contacts: Contacts, d0: np.ndarray, gap: np.ndarray):
-    """Forces ``p0`` (2n_c), the kernel's per-element float and int state ``cf`` (14, n_c)
-    and ``ci`` (4, n_c), and the contact elastic energy at t = 0, from the contact
-    displacements ``d0`` at gaps ``gap``."""
+    """Forces ``p0`` (2n_c), the kernel's per-element float and int state ``cf`` (CF_SIZE,
+    n_c) and ``ci`` (CI_SIZE, n_c), and the contact elastic energy at t = 0, from the
+    contact displacements ``d0`` at gaps ``gap``."""
     nc = contacts.n_c
     p0 = np.zeros(2 * nc)
     cf = np.zeros((layout.CF_SIZE, nc))
@@ -393,6 +526,21 @@ def _initial_contact_state(contacts: Contacts, d0: np.ndarray, gap: np.ndarray):
             ci[layout.CI_EP_STICK_ENTRIES, e] = int(st == STICKING)
             e_c0 += 0.5 * fn**2 / contacts.k_n[e] + 0.5 * ft**2 / contacts.k_t[e]
     return p0, cf, ci, e_c0
+
+
+def _initial_acceleration(M, C, K, force: HarmonicForce, B, p0, q0, v0, a0) -> np.ndarray:
+    """``a0`` checked, or from equilibrium at t = 0: ``M a0 = f(0) + Bᵀp0 - C v0 - K q0``."""
+    n = M.shape[0]
+    if a0 is None:
+        try:
+            lu_m = spla.splu(sp.csc_matrix(M))
+        except RuntimeError as exc:
+            raise ValueError(f"M is singular ({exc}): pass a0 explicitly") from exc
+        a0 = lu_m.solve(force.evaluate(0.0, n) + B.T @ p0 - C @ v0 - K @ q0)
+    a0 = np.asarray(a0, dtype=np.float64).reshape(-1)
+    if a0.shape != (n,) or not np.all(np.isfinite(a0)):
+        raise _bad("a0", "<array>", f"finite, shape ({n},)")
+    return a0
 
 
 def _level_operators(M, C, K, B, contacts: Contacts, dt: float, n_lev: int, gamma: float,
@@ -489,6 +637,132 @@ def _pack_factors(factors, n: int) -> tuple:
     return l_ptr, l_idx, l_val, l_dinv, u_ptr, u_idx, u_val, u_dinv, perm_r, perm_c
 
 
+# --------------------------------------------------------------------------------------------
+# the kernel's arrays (rubdiag.kernels.newmark's bundles; rubdiag.kernels.layout names rows)
+# --------------------------------------------------------------------------------------------
+def _linear(M, C, K, dense: bool) -> Linear:
+    """M and C in CSR, the union pattern of M and K with both value arrays (one pass
+    computes M dq and K dq), and for a dense system M and K as dense arrays."""
+    n = M.shape[0]
+    pat = sp.csr_matrix(abs(M) + abs(K))
+    pat.sort_indices()
+    rows = np.repeat(np.arange(n), np.diff(pat.indptr))
+    mk_m = np.ascontiguousarray(np.asarray(M[rows, pat.indices]).ravel(), dtype=np.float64)
+    mk_k = np.ascontiguousarray(np.asarray(K[rows, pat.indices]).ravel(), dtype=np.float64)
+    empty = np.zeros((0, 0))
+    return Linear(
+        M.indptr.astype(np.int64), M.indices.astype(np.int64), M.data,
+        C.indptr.astype(np.int64), C.indices.astype(np.int64), C.data,
+        pat.indptr.astype(np.int64), pat.indices.astype(np.int64), mk_m, mk_k,
+        M.toarray() if dense else empty, K.toarray() if dense else empty)
+
+
+def _kernel_force(force: HarmonicForce) -> Force:
+    return Force(np.ascontiguousarray(force.dofs), np.ascontiguousarray(force.amplitudes.real),
+                 np.ascontiguousarray(force.amplitudes.imag), np.ascontiguousarray(force.omega))
+
+
+def _contact_set(contacts: Contacts, g_start, omega: float, lev_req, aug_k) -> ContactSet:
+    return ContactSet(
+        np.ascontiguousarray(contacts.kind),
+        np.ascontiguousarray(np.hstack([contacts.dof_a, contacts.dof_b]).astype(np.int64)),
+        np.ascontiguousarray(contacts.basis()), np.ascontiguousarray(contacts.gap), g_start,
+        np.ascontiguousarray(contacts.k_n), np.ascontiguousarray(contacts.k_t),
+        np.ascontiguousarray(contacts.mu),
+        np.ascontiguousarray(contacts.augmented.astype(np.int64)),
+        np.ascontiguousarray(contacts.eps), np.ascontiguousarray(omega * contacts.radius),
+        lev_req, aug_k)
+
+
+def _state(M, K, q0, v0, a0, p0, d0, cf, ci, e_c0: float) -> State:
+    """The kernel's state at t = 0 (copies: the inputs stay as they are)."""
+    istate = np.zeros(layout.I_SIZE, np.int64)
+    fstate = np.zeros(layout.F_SIZE)
+    fstate[layout.F_E_CONTACT] = e_c0
+    fstate[layout.F_FAIL_TIME] = np.nan
+    istate[layout.I_FAIL_ELEMENT] = -1
+    return State(q0.copy(), v0.copy(), a0.copy(), np.ascontiguousarray(M @ v0),
+                 np.ascontiguousarray(K @ q0), p0.copy(), np.ascontiguousarray(d0), cf, ci,
+                 istate, fstate)
+
+
+def _outputs(grid: _TimeGrid, nc: int, record_dofs, sensor_dofs, recovery) -> Outputs:
+    """The recorded samples and the sensor stream, zeros, with the recovery maps."""
+    n_out, n_sen = grid.n_out, grid.n_sensor_samples(sensor_dofs.size)
+    empty = np.zeros((0, 0))
+    sensors = np.zeros((n_sen, sensor_dofs.size))
+    return Outputs(
+        record_dofs, np.zeros((n_out, record_dofs.size)), np.zeros((n_out, nc)),
+        np.zeros((n_out, nc)), np.zeros((n_out, nc), np.int64), np.zeros((n_out, nc)),
+        np.zeros((n_out, nc)), np.zeros((n_out, layout.EN_SIZE)),
+        sensor_dofs, sensors, np.zeros_like(sensors), np.zeros_like(sensors),
+        empty if recovery is None else np.ascontiguousarray(recovery[record_dofs].T),
+        empty if recovery is None else np.ascontiguousarray(recovery[sensor_dofs].T))
+
+
+def _logs(nc: int, n_lev: int, episode_capacity: int) -> Logs:
+    """Empty logs (the segment log starts at four times the episode capacity)."""
+    return Logs(
+        np.zeros((episode_capacity, layout.EPF_SIZE)),
+        np.zeros((episode_capacity, layout.EPI_SIZE), np.int64),
+        np.zeros((4 * episode_capacity, layout.SG_SIZE)),
+        np.zeros((4 * episode_capacity, layout.SG_SIZE), np.int64),
+        np.zeros(256), np.zeros(256, np.int64),
+        np.zeros((nc, layout.TOT_SIZE)), np.zeros((nc, layout.MX_SIZE)),
+        np.zeros(n_lev, np.int64))
+
+
+def _grown(logs: Logs, istate, nc: int) -> Logs:
+    """``logs`` with room for another step (:data:`STATUS_LOG_FULL`): each log that could
+    overflow doubled (the episode log plus n_c rows)."""
+    ep_f, ep_i, sg_f, sg_i, lv_t, lv_l = logs[:6]
+    if istate[layout.I_N_EPISODES] + nc > ep_f.shape[0]:
+        more = ep_f.shape[0] + nc
+        ep_f = np.concatenate([ep_f, np.zeros((more, layout.EPF_SIZE))])
+        ep_i = np.concatenate([ep_i, np.zeros((more, layout.EPI_SIZE), np.int64)])
+    if istate[layout.I_N_SEGMENTS] + nc > sg_f.shape[0]:
+        sg_f = np.concatenate([sg_f, np.zeros_like(sg_f)])
+        sg_i = np.concatenate([sg_i, np.zeros_like(sg_i)])
+    if istate[layout.I_N_LEVEL_CHANGES] + 2 > lv_t.shape[0]:
+        lv_t = np.concatenate([lv_t, np.zeros(lv_t.shape[0])])
+        lv_l = np.concatenate([lv_l, np.zeros(lv_l.shape[0], np.int64)])
+    return logs._replace(ep_f=ep_f, ep_i=ep_i, sg_f=sg_f, sg_i=sg_i, lv_t=lv_t, lv_l=lv_l)
+
+
+def _work(n: int, nc: int, profile: bool) -> Work:
+    """Work arrays, and the cycle counters when profiling (else empty)."""
+    return Work(np.zeros((layout.WN_SIZE, n)), np.zeros((layout.WC_SIZE, 2 * nc)),
+                np.zeros((layout.WCN_SIZE, nc)), np.zeros((2 * nc, 2 * nc)), np.zeros((nc, 4)),
+                np.zeros(5 * nc, np.int64), np.zeros((layout.CR_SIZE, nc)),
+                np.zeros(layout.P_SIZE if profile else 0, np.int64))
+
+
+def _parameters(grid: _TimeGrid, settings: _Settings, t_ramp: float, fixed_step: bool):
+    """The kernel's ``fpar`` and ``ipar`` (the end tick is set per call)."""
+    fpar = np.zeros(layout.FP_SIZE)
+    fpar[layout.FP_DT] = grid.dt
+    fpar[layout.FP_T_RAMP] = t_ramp
+    fpar[layout.FP_NEWTON_TOL] = settings.newton_tol
+    fpar[layout.FP_GAP_JUMP] = settings.gap_jump
+    # the boosted update's landing point in the band (see augment_boost)
+    fpar[layout.FP_AUG_SHIFT] = 0.98 if settings.augment_boost > 0 else 0.0
+    fpar[layout.FP_BETA] = settings.beta
+    fpar[layout.FP_GAMMA] = settings.gamma
+    ipar = np.zeros(layout.IP_SIZE, np.int64)
+    ipar[layout.IP_N_LEV] = grid.n_lev
+    ipar[layout.IP_FIXED] = int(bool(fixed_step))
+    ipar[layout.IP_GROW_AFTER] = settings.grow_after
+    ipar[layout.IP_MAX_NEWTON] = settings.max_newton
+    ipar[layout.IP_MAX_AUG] = settings.max_augment
+    ipar[layout.IP_OUT_TICKS] = grid.out_ticks
+    ipar[layout.IP_AUG_STRICT] = int(settings.augment_strict)
+    ipar[layout.IP_SEN_TICKS] = grid.sen_ticks
+    return fpar, ipar
+
+
+# --------------------------------------------------------------------------------------------
+# the public entry point
+# --------------------------------------------------------------------------------------------
 def simulate_system(
     M,
     C,
@@ -641,250 +915,48 @@ def simulate_system(
     """
     ensure_fresh_cache()    # before the first kernel call of this process
     t_start = time.perf_counter()
-    # ---- matrices and vectors
-    M = _check_matrix("M", M, None)
-    n = M.shape[0]
-    C = _check_matrix("C", C, n)
-    K = _check_matrix("K", K, n)
-    force = HarmonicForce.zero() if force is None else force
-    contacts = Contacts.empty() if contacts is None else contacts
-    q0 = np.asarray(q0, dtype=np.float64).reshape(-1)
-    v0 = np.asarray(v0, dtype=np.float64).reshape(-1)
-    for name, vec in (("q0", q0), ("v0", v0)):
-        if vec.shape != (n,):
-            raise ValueError(f"{name} has shape {vec.shape}: must be ({n},)")
-        if not np.all(np.isfinite(vec)):
-            raise _bad(name, f"<array with {int(np.sum(~np.isfinite(vec)))} non-finite>", "finite")
-    if force.dofs.size:
-        if np.any(force.dofs < 0) or np.any(force.dofs >= n):
-            raise _bad("force.dofs", force.dofs.tolist(), f"DOF indices in [0, {n})")
-        if not (np.all(np.isfinite(force.amplitudes)) and np.all(np.isfinite(force.omega))):
-            raise _bad("force", "amplitudes/omega with NaN or inf", "finite")
-    _check_contacts(contacts, n)
-    nc = contacts.n_c
+    M, C, K, force, contacts, q0, v0 = _checked_system(M, C, K, force, contacts, q0, v0)
+    n, nc = M.shape[0], contacts.n_c
+    grid = _time_grid(duration, dt, dt_min, fixed_step, output_dt)
+    dense = _check.choice("linear_solver", linear_solver, ("sparse", "dense")) == "dense"
+    recovery, record_dofs, sensor_dofs = _checked_records(grid, n, record_dofs, sensor_dofs,
+                                                          recovery)
+    settings = _Settings.checked(omega, gamma, max_newton, max_augment, grow_after, newton_tol,
+                                 augment_boost, augment_strict, gap_jump,
+                                 contact_stiffness_ratio, episode_capacity)
+    t_ramp, g_start = _checked_gap_ramp(gap_ramp, contacts)
 
-    # ---- time parameters
-    dt, dt_min_, n_lev, n_big, output_dt, tick_total, out_ticks = _time_grid(
-        duration, dt, dt_min, fixed_step, output_dt)
-    top = n_lev - 1
-    n_out = int(tick_total // out_ticks) + 1
-    if record_dofs is None:
-        record_dofs = np.arange(n, dtype=np.int64)
-    linear_solver = _check.choice("linear_solver", linear_solver, ("sparse", "dense"))
-    n_phys = n
-    if recovery is not None:
-        recovery = np.asarray(recovery, dtype=np.float64)
-        if recovery.ndim != 2 or recovery.shape[1] != n or not np.all(np.isfinite(recovery)):
-            raise _bad("recovery", f"array of shape {recovery.shape}",
-                       f"finite, shape (n_phys, {n})")
-        n_phys = recovery.shape[0]
-        if record_dofs is None:
-            record_dofs = np.arange(n_phys, dtype=np.int64)
-    record_dofs = _check.indices("record_dofs", record_dofs, n_phys)
-    if n_out * max(record_dofs.size, 1) > 5e8:
-        raise ValueError(
-            f"output of {n_out} samples x {record_dofs.size} DOFs is too large: "
-            "increase output_dt or record fewer DOFs"
-        )
-    sensor_dofs = _check.indices("sensor_dofs", [] if sensor_dofs is None else sensor_dofs,
-                                 n_phys)
-    sen_ticks = np.int64(1) << top
-    n_sen = int(tick_total // sen_ticks) + 1 if sensor_dofs.size else 0
-    if n_sen * sensor_dofs.size > 5e8:
-        raise ValueError(f"sensor output of {n_sen} samples x {sensor_dofs.size} DOFs is too "
-                         "large: record fewer sensors or shorten the run")
-    omega = _check_scalar("omega", omega)
-    gamma = _check_scalar("gamma", gamma, 0.5, 1.0)
-    beta_nm = 0.25 * (gamma + 0.5) ** 2
-    max_newton = _check.integer("max_newton", max_newton, lo=0)
-    max_augment = _check.integer("max_augment", max_augment, lo=0)
-    grow_after = _check.integer("grow_after", grow_after, lo=1)
-    newton_tol = _check_scalar("newton_tol", newton_tol, 0.0, lo_open=True)
-    augment_boost = _check_scalar("augment_boost", augment_boost, 0.0, 1.0)
-    gap_jump = _check_scalar("gap_jump", gap_jump, 0.0, lo_open=True)
-    if contact_stiffness_ratio is not None:
-        contact_stiffness_ratio = _check_scalar(
-            "contact_stiffness_ratio", contact_stiffness_ratio, 0.0, lo_open=True
-        )
-    episode_capacity = _check.integer("episode_capacity", episode_capacity, lo=1)
-    if gap_ramp is None:
-        t_ramp = 0.0
-        g_start = contacts.gap.copy()
-    else:
-        t_ramp = _check_scalar("gap_ramp[0] (t_ramp)", gap_ramp[0], 0.0)
-        g_start = np.broadcast_to(np.asarray(gap_ramp[1], dtype=np.float64), (nc,)).copy()
-        if not np.all(np.isfinite(g_start)) or np.any(g_start < contacts.gap):
-            raise _bad("gap_ramp[1] (g_start)", gap_ramp[1], ">= every element's gap g0, finite")
-
-    # ---- contact geometry and initial contact state
-    basis = np.ascontiguousarray(contacts.basis())
-    c_dof = np.ascontiguousarray(np.hstack([contacts.dof_a, contacts.dof_b]).astype(np.int64))
+    # the state at t = 0, the operators of each step size, the kernel's arrays
     B = contacts.b_matrix(n)
-    speed = np.ascontiguousarray(omega * contacts.radius)
     d0 = B @ q0
     p0, cf, ci, e_c0 = _initial_contact_state(contacts, d0,
                                               g_start if t_ramp > 0 else contacts.gap)
-
-    # ---- initial acceleration
-    f_0 = force.evaluate(0.0, n)
-    if a0 is None:
-        try:
-            lu_m = spla.splu(sp.csc_matrix(M))
-        except RuntimeError as exc:
-            raise ValueError(f"M is singular ({exc}): pass a0 explicitly") from exc
-        a0 = lu_m.solve(f_0 + B.T @ p0 - C @ v0 - K @ q0)
-    a0 = np.asarray(a0, dtype=np.float64).reshape(-1)
-    if a0.shape != (n,) or not np.all(np.isfinite(a0)):
-        raise _bad("a0", "<array>", f"finite, shape ({n},)")
-
-    # ---- factorizations, S and W per level
-    dense = linear_solver == "dense"
+    a0 = _initial_acceleration(M, C, K, force, B, p0, q0, v0, a0)
     factors, s_mat, w_mat, lev_req, aug_k, lu, inv_t = _level_operators(
-        M, C, K, B, contacts, dt, n_lev, gamma, beta_nm,
-        None if fixed_step else contact_stiffness_ratio, augment_boost, dense)
-    l_ptr, l_idx, l_val, l_dinv, u_ptr, u_idx, u_val, u_dinv, perm_r, perm_c = lu
-
-    # ---- state, outputs, logs, work
-    q = q0.copy()
-    v = v0.copy()
-    a = a0.copy()
-    mv = np.ascontiguousarray(M @ v0)
-    kq = np.ascontiguousarray(K @ q0)
-    # union pattern of M and K with both value arrays (one pass computes M dq and K dq)
-    pat = sp.csr_matrix(abs(M) + abs(K))
-    pat.sort_indices()
-    rows = np.repeat(np.arange(n), np.diff(pat.indptr))
-    mk_m = np.ascontiguousarray(np.asarray(M[rows, pat.indices]).ravel(), dtype=np.float64)
-    mk_k = np.ascontiguousarray(np.asarray(K[rows, pat.indices]).ravel(), dtype=np.float64)
-    mk_ptr = pat.indptr.astype(np.int64)
-    mk_idx = pat.indices.astype(np.int64)
-    pc = p0.copy()
-    dc = np.ascontiguousarray(d0)
-    nr = record_dofs.size
-    out_q = np.zeros((n_out, nr))
-    out_fn = np.zeros((n_out, nc))
-    out_ft = np.zeros((n_out, nc))
-    out_st = np.zeros((n_out, nc), np.int64)
-    out_gap = np.zeros((n_out, nc))
-    out_slip = np.zeros((n_out, nc))
-    out_en = np.zeros((n_out, layout.EN_SIZE))
-    out_sq = np.zeros((n_sen, sensor_dofs.size))
-    out_sv = np.zeros_like(out_sq)
-    out_sa = np.zeros_like(out_sq)
-    ep_f = np.zeros((episode_capacity, layout.EPF_SIZE))
-    ep_i = np.zeros((episode_capacity, layout.EPI_SIZE), np.int64)
-    sg_f = np.zeros((4 * episode_capacity, layout.SG_SIZE))
-    sg_i = np.zeros((4 * episode_capacity, layout.SG_SIZE), np.int64)
-    lv_cap = 256
-    lv_t = np.zeros(lv_cap)
-    lv_l = np.zeros(lv_cap, np.int64)
-    tot = np.zeros((nc, layout.TOT_SIZE))
-    mx = np.zeros((nc, layout.MX_SIZE))
-    lvl_count = np.zeros(n_lev, np.int64)
-    istate = np.zeros(layout.I_SIZE, np.int64)
-    fstate = np.zeros(layout.F_SIZE)
-    fstate[layout.F_E_CONTACT] = e_c0
-    fstate[layout.F_FAIL_TIME] = np.nan
-    istate[layout.I_FAIL_ELEMENT] = -1
-    wn = np.zeros((layout.WN_SIZE, n))
-    wc = np.zeros((layout.WC_SIZE, 2 * nc))
-    wcn = np.zeros((layout.WCN_SIZE, nc))
-    wm = np.zeros((2 * nc, 2 * nc))
-    jac = np.zeros((nc, 4))
-    iwork = np.zeros(5 * nc, np.int64)
-    ciw = np.zeros((layout.CR_SIZE, nc))
-    fpar = np.zeros(layout.FP_SIZE)
-    fpar[layout.FP_DT] = dt
-    fpar[layout.FP_T_RAMP] = t_ramp
-    fpar[layout.FP_NEWTON_TOL] = newton_tol
-    fpar[layout.FP_GAP_JUMP] = gap_jump
-    # the boosted update's landing point in the band (see augment_boost)
-    fpar[layout.FP_AUG_SHIFT] = 0.98 if augment_boost > 0 else 0.0
-    fpar[layout.FP_BETA] = beta_nm
-    fpar[layout.FP_GAMMA] = gamma
-    ipar = np.zeros(layout.IP_SIZE, np.int64)
-    ipar[layout.IP_N_LEV] = n_lev
-    ipar[layout.IP_FIXED] = int(bool(fixed_step))
-    ipar[layout.IP_GROW_AFTER] = grow_after
-    ipar[layout.IP_MAX_NEWTON] = max_newton
-    ipar[layout.IP_MAX_AUG] = max_augment
-    ipar[layout.IP_OUT_TICKS] = out_ticks
-    ipar[layout.IP_AUG_STRICT] = int(bool(augment_strict))
-    ipar[layout.IP_SEN_TICKS] = sen_ticks
-    f_re = np.ascontiguousarray(force.amplitudes.real)
-    f_im = np.ascontiguousarray(force.amplitudes.imag)
-    f_om = np.ascontiguousarray(force.omega)
-    f_dof = np.ascontiguousarray(force.dofs)
-    c_aug = np.ascontiguousarray(contacts.augmented.astype(np.int64))
-    prof = np.zeros(layout.P_SIZE if profile else 0, np.int64)
-    empty = np.zeros((0, 0))
-    linear = Linear(
-        M.indptr.astype(np.int64), M.indices.astype(np.int64), M.data,
-        C.indptr.astype(np.int64), C.indices.astype(np.int64), C.data,
-        mk_ptr, mk_idx, mk_m, mk_k,
-        M.toarray() if dense else empty, K.toarray() if dense else empty)
-    factors_k = Factors(l_ptr, l_idx, l_val, l_dinv, u_ptr, u_idx, u_val, u_dinv, perm_r,
-                        perm_c, s_mat, w_mat, inv_t)
-    force_k = Force(f_dof, f_re, f_im, f_om)
-    contacts_k = ContactSet(
-        np.ascontiguousarray(contacts.kind), c_dof, basis, np.ascontiguousarray(contacts.gap),
-        g_start, np.ascontiguousarray(contacts.k_n), np.ascontiguousarray(contacts.k_t),
-        np.ascontiguousarray(contacts.mu), c_aug, np.ascontiguousarray(contacts.eps), speed,
-        lev_req, aug_k)
-    state = State(q, v, a, mv, kq, pc, dc, cf, ci, istate, fstate)
-    outputs = Outputs(
-        record_dofs, out_q, out_fn, out_ft, out_st, out_gap, out_slip, out_en,
-        sensor_dofs, out_sq, out_sv, out_sa,
-        empty if recovery is None else np.ascontiguousarray(recovery[record_dofs].T),
-        empty if recovery is None else np.ascontiguousarray(recovery[sensor_dofs].T))
-    work = Work(wn, wc, wcn, wm, jac, iwork, ciw, prof)
-
+        M, C, K, B, contacts, grid.dt, grid.n_lev, settings.gamma, settings.beta,
+        None if fixed_step else settings.contact_stiffness_ratio, settings.augment_boost, dense)
+    state = _state(M, K, q0, v0, a0, p0, d0, cf, ci, e_c0)
+    outputs = _outputs(grid, nc, record_dofs, sensor_dofs, recovery)
+    fpar, ipar = _parameters(grid, settings, t_ramp, fixed_step)
+    arrays = (_linear(M, C, K, dense), Factors(*lu, s_mat, w_mat, inv_t), _kernel_force(force),
+              _contact_set(contacts, g_start, settings.omega, lev_req, aug_k), fpar, ipar,
+              state, outputs)
+    logs = _logs(nc, grid.n_lev, settings.episode_capacity)
+    work = _work(n, nc, profile)
     t_setup = time.perf_counter() - t_start
-    t_kernel = 0.0
-    n_chunks = 100 if progress is not None else 1
-    chunk = max(np.int64(1), tick_total // n_chunks)
-    code = STATUS_DONE
-    while True:
-        ipar[layout.IP_TICK_END] = min(tick_total, istate[layout.I_TICK] + chunk)
-        tk = time.perf_counter()
-        code = newmark_contact(
-            linear, factors_k, force_k, contacts_k, fpar, ipar, state,
-            outputs, Logs(ep_f, ep_i, sg_f, sg_i, lv_t, lv_l, tot, mx, lvl_count), work,
-        )
-        t_kernel += time.perf_counter() - tk
-        if code == STATUS_LOG_FULL:
-            if istate[layout.I_N_EPISODES] + nc > ep_f.shape[0]:
-                more = ep_f.shape[0] + nc
-                ep_f = np.concatenate([ep_f, np.zeros((more, layout.EPF_SIZE))])
-                ep_i = np.concatenate([ep_i, np.zeros((more, layout.EPI_SIZE), np.int64)])
-            if istate[layout.I_N_SEGMENTS] + nc > sg_f.shape[0]:
-                sg_f = np.concatenate([sg_f, np.zeros_like(sg_f)])
-                sg_i = np.concatenate([sg_i, np.zeros_like(sg_i)])
-            if istate[layout.I_N_LEVEL_CHANGES] + 2 > lv_t.shape[0]:
-                lv_t = np.concatenate([lv_t, np.zeros(lv_t.shape[0])])
-                lv_l = np.concatenate([lv_l, np.zeros(lv_l.shape[0], np.int64)])
-            continue
-        if code != STATUS_DONE:
-            break
-        if progress is not None:
-            progress(float(istate[layout.I_TICK]) * dt / 2**top, n_big * dt)
-        if istate[layout.I_TICK] >= tick_total:
-            break
 
-    result = _package(
-        code, n_big, dt, dt_min_, output_dt, n_lev, out_ticks, record_dofs,
-        out_q, out_fn, out_ft, out_st, out_gap, out_slip, out_en,
-        q, v, a, cf, ci, ep_f, ep_i, sg_f, sg_i, lv_t, lv_l, tot, mx, lvl_count, istate,
-        fstate, (sensor_dofs, sen_ticks, out_sq, out_sv, out_sa),
-    )
+    code, logs, t_kernel = _integrate(arrays, logs, work, grid, progress)
+    result = _package(code, grid, state, outputs, logs)
     if recovery is not None:    # the final state in physical DOFs, like the records
+        q, v, a = state.q, state.v, state.a
         result = dataclasses.replace(result, q_final=recovery @ q, v_final=recovery @ v,
                                      a_final=recovery @ a)
     if profile:
-        result.extra["profile_cycles"] = dict(zip(PROFILE_SECTIONS, prof.tolist(), strict=True))
+        result.extra["profile_cycles"] = dict(zip(PROFILE_SECTIONS, work.prof.tolist(),
+                                                  strict=True))
     result.extra.update(
         setup_seconds=t_setup, kernel_seconds=t_kernel, contact_level_required=lev_req,
-        augment_pending=int(istate[layout.I_AUG_PENDING]),
+        augment_pending=int(state.istate[layout.I_AUG_PENDING]),
         lu_nnz=[f.nnz for f in factors], lu_ordering=[f.ordering for f in factors],
     )
     if result.status != 0 and raise_on_failure:
@@ -892,27 +964,121 @@ def simulate_system(
     return result
 
 
-def _package(
-    code, n_big, dt, dt_min, output_dt, n_lev, out_ticks, record_dofs,
-    out_q, out_fn, out_ft, out_st, out_gap, out_slip, out_en,
-    q, v, a, cf, ci, ep_f, ep_i, sg_f, sg_i, lv_t, lv_l, tot, mx, lvl_count, istate, fstate,
-    sensors,
-) -> SystemResult:
-    top = n_lev - 1
+# --------------------------------------------------------------------------------------------
+# running the kernel, and the result
+# --------------------------------------------------------------------------------------------
+def _integrate(arrays: tuple, logs: Logs, work: Work, grid: _TimeGrid, progress):
+    """Run the kernel to the end of the run (or a failure): in chunks of about 1 % of the
+    run when there is a ``progress`` to call, growing a log whenever one is full. Returns
+    the kernel's status code, the logs and the kernel's wall time (s)."""
+    linear, factors, force, contacts, fpar, ipar, state, outputs = arrays
+    istate = state.istate
+    n_chunks = 100 if progress is not None else 1
+    chunk = max(np.int64(1), grid.tick_total // n_chunks)
+    t_kernel = 0.0
+    while True:
+        ipar[layout.IP_TICK_END] = min(grid.tick_total, istate[layout.I_TICK] + chunk)
+        tk = time.perf_counter()
+        code = newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs,
+                               logs, work)
+        t_kernel += time.perf_counter() - tk
+        if code == STATUS_LOG_FULL:
+            logs = _grown(logs, istate, contacts.kind.shape[0])
+            continue
+        if code != STATUS_DONE:
+            return code, logs, t_kernel
+        if progress is not None:
+            progress(float(istate[layout.I_TICK]) * grid.dt / 2**grid.top, grid.n_big * grid.dt)
+        if istate[layout.I_TICK] >= grid.tick_total:
+            return code, logs, t_kernel
+
+
+def _package(code, grid: _TimeGrid, state: State, outputs: Outputs, logs: Logs) -> SystemResult:
+    """The kernel's arrays as a :class:`SystemResult`, cut to what the run reached."""
+    istate, fstate = state.istate, state.fstate
     tick = int(istate[layout.I_TICK])
-    t_final = tick * dt / 2**top
-    n_written = tick // int(out_ticks) + 1
+    t_final = tick * grid.dt / 2**grid.top
+    n_written = tick // int(grid.out_ticks) + 1
+    n_sen = tick // int(grid.sen_ticks) + 1 if outputs.sen_dof.size else 0
+    episodes, segments = _episode_logs(state, logs, t_final)
+    status, message = _status(code, istate, fstate, t_final, grid.dt_min)
+    nl = int(istate[layout.I_N_LEVEL_CHANGES])
+    sl = slice(0, n_written)
+    en = outputs.en
+    tot, mx = logs.tot, logs.mx
+    return SystemResult(
+        t=np.arange(n_written) * grid.output_dt,
+        record_dofs=outputs.rec_dof,
+        q=outputs.q[sl],
+        contact_fn=outputs.fn[sl],
+        contact_ft=outputs.ft[sl],
+        contact_status=outputs.st[sl].astype(np.int8),
+        contact_gap=outputs.gap[sl],
+        contact_slip=outputs.slip[sl],
+        work_external=en[sl, layout.EN_W_EXT],
+        work_drive=en[sl, layout.EN_W_DRIVE],
+        dissipated_viscous=en[sl, layout.EN_D_VISC],
+        dissipated_friction=en[sl, layout.EN_D_FRIC],
+        contact_algorithmic=en[sl, layout.EN_D_NUM],
+        kinetic=en[sl, layout.EN_KINETIC],
+        strain=en[sl, layout.EN_STRAIN],
+        contact_elastic=en[sl, layout.EN_CONTACT],
+        episodes=episodes,
+        status_segments=segments,
+        time_in_status=tot[:, layout.TOT_TIME:layout.TOT_TIME + 3].copy(),
+        normal_impulse=tot[:, layout.TOT_FN_IMPULSE:layout.TOT_FN_IMPULSE + 3].copy(),
+        tangential_impulse=tot[:, layout.TOT_FT_IMPULSE:layout.TOT_FT_IMPULSE + 3].copy(),
+        max_normal_force=mx[:, layout.MX_FN].copy(),
+        max_tangential_force=mx[:, layout.MX_FT].copy(),
+        max_penetration=mx[:, layout.MX_PENETRATION].copy(),
+        max_cone_excess=float(fstate[layout.F_CONE_EXCESS]),
+        dt=grid.dt,
+        dt_min=grid.dt / 2**grid.top,
+        output_dt=grid.output_dt,
+        dt_levels=grid.dt / 2.0 ** np.arange(grid.n_lev),
+        steps_per_level=logs.lvl_count.copy(),
+        level_change_t=logs.lv_t[:nl].copy(),
+        level_change_level=logs.lv_l[:nl].copy(),
+        n_steps=int(istate[layout.I_N_ACCEPTED]),
+        n_rejected_newton=int(istate[layout.I_N_REJ_NEWTON]),
+        n_rejected_abrupt=int(istate[layout.I_N_REJ_ABRUPT]),
+        n_abrupt_at_min=int(istate[layout.I_N_ABRUPT_AT_MIN]),
+        newton_iterations=int(istate[layout.I_NEWTON_TOTAL]),
+        newton_iterations_max=int(istate[layout.I_NEWTON_MAX]),
+        augment_iterations=int(istate[layout.I_AUG_TOTAL]),
+        augment_iterations_max=int(istate[layout.I_AUG_MAX]),
+        t_final=t_final,
+        q_final=state.q.copy(),
+        v_final=state.v.copy(),
+        a_final=state.a.copy(),
+        status=status,
+        message=message,
+        failure_time=float(fstate[layout.F_FAIL_TIME]) if status else float("nan"),
+        failure_element=int(istate[layout.I_FAIL_ELEMENT]) + 1 if status else 0,  # 0: none
+        sensor_dofs=outputs.sen_dof,
+        sensor_dt=float(grid.dt * int(grid.sen_ticks) / 2**grid.top),
+        sensor_q=outputs.sq[:n_sen],
+        sensor_v=outputs.sv[:n_sen],
+        sensor_a=outputs.sa[:n_sen],
+    )
+
+
+def _episode_logs(state: State, logs: Logs, t_final: float):
+    """The episode and status-segment logs: the ended ones as logged, then those still
+    open at ``t_final`` (from the per-element state)."""
+    cf, ci, istate = state.cf, state.ci, state.istate
     ne = int(istate[layout.I_N_EPISODES])
-    ep_f, ep_i = ep_f[:ne], ep_i[:ne]
+    ns = int(istate[layout.I_N_SEGMENTS])
+    ep_f, ep_i, sg_f, sg_i = logs.ep_f[:ne], logs.ep_i[:ne], logs.sg_f[:ns], logs.sg_i[:ns]
     open_el = np.flatnonzero(ci[layout.CI_STATUS] != OPEN)
 
     def ended_then_open(ended, current):
-        """The logged (ended) episodes' values, then those of the still open ones."""
         return np.concatenate([ended, current[open_el]])
 
+    element = np.arange(ci.shape[1])
     still_open = np.full(open_el.size, t_final)
     episodes = EpisodeLog(
-        element=ended_then_open(ep_i[:, layout.EPI_ELEMENT], np.arange(ci.shape[1])) + 1,
+        element=ended_then_open(ep_i[:, layout.EPI_ELEMENT], element) + 1,  # numbered from 1
         t_start=ended_then_open(ep_f[:, layout.EPF_T_START], cf[layout.CF_EP_START]),
         t_end=np.concatenate([ep_f[:, layout.EPF_T_END], still_open]),
         n_steps=ended_then_open(ep_i[:, layout.EPI_STEPS], ci[layout.CI_EP_STEPS]),
@@ -931,89 +1097,32 @@ def _package(
         complete=np.concatenate([ep_i[:, layout.EPI_COMPLETE] == 1,
                                  np.zeros(open_el.size, bool)]),
     )
-    ns = int(istate[layout.I_N_SEGMENTS])
     segments = StatusLog(
-        element=ended_then_open(sg_i[:ns, layout.SGI_ELEMENT], np.arange(ci.shape[1])) + 1,
-        status=ended_then_open(sg_i[:ns, layout.SGI_STATUS],
-                               ci[layout.CI_STATUS]).astype(np.int8),
-        t_start=ended_then_open(sg_f[:ns, layout.SGF_T_START], cf[layout.CF_SEG_START]),
-        t_end=np.concatenate([sg_f[:ns, layout.SGF_T_END], still_open]),
+        element=ended_then_open(sg_i[:, layout.SGI_ELEMENT], element) + 1,
+        status=ended_then_open(sg_i[:, layout.SGI_STATUS], ci[layout.CI_STATUS]).astype(np.int8),
+        t_start=ended_then_open(sg_f[:, layout.SGF_T_START], cf[layout.CF_SEG_START]),
+        t_end=np.concatenate([sg_f[:, layout.SGF_T_END], still_open]),
     )
+    return episodes, segments
+
+
+def _status(code, istate, fstate, t_final: float, dt_min: float) -> tuple[int, str]:
+    """The result's status (0 done, 1 no convergence, 2 non-finite) and its message."""
     status = {STATUS_DONE: 0, STATUS_NO_CONVERGENCE: 1, STATUS_NONFINITE: 2}[code]
-    fail_t = float(fstate[layout.F_FAIL_TIME]) if status else float("nan")
-    fail_e = int(istate[layout.I_FAIL_ELEMENT]) + 1 if status else 0     # 0: no element
+    fail_t = float(fstate[layout.F_FAIL_TIME])
+    fail_e = int(istate[layout.I_FAIL_ELEMENT]) + 1
     if status == 0:
-        message = f"Reached t = {t_final:.6g} s in {int(istate[layout.I_N_ACCEPTED])} steps."
-    elif status == 1:
+        return status, f"Reached t = {t_final:.6g} s in {int(istate[layout.I_N_ACCEPTED])} steps."
+    if status == 1:
         why = {NEWTON_FAILED: "Newton iterations exhausted",
                AUGMENT_FAILED: "augmentation did not reach eps",
                SINGULAR: "singular contact Jacobian"}.get(int(istate[layout.I_FAIL_CODE]),
                                                           "unknown")
-        message = (
+        return status, (
             f"Contact iteration did not converge ({why}) at t = {fail_t:.9g} s, contact element "
             f"{fail_e}, even at the smallest step {dt_min:.3g} s; results kept up to "
             f"t = {t_final:.9g} s."
         )
-    else:
-        where = f"contact element {fail_e}" if fail_e > 0 else "the structure"
-        message = (
-            f"State became non-finite at t = {fail_t:.9g} s ({where}); results kept up to "
-            f"t = {t_final:.9g} s."
-        )
-    nl = int(istate[layout.I_N_LEVEL_CHANGES])
-    sl = slice(0, n_written)
-    return SystemResult(
-        t=np.arange(n_written) * output_dt,
-        record_dofs=record_dofs,
-        q=out_q[sl],
-        contact_fn=out_fn[sl],
-        contact_ft=out_ft[sl],
-        contact_status=out_st[sl].astype(np.int8),
-        contact_gap=out_gap[sl],
-        contact_slip=out_slip[sl],
-        work_external=out_en[sl, layout.EN_W_EXT],
-        work_drive=out_en[sl, layout.EN_W_DRIVE],
-        dissipated_viscous=out_en[sl, layout.EN_D_VISC],
-        dissipated_friction=out_en[sl, layout.EN_D_FRIC],
-        contact_algorithmic=out_en[sl, layout.EN_D_NUM],
-        kinetic=out_en[sl, layout.EN_KINETIC],
-        strain=out_en[sl, layout.EN_STRAIN],
-        contact_elastic=out_en[sl, layout.EN_CONTACT],
-        episodes=episodes,
-        status_segments=segments,
-        time_in_status=tot[:, layout.TOT_TIME:layout.TOT_TIME + 3].copy(),
-        normal_impulse=tot[:, layout.TOT_FN_IMPULSE:layout.TOT_FN_IMPULSE + 3].copy(),
-        tangential_impulse=tot[:, layout.TOT_FT_IMPULSE:layout.TOT_FT_IMPULSE + 3].copy(),
-        max_normal_force=mx[:, layout.MX_FN].copy(),
-        max_tangential_force=mx[:, layout.MX_FT].copy(),
-        max_penetration=mx[:, layout.MX_PENETRATION].copy(),
-        max_cone_excess=float(fstate[layout.F_CONE_EXCESS]),
-        dt=dt,
-        dt_min=dt / 2**top,
-        output_dt=output_dt,
-        dt_levels=dt / 2.0 ** np.arange(n_lev),
-        steps_per_level=lvl_count.copy(),
-        level_change_t=lv_t[:nl].copy(),
-        level_change_level=lv_l[:nl].copy(),
-        n_steps=int(istate[layout.I_N_ACCEPTED]),
-        n_rejected_newton=int(istate[layout.I_N_REJ_NEWTON]),
-        n_rejected_abrupt=int(istate[layout.I_N_REJ_ABRUPT]),
-        n_abrupt_at_min=int(istate[layout.I_N_ABRUPT_AT_MIN]),
-        newton_iterations=int(istate[layout.I_NEWTON_TOTAL]),
-        newton_iterations_max=int(istate[layout.I_NEWTON_MAX]),
-        augment_iterations=int(istate[layout.I_AUG_TOTAL]),
-        augment_iterations_max=int(istate[layout.I_AUG_MAX]),
-        t_final=t_final,
-        q_final=q.copy(),
-        v_final=v.copy(),
-        a_final=a.copy(),
-        status=status,
-        message=message,
-        failure_time=fail_t,
-        failure_element=fail_e,
-        sensor_dofs=sensors[0],
-        sensor_dt=float(dt * int(sensors[1]) / 2**top),
-        sensor_q=sensors[2][: tick // int(sensors[1]) + 1 if sensors[0].size else 0],
-        sensor_v=sensors[3][: tick // int(sensors[1]) + 1 if sensors[0].size else 0],
-        sensor_a=sensors[4][: tick // int(sensors[1]) + 1 if sensors[0].size else 0],
-    )
+    where = f"contact element {fail_e}" if fail_e > 0 else "the structure"
+    return status, (f"State became non-finite at t = {fail_t:.9g} s ({where}); results kept "
+                    f"up to t = {t_final:.9g} s.")
