@@ -6,6 +6,8 @@
 * :mod:`rubdiag.kernels.newmark` — the whole time loop (variable step, event log, energy),
   on named bundles of arrays (``Linear``, ``Factors``, ``ContactSet``, ``State`` …).
 * :mod:`rubdiag.kernels.clock` — a CPU cycle counter for the kernels' profiled runs.
+* :mod:`rubdiag.kernels.layout` — the names of the rows and entries of the kernel's packed
+  state, work and log arrays.
 
 Kernel contract (see :mod:`rubdiag._numba`): float64 / int64 C-contiguous arrays and scalars in
 SI units, outputs and work arrays preallocated by the caller, status codes instead of

@@ -417,8 +417,6 @@ def _time_grid(duration, dt, dt_min, fixed_step: bool, output_dt) -> _TimeGrid:
 def _checked_records(grid: _TimeGrid, n: int, record_dofs, sensor_dofs, recovery):
     """``recovery`` (None or (n_phys, n) float64), ``record_dofs`` and ``sensor_dofs``
     (int64 indices of the physical DOFs), checked, and the outputs' sizes."""
-    if record_dofs is None:
-        record_dofs = np.arange(n, dtype=np.int64)
     n_phys = n
     if recovery is not None:
         recovery = np.asarray(recovery, dtype=np.float64)
@@ -426,6 +424,8 @@ def _checked_records(grid: _TimeGrid, n: int, record_dofs, sensor_dofs, recovery
             raise _bad("recovery", f"array of shape {recovery.shape}",
                        f"finite, shape (n_phys, {n})")
         n_phys = recovery.shape[0]
+    if record_dofs is None:     # every physical DOF
+        record_dofs = np.arange(n_phys, dtype=np.int64)
     record_dofs = _check.indices("record_dofs", record_dofs, n_phys)
     if grid.n_out * max(record_dofs.size, 1) > 5e8:
         raise ValueError(

@@ -74,3 +74,20 @@ def test_reduced_contact_obeys_the_contact_law(rubbing):
     np.testing.assert_allclose(pen, fn / law.normal_stiffness_n_m, rtol=1e-6, atol=1e-12)
     # open elements carry no force
     assert np.all(s.contact_fn[~closed] == 0.0)
+
+
+def test_recovery_records_every_physical_dof_by_default():
+    # a 2-DOF system integrated in modal coordinates, recovered to 3 "physical" DOFs
+    from rubdiag.simulate import HarmonicForce, simulate_system
+
+    T = np.array([[1.0, 0.0], [0.5, 0.5], [0.0, 1.0]])
+    M, K = np.eye(2), np.diag([100.0, 400.0])
+    force = HarmonicForce([0], [1.0], 3.0)
+    result = simulate_system(M, 0.01 * K, K, force, None, np.zeros(2), np.zeros(2),
+                             duration=0.1, dt=1e-3, fixed_step=True, linear_solver="dense",
+                             recovery=T)
+    assert result.q.shape[1] == 3
+    sparse = simulate_system(M, 0.01 * K, K, force, None, np.zeros(2), np.zeros(2),
+                             duration=0.1, dt=1e-3, fixed_step=True)
+    np.testing.assert_allclose(result.q, sparse.q @ T.T, rtol=1e-10, atol=1e-14)
+    np.testing.assert_allclose(result.q_final, T @ sparse.q_final, rtol=1e-10, atol=1e-14)
