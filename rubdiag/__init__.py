@@ -1,14 +1,18 @@
 """rubdiag: blade-rotor-casing rub-impact simulation and diagnosis.
 
 The top level is light: ``import rubdiag`` loads no numerical library. Each public name is
-imported from its submodule on first use.
+imported from its submodule on first use. Importing it first pins OpenBLAS's kernels, so that
+runs give the same bits on every x86-64 CPU (``rubdiag/_blas.py``).
 """
 
 from __future__ import annotations
 
 import importlib
 
+from rubdiag._blas import pin_kernels
 from rubdiag._version import __version__
+
+pin_kernels()  # before numpy is loaded: see rubdiag/_blas.py
 
 # public name -> submodule that defines it
 _LAZY = {

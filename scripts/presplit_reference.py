@@ -1,7 +1,7 @@
 """The simulator's results before it is split into small parts (issue 13): a reference.
 
 Three runs, made by the code *before* the split and stored with the library versions and the
-CPU they were made on:
+OpenBLAS kernels they were made with:
 
 * ``short`` — case 1 serious (g0 = 1.9 mm) at a fixed 10-µs step for 30 ms, the gap closed
   over the first 10 ms so that the blades touch, with the default sensors: every array of its
@@ -9,23 +9,27 @@ CPU they were made on:
   chaotic), as SHA-256 digests;
 * ``portable`` — the same rig and case through ``simulate_system`` directly, on inputs that
   no LAPACK routine computes (Rayleigh α, β as numbers, Ω given, from rest with a0 = 0,
-  g0 = 0.1 mm so that the blades touch within its 30 ms, fixed 10-µs step): the short run's
-  initial steady state and Rayleigh coefficients come from LAPACK/ARPACK, whose round-off
-  depends on the CPU (7e-10 of the largest displacement between znver3 and rocketlake), so
-  only this run can be compared across CPUs; stored in full;
+  g0 = 0.1 mm so that the blades touch within its 30 ms, fixed 10-µs step); stored in full,
+  so that other libraries or kernels can be compared to it to 1e-12 of each array's scale;
 * ``cell`` — Table 2's case 2 serious cell, the default 2.3-s run (adaptive step, default
   sensors): a SHA-256 of every
-  array (the run is chaotic over 230 000 steps, so only the same libraries on the same CPU
-  can give the same bits).
+  array (the run is chaotic over 230 000 steps, so only the same libraries and kernels can
+  give the same bits).
+
+The bits depend on the OpenBLAS kernels, not on the CPU as such: the SkylakeX kernels give
+other bits than the Haswell ones on the same machine, and a znver3 and a rocketlake machine give
+the same bits with the same kernels (``rubdiag/_blas.py`` pins Haswell). The CPU a reference
+was made on is stored, and not compared.
 
 ``tests/simulate/test_presplit_reference.py`` asks the current code for the same bits when
-the versions match and, otherwise, for the portable run to 1e-12 of each array's largest
-magnitude.
+the versions and kernels match and, otherwise, for the portable run to 1e-12 of each array's
+largest magnitude.
 
-    python scripts/presplit_reference.py   # -> data/presplit/reference-<cpu>.json, portable.npz
+    python scripts/presplit_reference.py   # -> data/presplit/reference-<kernels>.json, portable.npz
 
-Made with the code before the split (a worktree at 6b73d28): on znver3 (short and cell only:
-the portable run came later) and on rocketlake (all three, and ``portable.npz``).
+Made with the code before the split (a worktree at 6b73d28, Haswell kernels pinned by
+``OPENBLAS_CORETYPE=Haswell``) on rocketlake; its short run and cell equal, bit for bit, those
+the same code gave on znver3 earlier.
 """
 
 from __future__ import annotations
@@ -95,16 +99,26 @@ def cell_run():
 
 
 def versions() -> dict:
-    """What the bits of a run depend on besides the code: libraries and CPU."""
+    """What the bits of a run depend on besides the code: libraries and OpenBLAS kernels."""
     import llvmlite
-    import llvmlite.binding as llvm
     import numba
     import scipy
+    import scipy.linalg  # scipy's own OpenBLAS, loaded
+    from threadpoolctl import threadpool_info
 
+    kernels = sorted({i.get("architecture") for i in threadpool_info()
+                      if i.get("internal_api") == "openblas"})
     return {"python": platform.python_version(), "numpy": np.__version__,
             "scipy": scipy.__version__, "numba": numba.__version__,
             "llvmlite": llvmlite.__version__, "machine": platform.machine(),
-            "cpu": llvm.get_host_cpu_name()}
+            "blas": "+".join(kernels)}
+
+
+def made_on() -> str:
+    """The CPU, for the record (the bits do not depend on it: module docstring)."""
+    import llvmlite.binding as llvm
+
+    return llvm.get_host_cpu_name()
 
 
 def arrays(system) -> dict[str, np.ndarray]:
@@ -142,11 +156,11 @@ def main(argv=None) -> int:
     portable = arrays(portable_run())
     np.savez_compressed(args.out / "portable.npz", **portable)
     cell = arrays(simulate(cell_run()).system)
-    meta = {"rubdiag": __version__, "versions": versions(),
+    meta = {"rubdiag": __version__, "versions": versions(), "made_on": made_on(),
             "short": {k: digest(v) for k, v in short.items()},
             "portable": {k: digest(v) for k, v in portable.items()},
             "cell": {k: digest(v) for k, v in cell.items()}}
-    path = args.out / f"reference-{meta['versions']['cpu']}.json"
+    path = args.out / f"reference-{meta['versions']['blas'].lower()}.json"
     path.write_text(json.dumps(meta, indent=1) + "\n")
     print(f"{path}: short run {len(short)}, portable run {len(portable)}, Table 2 cell "
           f"{len(cell)} digests, made with {meta['versions']}", file=sys.stderr)

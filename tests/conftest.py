@@ -3,6 +3,8 @@ from pathlib import Path
 
 import pytest
 
+import rubdiag  # first: it pins OpenBLAS's kernels before numpy loads them)
+
 os.environ.setdefault("MPLBACKEND", "Agg")
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -11,8 +13,6 @@ DATA = ROOT / "data"
 
 @pytest.fixture(scope="session")
 def paper_rig():
-    import rubdiag
-
     return rubdiag.paper_rig()
 
 

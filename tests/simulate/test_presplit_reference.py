@@ -1,11 +1,11 @@
 """The simulator gives what it gave before it was split into small parts (issue 13).
 
 ``data/presplit/`` was made by ``scripts/presplit_reference.py`` with the code before the
-split, once per CPU it was run on: digests of every array of a short contact run, of a
-portable run (no LAPACK-computed input) and of a Table 2 cell, with the library versions and
-CPU. With the same versions and CPU the bits must be the same. On another CPU only the
-portable run can be compared (the short run starts from a LAPACK steady state whose
-round-off depends on the CPU, and the cell is chaotic): each of its arrays to 1e-12 of the
+split: digests of every array of a short contact run, of a portable run (no LAPACK-computed
+input) and of a Table 2 cell, with the library versions and the OpenBLAS kernels. With the
+same versions and kernels (``import rubdiag`` pins Haswell on x86-64) the bits must be the
+same, whatever the CPU. Otherwise only the portable run can be compared (the short run starts
+from a LAPACK steady state, and the cell is chaotic): each of its arrays to 1e-12 of the
 array's largest magnitude (``portable.npz``; a per-element rtol would fail at the zero
 crossings of waveforms that differ by round-off).
 """
@@ -22,11 +22,11 @@ reference = load_script("presplit_reference")
 REFERENCES = [json.loads(p.read_text()) for p in sorted(reference.OUT.glob("reference-*.json"))]
 HERE = reference.versions()
 SAME = next((m for m in REFERENCES if m["versions"] == HERE), None)
-MADE_ON = [m["versions"]["cpu"] for m in REFERENCES]
+MADE_WITH = [m["versions"] for m in REFERENCES]
 RTOL = 1e-12
 same_versions = pytest.mark.skipif(SAME is None, reason=(
-    f"references made on {MADE_ON} with other versions than {HERE}: bits are compared only "
-    "on the same libraries and CPU"))
+    f"references made with {MADE_WITH}, not {HERE}: bits are compared only with the same "
+    "libraries and OpenBLAS kernels"))
 
 
 @pytest.fixture(scope="module")

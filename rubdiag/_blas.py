@@ -1,0 +1,61 @@
+"""One set of OpenBLAS kernels on every x86-64 CPU, so that a run gives the same bits anywhere.
+
+OpenBLAS picks its kernels for the CPU it finds (SkylakeX on AVX-512 machines, Haswell or Zen
+on AVX2 ones), and the kernels round differently. The simulator's inputs (steady state, Rayleigh
+coefficients, modes) come from LAPACK, and a rub run is chaotic: a difference in the last bit
+of an input becomes a different list of contact episodes after a second. Measured: the README's
+case-2 run gives 315 sliding / 192 sticking entries with the SkylakeX kernels and 332 / 201
+with the Haswell ones, on the same machine.
+
+OpenBLAS reads ``OPENBLAS_CORETYPE`` once, when it is loaded, so this must run before numpy or
+scipy is imported: ``import rubdiag`` does it. What the environment already says is kept (a
+user's choice, or a parent process's, which child processes inherit). Where numpy came first,
+this process keeps the kernels OpenBLAS chose, and the environment names them, so that the
+worker processes it starts use the same ones (results still do not depend on the number of
+workers; they may differ in the last bits from another CPU's).
+"""
+
+from __future__ import annotations
+
+import os
+import platform
+import sys
+
+#: the kernels pinned on x86-64 CPUs with AVX2 (every x86-64 CPU made since 2015)
+KERNELS = "Haswell"
+_VARIABLE = "OPENBLAS_CORETYPE"
+
+
+def pin_kernels() -> str | None:
+    """Ask OpenBLAS for :data:`KERNELS`, where that is still possible; the pinned name or None."""
+    if _VARIABLE in os.environ:
+        return os.environ[_VARIABLE]
+    if "numpy" in sys.modules or "scipy" in sys.modules:
+        chosen = kernels_in_use()
+    else:
+        chosen = KERNELS if _has_avx2() else None
+    if chosen is not None:
+        os.environ[_VARIABLE] = chosen
+    return chosen
+
+
+def _has_avx2() -> bool:
+    if platform.machine().lower() not in ("x86_64", "amd64"):
+        return False
+    try:
+        with open("/proc/cpuinfo", encoding="ascii", errors="replace") as cpuinfo:
+            for line in cpuinfo:
+                if line.startswith("flags"):
+                    return "avx2" in line.split()
+    except OSError:
+        pass
+    return False
+
+
+def kernels_in_use() -> str | None:
+    """The kernel set this process's OpenBLAS runs (e.g. ``'Haswell'``), or None without one."""
+    from threadpoolctl import threadpool_info
+
+    names = {info.get("architecture") for info in threadpool_info()
+             if info.get("internal_api") == "openblas"}
+    return names.pop() if len(names) == 1 else None
