@@ -2,7 +2,8 @@
 
 For case 1 and case 2 at g0 = 1.9 mm (both rub), the default 2.3-s run through
 ``rubdiag.simulate.simulate``, full (412 DOF, sparse LU) and reduced (Craig–Bampton, default
-cutoff, dense), median of ``--repeat`` runs after one warm-up run each:
+cutoff or each of ``--cutoff-hz``, dense), median of ``--repeat`` runs after one warm-up run
+each:
 
 * µs per kernel step (the kernel's wall time over its attempted steps);
 * simulated seconds per wall second of the whole ``simulate`` call (set-up included, the
@@ -14,7 +15,8 @@ cutoff, dense), median of ``--repeat`` runs after one warm-up run each:
 
 Usage::
 
-    .venv/bin/python benchmarks/bench_reduced.py [--repeat 3] [--duration 2.3]
+    .venv/bin/python benchmarks/bench_reduced.py [--repeat 3] [--duration 2.3] \
+        [--cutoff-hz 2000 5000]
 """
 
 from __future__ import annotations
@@ -29,6 +31,7 @@ from unittest import mock
 from rubdiag.kernels.newmark import PROFILE_SECTIONS
 from rubdiag.model import paper_rig
 from rubdiag.reduce import Reduction, reduced
+from rubdiag.reduce.spec import DEFAULT_CUTOFF_HZ
 from rubdiag.simulate import Run, simulate
 from rubdiag.simulate import simulation as simulation_module
 from rubdiag.simulate.system import simulate_system
@@ -59,38 +62,44 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--duration", type=float, default=2.3)
+    ap.add_argument("--cutoff-hz", type=float, nargs="+", default=[DEFAULT_CUTOFF_HZ])
     args = ap.parse_args()
     print(f"bench_reduced: {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}; "
           f"{platform.processor() or platform.machine()}; median of {args.repeat}; "
           f"{args.duration:g} s simulated per run\n")
     rig = paper_rig()
-    costs = []
-    for _ in range(args.repeat):
-        reduced._reduced_model.cache_clear()
-        start = time.perf_counter()
-        model = reduced.reduced_model(rig)
-        costs.append(time.perf_counter() - start)
-    print(f"one-time reduction: {statistics.median(costs):.3f} s "
-          f"({model.n_full} -> {model.n_reduced} coordinates, cutoff "
-          f"{model.reduction.cutoff_hz:g} Hz)\n")
-    print("| case | model | µs/step | simulated s / wall s | speed-up |")
+    reductions = [Reduction(c) for c in args.cutoff_hz]
+    for reduction in reductions:
+        costs = []
+        for _ in range(args.repeat):
+            reduced._reduced_model.cache_clear()
+            start = time.perf_counter()
+            model = reduced.reduced_model(rig, reduction)
+            costs.append(time.perf_counter() - start)
+        print(f"one-time reduction: {statistics.median(costs):.3f} s "
+              f"({model.n_full} -> {model.n_reduced} coordinates, cutoff "
+              f"{model.reduction.cutoff_hz:g} Hz)")
+    print("\n| case | model | µs/step | simulated s / wall s | speed-up |")
     print("|---|---|---|---|---|")
     for case in (1, 2):
-        rates = {}
-        for red in (None, Reduction()):
+        full_rate = None
+        for red in (None, *reductions):
             run = Run.paper_case(case, 1.9, rig=rig, duration_s=args.duration,
                                  reduction=red)
             timed(run)                                          # compile, warm caches
             rows = [timed(run) for _ in range(args.repeat)]
             us = statistics.median(r["us_step"] for r in rows)
             rate = statistics.median(r["sim_per_wall"] for r in rows)
-            rates[run.model_kind] = rate
-            gain = "" if red is None else f"{rate / rates['full']:.2f}×"
-            print(f"| {case} serious | {run.model_kind} | {us:.2f} | {rate:.2f} | {gain} |")
-    print("\nreduced kernel, µs per step by section (case 2 serious, one profiled run):")
-    run = Run.paper_case(2, 1.9, rig=rig, duration_s=args.duration, reduction=Reduction())
-    parts = profiled(run)
-    print(" | ".join(f"{k} {parts[k]:.2f}" for k in PROFILE_SECTIONS))
+            name = "full" if red is None else f"reduced {red.cutoff_hz:g} Hz"
+            gain = "" if red is None else f"{rate / full_rate:.2f}×"
+            full_rate = rate if red is None else full_rate
+            print(f"| {case} serious | {name} | {us:.2f} | {rate:.2f} | {gain} |")
+    for red in reductions:
+        run = Run.paper_case(2, 1.9, rig=rig, duration_s=args.duration, reduction=red)
+        parts = profiled(run)
+        print(f"\nreduced kernel at {red.cutoff_hz:g} Hz, µs per step by section (case 2 "
+              "serious, one profiled run):")
+        print(" | ".join(f"{k} {parts[k]:.2f}" for k in PROFILE_SECTIONS))
 
 
 if __name__ == "__main__":

@@ -29,7 +29,8 @@ IP_TICK_END = 5  # the call returns at this tick (the caller runs the kernel in 
 IP_OUT_TICKS = 6  # ticks between recorded samples
 IP_AUG_STRICT = 7  # 1: a step whose multipliers miss the band is a failed contact solve
 IP_SEN_TICKS = 8  # ticks between sensor samples
-IP_SIZE = 9
+IP_COUPLED = 9  # dense system: its leading coordinates coupled in M and K (rest: modal)
+IP_SIZE = 10
 
 # ---- istate (int64): the loop's counters, carried from call to call
 I_TICK = 0

@@ -20,7 +20,8 @@ costs one sparse product pass, one LU solve and the contact columns of ``S = K_e
 the kinetic and strain energies at the samples are dot products. (γ ≠ 1/2 uses products with
 M and C for the right-hand side and recomputes M v: three more products.) A dense system (a
 reduced model) replaces the LU solve by a product with ``K_eff^-1`` and the pass over the
-pattern by dense products with M and K.
+pattern by dense products with M and K, which skip what is zero in a modal tail
+(``ipar[IP_COUPLED]``, :func:`_mk_dense`).
 
 Step sizes are levels ``h_k = dt / 2^k`` (k = 0..n_lev-1). Time is an integer tick count
 (tick = dt / 2^(n_lev-1)), so sample times and level changes are exact. A step at level k
@@ -163,6 +164,7 @@ from rubdiag.kernels.layout import (
     I_SAMPLE0_DONE,
     I_TICK,
     IP_AUG_STRICT,
+    IP_COUPLED,
     IP_FIXED,
     IP_GROW_AFTER,
     IP_MAX_AUG,
@@ -326,15 +328,20 @@ def _force_work(f_dof, f_re, f_im, f_om, t_n, t_1, dq):
 
 @njit
 def _matvec_t(at, x, out):
-    """``out = A x`` for ``at = Aᵀ`` dense: column by column (rows of ``at``), four at a
-    time, so the inner loop is an independent update of contiguous memory, which vectorizes
-    (a row dot product would be a serial sum: no fastmath, no reordering)."""
-    n = out.shape[0]
-    m = x.shape[0]
-    for i in range(n):
+    """``out = A x`` for ``at = Aᵀ`` dense (see :func:`_add_columns`)."""
+    for i in range(out.shape[0]):
         out[i] = 0.0
-    j = 0
-    while j + 4 <= m:
+    _add_columns(at, x, 0, x.shape[0], 0, out.shape[0], out)
+
+
+@njit
+def _add_columns(at, x, j0, j1, i0, i1, out):
+    """``out[i0:i1] += A[i0:i1, j0:j1] x[j0:j1]`` for ``at = Aᵀ`` dense: column by column
+    (rows of ``at``), four at a time, so the inner loop is an independent update of
+    contiguous memory, which vectorizes (a row dot product would be a serial sum: no
+    fastmath, no reordering)."""
+    j = j0
+    while j + 4 <= j1:
         x0 = x[j]
         x1 = x[j + 1]
         x2 = x[j + 2]
@@ -343,15 +350,31 @@ def _matvec_t(at, x, out):
         c1 = at[j + 1]
         c2 = at[j + 2]
         c3 = at[j + 3]
-        for i in range(n):
+        for i in range(i0, i1):
             out[i] += (c0[i] * x0 + c1[i] * x1) + (c2[i] * x2 + c3[i] * x3)
         j += 4
-    while j < m:
+    while j < j1:
         xj = x[j]
         c0 = at[j]
-        for i in range(n):
+        for i in range(i0, i1):
             out[i] += c0[i] * xj
         j += 1
+
+
+@njit
+def _mk_dense(nb, m_dense, k_dense, dq, mdq, kdq):
+    """``mdq = M dq``, ``kdq = K dq`` for symmetric dense M, K whose coordinates from ``nb``
+    on are modal: there K is diagonal and uncoupled, M diagonal in that block (a
+    Craig–Bampton model: contact DOFs, then fixed-interface modes). ``2 nb n`` products
+    instead of ``2 n²``; ``nb = n`` is the plain dense product."""
+    n = dq.shape[0]
+    for i in range(n):
+        modal = i >= nb
+        mdq[i] = m_dense[i, i] * dq[i] if modal else 0.0
+        kdq[i] = k_dense[i, i] * dq[i] if modal else 0.0
+    _add_columns(k_dense, dq, 0, nb, 0, nb, kdq)    # K_bb dq_b
+    _add_columns(m_dense, dq, 0, n, 0, nb, mdq)     # M_bb dq_b + M_bm dq_m
+    _add_columns(m_dense, dq, 0, nb, nb, n, mdq)    # M_mb dq_b
 
 
 @njit
@@ -910,8 +933,7 @@ def newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs
         istate[I_AUG_MAX] = max(istate[I_AUG_MAX], naug)
         _increment(lev, s_mat, pc, p_new, c_dof, c_basis, dp, dq, rhs)
         if dense:   # M and K are symmetric: row j is column j
-            _matvec_t(m_dense, dq, mdq)
-            _matvec_t(k_dense, dq, kdq)
+            _mk_dense(ipar[IP_COUPLED], m_dense, k_dense, dq, mdq, kdq)
             dvisc = _dissipation(nb, ng, h, dq, rhs, mdq, kdq)
         else:
             dvisc = _mk_products(nb, ng, h, mk_ptr, mk_idx, mk_m, mk_k, dq, rhs, mdq, kdq)

@@ -657,6 +657,19 @@ def _linear(M, C, K, dense: bool) -> Linear:
         M.toarray() if dense else empty, K.toarray() if dense else empty)
 
 
+def _coupled(M: np.ndarray, K: np.ndarray) -> int:
+    """How many leading coordinates of a dense system are coupled in M and K: the others
+    form a modal tail, K diagonal in their rows and M diagonal in their block, exactly (a
+    Craig–Bampton model's fixed-interface modes), which the kernel's products skip."""
+    n = M.shape[0]
+    modal = [not (np.any(K[i, :i]) or np.any(K[i, i + 1:]) or np.any(M[i, i + 1:]))
+             for i in range(n)]
+    tail = 0
+    while tail < n and modal[n - 1 - tail]:
+        tail += 1
+    return n - tail
+
+
 def _kernel_force(force: HarmonicForce) -> Force:
     return Force(np.ascontiguousarray(force.dofs), np.ascontiguousarray(force.amplitudes.real),
                  np.ascontiguousarray(force.amplitudes.imag), np.ascontiguousarray(force.omega))
@@ -938,7 +951,9 @@ def simulate_system(
     state = _state(M, K, q0, v0, a0, p0, d0, cf, ci, e_c0)
     outputs = _outputs(grid, nc, record_dofs, sensor_dofs, recovery)
     fpar, ipar = _parameters(grid, settings, t_ramp, fixed_step)
-    arrays = (_linear(M, C, K, dense), Factors(*lu, s_mat, w_mat, inv_t), _kernel_force(force),
+    linear = _linear(M, C, K, dense)
+    ipar[layout.IP_COUPLED] = _coupled(linear.m_dense, linear.k_dense)
+    arrays = (linear, Factors(*lu, s_mat, w_mat, inv_t), _kernel_force(force),
               _contact_set(contacts, g_start, settings.omega, lev_req, aug_k), fpar, ipar,
               state, outputs)
     logs = _logs(nc, grid.n_lev, settings.episode_capacity)
