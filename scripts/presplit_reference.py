@@ -106,6 +106,9 @@ def versions() -> dict:
     import scipy.linalg  # scipy's own OpenBLAS, loaded
     from threadpoolctl import threadpool_info
 
+    # not rubdiag._blas.kernels_in_use: the reference is made with the pre-split code,
+    # which has no rubdiag._blas (and this names numpy's and scipy's kernels if they differ)
+
     kernels = sorted({i.get("architecture") for i in threadpool_info()
                       if i.get("internal_api") == "openblas"})
     return {"python": platform.python_version(), "numpy": np.__version__,
