@@ -31,6 +31,9 @@ import time
 from functools import partial
 from unittest import mock
 
+import rubdiag  # noqa: F401  first: it pins OpenBLAS's kernels before numpy loads them
+
+# isort: split
 import numpy as np
 
 from rubdiag.kernels.newmark import PROFILE_SECTIONS

@@ -20,6 +20,9 @@ import argparse
 import statistics
 import time
 
+import rubdiag  # noqa: F401  first: it pins OpenBLAS's kernels before numpy loads them
+
+# isort: split
 import numpy as np
 
 from rubdiag.simulate import simulate_system

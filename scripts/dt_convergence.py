@@ -53,6 +53,9 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
 
+import rubdiag  # noqa: F401  first: it pins OpenBLAS's kernels before numpy loads them
+
+# isort: split
 import numpy as np
 import pandas as pd
 

@@ -89,6 +89,9 @@ import sys
 import time
 from pathlib import Path
 
+import rubdiag  # noqa: F401  first: it pins OpenBLAS's kernels before numpy loads them
+
+# isort: split
 import numpy as np
 import pandas as pd
 

@@ -61,6 +61,9 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
 
+import rubdiag  # first: it pins OpenBLAS's kernels before numpy loads them
+
+# isort: split
 import numpy as np
 import pandas as pd
 
@@ -135,8 +138,6 @@ class Setting:
         return {} if self.gap_ramp_s is None else {"gap_ramp_s": self.gap_ramp_s}
 
     def rig(self):
-        import rubdiag
-
         rig = rubdiag.paper_rig()
         if self.support != rig.casing.support:
             rig = dataclasses.replace(rig, casing=dataclasses.replace(rig.casing,
