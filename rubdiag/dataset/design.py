@@ -172,6 +172,10 @@ class Design:
         if self.reduction is not None and not isinstance(self.reduction, Reduction):
             raise _check.wrong_type("reduction", type(self.reduction).__name__,
                                     "a Reduction or None")
+        if self.reduction is not None and not self.reduction.tip_rotations:
+            # a design file has no key for it: its resolved form could not say so
+            raise ValueError("reduction.tip_rotations = False is not available in a design "
+                             "(allowed: True, the default)")
         if isinstance(self.labels, Mapping):
             set_("labels", LabelRules(**self.labels))
         if not isinstance(self.labels, LabelRules):

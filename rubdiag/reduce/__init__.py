@@ -7,9 +7,9 @@
 
 from rubdiag.reduce.check import FREQUENCY_TOLERANCE, ReductionCheck, check
 from rubdiag.reduce.craig_bampton import CraigBampton, craig_bampton
-from rubdiag.reduce.reduced import ReducedModel, contact_dofs, reduced_model
+from rubdiag.reduce.reduced import ReducedModel, boundary_dofs, contact_dofs, reduced_model
 from rubdiag.reduce.spec import DEFAULT_CUTOFF_HZ, MARGIN, Reduction
 
 __all__ = ["DEFAULT_CUTOFF_HZ", "FREQUENCY_TOLERANCE", "MARGIN", "CraigBampton", "ReducedModel",
-           "Reduction", "ReductionCheck", "check", "contact_dofs",
+           "Reduction", "ReductionCheck", "boundary_dofs", "check", "contact_dofs",
            "craig_bampton", "reduced_model"]

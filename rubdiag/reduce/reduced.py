@@ -1,7 +1,9 @@
 """The reduced model of a rig: one Craig–Bampton reduction per rig, cached per process.
 
 The boundary is every DOF a contact element of the rig touches (blade tips and casing nodes
-of the blade contacts, shaft nodes of stator contacts): what is nonlinear stays physical.
+of the blade contacts, shaft nodes of stator contacts): what is nonlinear stays physical;
+with ``Reduction.tip_rotations`` also the contact blades' tip rotations, which the tips'
+stick-slip needs (:func:`boundary_dofs`).
 M, K, C (Rayleigh + discrete dampers) and the unit-speed gyroscopic G are projected once;
 a run at speed Ω uses ``C + Ω G``, so one reduction serves every speed (and a speed that
 changes in time). The cache is per process — a Dask worker or a pool process builds it
@@ -19,7 +21,7 @@ import numpy as np
 from rubdiag.reduce.craig_bampton import CraigBampton, craig_bampton
 from rubdiag.reduce.spec import Reduction
 
-__all__ = ["ReducedModel", "contact_dofs", "reduced_model"]
+__all__ = ["ReducedModel", "boundary_dofs", "contact_dofs", "reduced_model"]
 
 
 @dataclass(frozen=True)
@@ -73,6 +75,16 @@ def contact_dofs(model) -> np.ndarray:
     return np.unique(np.concatenate(dofs).astype(np.int64))
 
 
+def boundary_dofs(model, reduction: Reduction) -> np.ndarray:
+    """The DOFs ``reduction`` keeps physical (ascending): :func:`contact_dofs`, and with
+    ``tip_rotations`` the in-plane rotation of each contact blade's tip."""
+    dofs = [contact_dofs(model)]
+    if reduction.tip_rotations and model.rig.contact is not None:
+        tip = model.rig.blades.n_elements
+        dofs.append([model.dofs.index(f"blade {b}.{tip}", "rx") for b in model.rig.contact.blades])
+    return np.unique(np.concatenate(dofs).astype(np.int64))
+
+
 def reduced_model(rig, reduction: Reduction | None = None) -> ReducedModel:
     """The reduced model of ``rig`` (default :class:`Reduction`); cached: the same rig and
     reduction are reduced once per process."""
@@ -89,7 +101,7 @@ def _reduced_model(rig, reduction: Reduction) -> ReducedModel:
                         "(expected a Reduction)")
     start = time.perf_counter()
     model = with_rayleigh(assemble(rig))
-    basis = craig_bampton(model.M, model.K, contact_dofs(model), reduction.cutoff_hz)
+    basis = craig_bampton(model.M, model.K, boundary_dofs(model, reduction), reduction.cutoff_hz)
     M, K = _modal_tail(basis.boundary.size, _symmetric(basis.project(model.M)),
                        _symmetric(basis.project(model.K)))
     return ReducedModel(

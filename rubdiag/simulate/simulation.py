@@ -362,7 +362,8 @@ def run_to_dict(run: Run) -> dict:
     """``run`` as plain JSON-ready data (the rig as in its TOML file, SI units): what result
     files store and run ids hash; :func:`run_from_dict` reads it back.
 
-    ``reduction`` is written only when set (``{"cutoff_hz": …}``): a run of the full model
+    ``reduction`` is written only when set (``{"cutoff_hz": …, "tip_rotations": …}``): a
+    run of the full model
     has the description it had before reductions existed, so its run id and its result
     files stay as they were."""
     out = {}
@@ -370,7 +371,8 @@ def run_to_dict(run: Run) -> dict:
         value = getattr(run, f.name)
         if f.name == "reduction":
             if value is not None:
-                out[f.name] = {"cutoff_hz": float(value.cutoff_hz)}
+                out[f.name] = {"cutoff_hz": float(value.cutoff_hz),
+                               "tip_rotations": bool(value.tip_rotations)}
             continue
         if f.name == "rig":
             value = rig_to_dict(value)
@@ -384,10 +386,11 @@ def run_to_dict(run: Run) -> dict:
 
 
 def run_from_dict(data: dict) -> Run:
-    """The :class:`Run` of :func:`run_to_dict`'s data (no ``reduction``: the full model)."""
+    """The :class:`Run` of :func:`run_to_dict`'s data (no ``reduction``: the full model; a
+    reduction without ``tip_rotations`` was saved before the option, which it lacked)."""
     data = dict(data)
     if data.get("reduction") is not None:
-        data["reduction"] = Reduction(**data["reduction"])
+        data["reduction"] = Reduction(**{"tip_rotations": False, **data["reduction"]})
     data["sensors"] = tuple(Sensor(**s) for s in data.get("sensors", ()))
     data["rig"] = rig_from_dict(data["rig"])
     u = data["unbalance"]

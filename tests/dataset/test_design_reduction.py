@@ -97,3 +97,11 @@ def test_bad_model_keys_are_one_line_naming_the_key(model, message):
     with pytest.raises(ValueError, match=f"^{message}") as info:
         design(model)
     assert "\n" not in str(info.value)
+
+
+def test_a_reduction_a_design_file_cannot_say_is_refused():
+    # the resolved form has no key for tip_rotations, so a design must not carry False
+    import dataclasses
+
+    with pytest.raises(ValueError, match=r"^reduction\.tip_rotations = False is not available"):
+        dataclasses.replace(design("reduced = true"), reduction=Reduction(tip_rotations=False))

@@ -91,5 +91,6 @@ def test_the_paper_rig_reduction_has_an_exact_tail_and_lost_only_round_off():
     model = with_rayleigh(assemble(rig))
     for exact, full in ((reduced.M, model.M), (reduced.K, model.K)):
         projected = _symmetric(reduced.basis.project(full))
-        # eigh's round-off in Φᵀ K_ii Φ: 5e-12 of K's largest diagonal entry
-        assert np.abs(exact - projected).max() <= 1e-11 * np.abs(np.diag(projected)).max()
+        # eigh's round-off in Φᵀ K_ii Φ: 0.6-1.2e-11 of K's largest diagonal entry (it
+        # depends on the BLAS kernels); a coupling the theory did not zero would be O(1)
+        assert np.abs(exact - projected).max() <= 5e-11 * np.abs(np.diag(projected)).max()

@@ -1,68 +1,105 @@
 """The reduced model against the full model's start-history spread, on the study's four
-cells (issue 13): rub is chaotic, so one run of either model is one realisation; the reduced
-model must land where the full model's five start histories (gap ramp 0.1 s ± 2 %) do.
+cells (issue 13); the helpers, the control families and the bias limit are
+``scripts/reduced_ensemble.py``'s, which prints the same comparison for any cutoff.
 
-Not reproduced at the default 2-kHz cutoff (strict xfails, measured 2026-11-24 with the
-pinned Haswell kernels): 3 of 12 pass. The sticking share comes out 20-45 % low in every
-cell; the contact-1 maximum force is 1-3 % high and the casing maximum up to 3 % low, outside
-spreads that are only 0.7-2 % wide (case 2 light's casing median lands 0.01 % below its
-spread's lower end). The stick-slip dynamics at the tips involve modes far above the feature
-band. The same ensembles at higher cutoffs (README "Reduced model"): 5 kHz (70 coordinates,
-3.1× faster) passes 5 of 12, its sticking shares 0.3-9 % below the spreads; 10 kHz passes 7
-of 12, every miss within 0.2-4.3 % of a spread's end; no cutoff that stays 3× faster passes
-all.
-Medians that land this close to a spread's end move across it with round-off (the
-integrator's summation order moved 5 kHz's case 2 light casing median from inside to 1 %
-below), so the xfail list is a measurement of this code, not a property of the cutoff."""
+Rub is chaotic, so one run of either model is one realisation. Issue 13 asks that the reduced
+model's median over the five default start histories (gap ramp 0.1 s ± 2 %) lies in the full
+model's min–max over the same five, for the contact-1 maximum force, the casing maximum and
+the sticking share: 12 checks. **That criterion is not met, and it cannot be met reliably
+by any model**: the full model itself, run on four other families of five start histories
+from the same ±2 % range, passes 2, 8, 9 and 8 of the 12 (README, Reduced model). The
+default reduced model (2 kHz, tip rotations kept) passes 5; its misses are strict xfails.
+
+The test that separates a model error from the scatter measures each median's offset from
+the pooled full-model median (the reference five and two control families, 15 runs) in
+their standard deviations, with the limit the full model's own control families stay within
+(``BIAS_LIMIT_SD``). The reduced model exceeds it three times, and these are model errors:
+the contact-1 maximum force of case 1 serious and case 2 light is 3 % high (+4.6, +2.9 SD)
+and case 2 light's sticking share 10 % low (-9.6 SD). They shrink with the cutoff (10 kHz:
++1.2, +0.4 and -2.4 SD).
+Measured 2026-11-24 with the pinned Haswell kernels.
+"""
 
 from __future__ import annotations
 
-import numpy as np
+import pandas as pd
 import pytest
+from scripts_loader import load_script
 
 from rubdiag.paper import ensemble
-from rubdiag.paper.table2 import CASES
+from rubdiag.paper.ensemble import GAP_RAMPS_S
 from rubdiag.reduce import Reduction
 
 pytestmark = pytest.mark.slow
 
-CELLS = [(c.case, c.gap_mm) for c in CASES]
-QUANTITIES = ("contact1_max_force_n", "casing_max_y_m", "contact1_sticking_share")
+script = load_script("reduced_ensemble")
+CONTROLS = (1, 2)
 #: (cell, quantity) -> the measured miss (reduced median; full min-max), 2026-11-24
-NOT_REPRODUCED = {
-    ("case1_light", "contact1_max_force_n"): "187.1 N; 181.2-182.5",
-    ("case1_light", "contact1_sticking_share"): "0.187; 0.245-0.258",
-    ("case1_serious", "contact1_max_force_n"): "195.6 N; 191.7-194.0",
-    ("case1_serious", "casing_max_y_m"): "63.3 um; 64.8-65.2",
-    ("case1_serious", "contact1_sticking_share"): "0.252; 0.318-0.336",
-    ("case2_light", "contact1_max_force_n"): "1003 N; 970-977",
-    ("case2_light", "casing_max_y_m"): "205.4 um; 205.4-207.4 (0.01 % below)",
-    ("case2_light", "contact1_sticking_share"): "0.185; 0.323-0.330",
-    ("case2_serious", "contact1_sticking_share"): "0.318; 0.428-0.444",
+OUTSIDE = {
+    ("case1_light", "contact1_max_force_n"): "186.3 N; 181.2-182.5",
+    ("case1_serious", "contact1_max_force_n"): "199.7 N; 191.7-194.0",
+    ("case1_serious", "casing_max_y_m"): "64.58 um; 64.75-65.16",
+    ("case2_light", "contact1_max_force_n"): "1002 N; 970-977",
+    ("case2_light", "casing_max_y_m"): "203.9 um; 205.4-207.4",
+    ("case2_light", "contact1_sticking_share"): "0.295; 0.323-0.330",
+    ("case2_serious", "contact1_sticking_share"): "0.419; 0.428-0.444",
 }
-
-
-def _params():
-    for c in CASES:
-        for quantity in QUANTITIES:
-            miss = NOT_REPRODUCED.get((c.stem, quantity))
-            marks = () if miss is None else pytest.mark.xfail(strict=True, reason=(
-                f"reduced at 2 kHz misses the full spread: {miss} (module docstring)"))
-            yield pytest.param((c.case, c.gap_mm), quantity, id=f"{c.stem}-{quantity}",
-                               marks=marks)
+#: (cell, quantity) -> the measured offset in pooled SDs, beyond BIAS_LIMIT_SD
+BIASED = {
+    ("case1_serious", "contact1_max_force_n"): "+4.6 SD (199.7 N, 3 % high)",
+    ("case2_light", "contact1_max_force_n"): "+2.9 SD (1002 N, 3 % high)",
+    ("case2_light", "contact1_sticking_share"): "-9.6 SD (0.295, 10 % low)",
+}
 
 
 @pytest.fixture(scope="module")
 def runs():
-    full = ensemble(CELLS, jobs=2)
-    reduced = ensemble(CELLS, jobs=2, reduction=Reduction())
-    return full, reduced
+    reference = ensemble(script.CELLS, GAP_RAMPS_S, jobs=2)
+    controls = [ensemble(script.CELLS, script.control_ramps(k), jobs=2) for k in CONTROLS]
+    reduced = ensemble(script.CELLS, GAP_RAMPS_S, jobs=2, reduction=Reduction())
+    return reference, controls, reduced
 
 
-@pytest.mark.parametrize(("cell", "quantity"), list(_params()))
-def test_reduced_median_lies_in_the_full_spread(runs, cell, quantity):
-    full, reduced = runs
-    pick = [(f[(f.case == cell[0]) & (f.gap_mm == cell[1])][quantity]) for f in (full, reduced)]
-    lo, hi = pick[0].min(), pick[0].max()
-    median = float(np.median(pick[1]))
-    assert lo <= median <= hi, f"{quantity}: reduced median {median:.4g}, full {lo:.4g}-{hi:.4g}"
+@pytest.fixture(scope="module")
+def reduced_checks(runs):
+    reference, controls, reduced = runs
+    return script.checks(reduced, reference, pd.concat([reference, *controls]))
+
+
+def _params(misses, what):
+    for cell in script.CELLS:
+        stem = script.STEMS[cell]
+        for quantity in script.QUANTITIES:
+            miss = misses.get((stem, quantity))
+            marks = () if miss is None else pytest.mark.xfail(strict=True, reason=(
+                f"reduced at 2 kHz: {what} {miss} (module docstring)"))
+            yield pytest.param(stem, quantity, id=f"{stem}-{quantity}", marks=marks)
+
+
+def _row(table, stem, quantity):
+    return table[(table.cell == stem) & (table.quantity == quantity)].iloc[0]
+
+
+@pytest.mark.parametrize(("stem", "quantity"), list(_params(OUTSIDE, "outside the spread:")))
+def test_reduced_median_lies_in_the_full_spread(reduced_checks, stem, quantity):
+    r = _row(reduced_checks, stem, quantity)
+    assert r.inside, f"{quantity}: reduced median {r['median']:.4g}, full {r.lo:.4g}-{r.hi:.4g}"
+
+
+@pytest.mark.parametrize(("stem", "quantity"), list(_params(BIASED, "offset")))
+def test_reduced_median_is_as_close_as_another_start(reduced_checks, stem, quantity):
+    r = _row(reduced_checks, stem, quantity)
+    assert abs(r.bias_sd) <= script.BIAS_LIMIT_SD, (
+        f"{quantity}: reduced median {r['median']:.4g} is {r.bias_sd:+.2f} SD from the full "
+        f"model's (limit {script.BIAS_LIMIT_SD})")
+
+
+def test_the_bias_limit_holds_for_the_full_model_itself(runs):
+    """The limit is not tighter than the start-history scatter: every control family of the
+    full model stays within it, though each fails some of the min-max checks."""
+    reference, controls, _ = runs
+    pooled = pd.concat([reference, *controls])
+    for k, control in zip(CONTROLS, controls, strict=True):
+        result = script.checks(control, reference, pooled)
+        assert result.bias_sd.abs().max() <= script.BIAS_LIMIT_SD, (k, result)
+        assert 0 < result.inside.sum() < len(result)
