@@ -53,6 +53,7 @@ from rubdiag.kernels.newmark import (
 )
 from rubdiag.kernels.sparse_lu import factorize
 from rubdiag.simulate.result import EpisodeLog, SimulationDiverged, StatusLog, SystemResult
+from rubdiag.simulate.speed_profile import SpeedProfile
 
 __all__ = [
     "Contacts",
@@ -528,15 +529,15 @@ def _initial_contact_state(contacts: Contacts, d0: np.ndarray, gap: np.ndarray):
     return p0, cf, ci, e_c0
 
 
-def _initial_acceleration(M, C, K, force: HarmonicForce, B, p0, q0, v0, a0) -> np.ndarray:
-    """``a0`` checked, or from equilibrium at t = 0: ``M a0 = f(0) + Bᵀp0 - C v0 - K q0``."""
+def _initial_acceleration(M, C, K, f0: np.ndarray, B, p0, q0, v0, a0) -> np.ndarray:
+    """``a0`` checked, or from equilibrium at t = 0: ``M a0 = f0 + Bᵀp0 - C v0 - K q0``."""
     n = M.shape[0]
     if a0 is None:
         try:
             lu_m = spla.splu(sp.csc_matrix(M))
         except RuntimeError as exc:
             raise ValueError(f"M is singular ({exc}): pass a0 explicitly") from exc
-        a0 = lu_m.solve(force.evaluate(0.0, n) + B.T @ p0 - C @ v0 - K @ q0)
+        a0 = lu_m.solve(f0 + B.T @ p0 - C @ v0 - K @ q0)
     a0 = np.asarray(a0, dtype=np.float64).reshape(-1)
     if a0.shape != (n,) or not np.all(np.isfinite(a0)):
         raise _bad("a0", "<array>", f"finite, shape ({n},)")
@@ -670,9 +671,69 @@ def _coupled(M: np.ndarray, K: np.ndarray) -> int:
     return n - tail
 
 
-def _kernel_force(force: HarmonicForce) -> Force:
+def _kernel_force(force: HarmonicForce, rot: np.ndarray) -> Force:
     return Force(np.ascontiguousarray(force.dofs), np.ascontiguousarray(force.amplitudes.real),
-                 np.ascontiguousarray(force.amplitudes.imag), np.ascontiguousarray(force.omega))
+                 np.ascontiguousarray(force.amplitudes.imag), np.ascontiguousarray(force.omega),
+                 rot)
+
+
+def _load(force: HarmonicForce, rot: np.ndarray, t: float, n: int) -> np.ndarray:
+    """The load vector f(t): harmonic, or rotating with the speed profile's knots ``rot``
+    (:data:`rubdiag.kernels.newmark.Force`)."""
+    if not rot.shape[0]:
+        return force.evaluate(t, n)
+    profile = SpeedProfile(tuple(rot[:, 0]), tuple(rot[:, 1]))
+    w, alpha = float(profile.speed(t)), float(profile.acceleration(t))
+    gain = (w * w - 1j * alpha) / rot[0, 1] ** 2 * np.exp(1j * float(profile.angle(t)))
+    f = np.zeros(n)
+    np.add.at(f, force.dofs, (force.amplitudes * gain).real)
+    return f
+
+
+def _checked_profile(profile, tolerance, G, force: HarmonicForce, n: int, duration: float):
+    """``(rot, stretches, G)`` of a speed profile (:func:`simulate_system`); for constant
+    speed ``(empty (0, 3), [], None)``."""
+    if profile is None:
+        return np.zeros((0, 3)), [], None
+    if not isinstance(profile, SpeedProfile):
+        raise _check.wrong_type("speed_profile", type(profile).__name__,
+                                "a SpeedProfile or None")
+    if G is None:
+        raise ValueError("speed_profile needs gyroscopic (the unit-speed G; use a zero "
+                         "matrix for a system without gyroscopic terms)")
+    G = _check_matrix("gyroscopic", G, n)
+    if len(force) and not np.allclose(force.omega, profile.start_rad_s, rtol=1e-12, atol=0):
+        raise ValueError(f"force.omega = {force.omega[0]:g} rad/s (allowed: the speed "
+                         f"profile's start speed, {profile.start_rad_s:g} rad/s)")
+    return profile.knots(), profile.stretches(duration, tolerance), G
+
+
+class _Schedule:
+    """The stretches of a speed profile in ticks, and the step operators of each: the kernel
+    runs stretch by stretch, with Ω_ref G in K_eff (:func:`simulate_system`)."""
+
+    def __init__(self, stretches, grid: _TimeGrid, operators):
+        tick_dt = grid.dt / 2**grid.top
+        self.ends = [min(grid.tick_total, round(t / tick_dt)) for t, _ in stretches]
+        self.ends[-1] = grid.tick_total
+        self.speeds = [w for _, w in stretches]
+        self.operators = operators
+        self.index = 0
+        self.used = 1
+
+    def tick_end(self) -> int:
+        return self.ends[self.index]
+
+    def advance(self, tick: int):
+        """The operators for the stretch holding ``tick`` (None: the current ones hold)."""
+        index = self.index
+        while index < len(self.ends) - 1 and tick >= self.ends[index]:
+            index += 1
+        if index == self.index:
+            return None
+        self.index = index
+        self.used += 1
+        return self.operators(self.speeds[index])
 
 
 def _contact_set(contacts: Contacts, g_start, omega: float, lev_req, aug_k) -> ContactSet:
@@ -810,6 +871,9 @@ def simulate_system(
     profile: bool = False,
     linear_solver: str = "sparse",
     recovery: np.ndarray | None = None,
+    gyroscopic=None,
+    speed_profile: SpeedProfile | None = None,
+    speed_tolerance: float = 0.005,
 ) -> SystemResult:
     """Integrate ``M q'' + C q' + K q = f(t) + contact forces`` from ``(q0, v0)`` at t = 0.
 
@@ -921,6 +985,19 @@ def simulate_system(
         displacements are ``recovery @ q``. ``record_dofs`` and ``sensor_dofs`` then index
         the physical DOFs, the kernel records the recovered values, and ``q_final``,
         ``v_final``, ``a_final`` are physical too.
+    gyroscopic : (n, n), optional
+        The unit-speed gyroscopic matrix G (N s/m per rad/s), with ``speed_profile``: the
+        damping is then ``C + Ω(t) G``, C without the gyroscopic part.
+    speed_profile : SpeedProfile, optional
+        A spin speed that changes in time (:mod:`rubdiag.simulate.speed_profile`). The load
+        rotates with the shaft angle φ(t) and includes the angular acceleration (``force``
+        holds its amplitudes at the profile's start speed, which its ``omega`` must equal).
+        Ω(t) G is held at a reference speed over stretches of the run in which Ω stays
+        within ``speed_tolerance`` of it (relative), and the step operators are
+        refactorised at each new stretch (``extra['speed_stretches']``); kind-2 elements'
+        surface speed follows the same reference. ``omega`` is then ignored.
+    speed_tolerance : float
+        See ``speed_profile``; in (0, 0.5].
 
     Returns
     -------
@@ -930,6 +1007,11 @@ def simulate_system(
     t_start = time.perf_counter()
     M, C, K, force, contacts, q0, v0 = _checked_system(M, C, K, force, contacts, q0, v0)
     n, nc = M.shape[0], contacts.n_c
+    rot, stretches, G = _checked_profile(speed_profile, speed_tolerance, gyroscopic, force, n,
+                                         duration)
+    if stretches:
+        omega = stretches[0][1]
+        C_base, C = C, (C + omega * G).tocsr()
     grid = _time_grid(duration, dt, dt_min, fixed_step, output_dt)
     dense = _check.choice("linear_solver", linear_solver, ("sparse", "dense")) == "dense"
     recovery, record_dofs, sensor_dofs = _checked_records(grid, n, record_dofs, sensor_dofs,
@@ -944,7 +1026,7 @@ def simulate_system(
     d0 = B @ q0
     p0, cf, ci, e_c0 = _initial_contact_state(contacts, d0,
                                               g_start if t_ramp > 0 else contacts.gap)
-    a0 = _initial_acceleration(M, C, K, force, B, p0, q0, v0, a0)
+    a0 = _initial_acceleration(M, C, K, _load(force, rot, 0.0, n), B, p0, q0, v0, a0)
     factors, s_mat, w_mat, lev_req, aug_k, lu, inv_t = _level_operators(
         M, C, K, B, contacts, grid.dt, grid.n_lev, settings.gamma, settings.beta,
         None if fixed_step else settings.contact_stiffness_ratio, settings.augment_boost, dense)
@@ -953,14 +1035,26 @@ def simulate_system(
     fpar, ipar = _parameters(grid, settings, t_ramp, fixed_step)
     linear = _linear(M, C, K, dense)
     ipar[layout.IP_COUPLED] = _coupled(linear.m_dense, linear.k_dense)
-    arrays = (linear, Factors(*lu, s_mat, w_mat, inv_t), _kernel_force(force),
+    arrays = (linear, Factors(*lu, s_mat, w_mat, inv_t), _kernel_force(force, rot),
               _contact_set(contacts, g_start, settings.omega, lev_req, aug_k), fpar, ipar,
               state, outputs)
     logs = _logs(nc, grid.n_lev, settings.episode_capacity)
     work = _work(n, nc, profile)
     t_setup = time.perf_counter() - t_start
 
-    code, logs, t_kernel = _integrate(arrays, logs, work, grid, progress)
+    schedule = None
+    if stretches:
+        def operators(omega_ref):    # the step operators with Ω_ref G, for the next stretch
+            C_ref = (C_base + omega_ref * G).tocsr()
+            ops = _level_operators(
+                M, C_ref, K, B, contacts, grid.dt, grid.n_lev, settings.gamma, settings.beta,
+                None if fixed_step else settings.contact_stiffness_ratio,
+                settings.augment_boost, dense)
+            return (_linear(M, C_ref, K, dense), Factors(*ops[5], ops[1], ops[2], ops[6]),
+                    _contact_set(contacts, g_start, omega_ref, ops[3], ops[4]))
+
+        schedule = _Schedule(stretches, grid, operators)
+    code, logs, t_kernel = _integrate(arrays, logs, work, grid, progress, schedule)
     result = _package(code, grid, state, outputs, logs)
     if recovery is not None:    # the final state in physical DOFs, like the records
         q, v, a = state.q, state.v, state.a
@@ -974,6 +1068,8 @@ def simulate_system(
         augment_pending=int(state.istate[layout.I_AUG_PENDING]),
         lu_nnz=[f.nnz for f in factors], lu_ordering=[f.ordering for f in factors],
     )
+    if schedule is not None:
+        result.extra["speed_stretches"] = schedule.used
     if result.status != 0 and raise_on_failure:
         raise SimulationDiverged(result.message, result)
     return result
@@ -982,9 +1078,11 @@ def simulate_system(
 # --------------------------------------------------------------------------------------------
 # running the kernel, and the result
 # --------------------------------------------------------------------------------------------
-def _integrate(arrays: tuple, logs: Logs, work: Work, grid: _TimeGrid, progress):
+def _integrate(arrays: tuple, logs: Logs, work: Work, grid: _TimeGrid, progress,
+               schedule: _Schedule | None = None):
     """Run the kernel to the end of the run (or a failure): in chunks of about 1 % of the
-    run when there is a ``progress`` to call, growing a log whenever one is full. Returns
+    run when there is a ``progress`` to call, growing a log whenever one is full, and with a
+    speed profile's ``schedule`` stretch by stretch (new step operators at each). Returns
     the kernel's status code, the logs and the kernel's wall time (s)."""
     linear, factors, force, contacts, fpar, ipar, state, outputs = arrays
     istate = state.istate
@@ -992,7 +1090,13 @@ def _integrate(arrays: tuple, logs: Logs, work: Work, grid: _TimeGrid, progress)
     chunk = max(np.int64(1), grid.tick_total // n_chunks)
     t_kernel = 0.0
     while True:
-        ipar[layout.IP_TICK_END] = min(grid.tick_total, istate[layout.I_TICK] + chunk)
+        end = min(grid.tick_total, istate[layout.I_TICK] + chunk)
+        if schedule is not None:
+            ops = schedule.advance(int(istate[layout.I_TICK]))
+            if ops is not None:
+                linear, factors, contacts = ops
+            end = min(end, schedule.tick_end())
+        ipar[layout.IP_TICK_END] = end
         tk = time.perf_counter()
         code = newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs,
                                logs, work)
