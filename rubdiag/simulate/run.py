@@ -13,12 +13,20 @@ import math
 import warnings
 from dataclasses import dataclass
 
+import numpy as np
+
 from rubdiag import _check
 from rubdiag.model.rig import BladeContact, Rig, Unbalance
 from rubdiag.reduce import Reduction
 from rubdiag.simulate.sensors import Sensor, check_sensors
+from rubdiag.simulate.speed_profile import SpeedProfile
 
-__all__ = ["GapRampInWindow", "Run", "critical_speed_for_case"]
+__all__ = ["SPEED_TOLERANCE", "GapRampInWindow", "Run", "critical_speed_for_case"]
+
+#: How far Ω(t) may move from the speed its gyroscopic term is held at before the step
+#: operators are refactorised (relative; ``tests/simulate/test_speed_profile.py`` measures
+#: the effect against refactorising at every step).
+SPEED_TOLERANCE = 0.005
 
 
 class GapRampInWindow(UserWarning):
@@ -27,7 +35,7 @@ class GapRampInWindow(UserWarning):
 
 @dataclass(frozen=True)
 class Run:
-    """One simulation of a rig at constant speed, SI units.
+    """One simulation of a rig at constant speed, or along a speed profile; SI units.
 
     Parameters
     ----------
@@ -35,7 +43,7 @@ class Run:
         The machine. Blade-casing contacts come from ``contact`` (or ``rig.contact``),
         shaft-stator rubs from ``rig.stator_contacts``.
     speed_rad_s : float
-        Spin speed Ω (rad/s).
+        Spin speed Ω (rad/s); with ``speed_profile``, its start speed.
     unbalance : Unbalance
         Per-disc unbalance magnitude (kg·m) and phase (rad); ``rig.unbalance(case)`` gives the
         study's patterns.
@@ -80,6 +88,13 @@ class Run:
         (``Reduction.for_features`` derives a cutoff for other speeds). The reduction is
         part of the run's identity: a reduced run and the full run of the same cell are
         different simulations, with different results, result files and run ids.
+    speed_profile : SpeedProfile, optional
+        A speed that changes in time — a run-up, a coast-down, a measured speed curve
+        (:class:`~rubdiag.simulate.speed_profile.SpeedProfile`); default None: constant
+        ``speed_rad_s``, which must then be the profile's start speed. The run starts from
+        the linear steady state at that speed; the unbalance follows the shaft angle
+        φ(t) = ∫ Ω dt with its angular-acceleration term, the gyroscopic term follows Ω(t)
+        (held within ``SPEED_TOLERANCE`` of it, relative).
     """
 
     rig: Rig
@@ -97,6 +112,7 @@ class Run:
     sensors: tuple[Sensor, ...] = ()
     label: str = ""
     reduction: Reduction | None = None
+    speed_profile: SpeedProfile | None = None
 
     def __post_init__(self):
         if not isinstance(self.rig, Rig):
@@ -105,6 +121,14 @@ class Run:
             raise _check.wrong_type("reduction", type(self.reduction).__name__,
                                     "a Reduction or None")
         _check.number("speed_rad_s", self.speed_rad_s, lo=0.0, hi=1e5, lo_open=True)
+        if self.speed_profile is not None:
+            if not isinstance(self.speed_profile, SpeedProfile):
+                raise _check.wrong_type("speed_profile", type(self.speed_profile).__name__,
+                                        "a SpeedProfile or None")
+            start = self.speed_profile.start_rad_s
+            if not math.isclose(self.speed_rad_s, start, rel_tol=1e-12):
+                raise ValueError(f"speed_rad_s = {self.speed_rad_s:g} (allowed: the speed "
+                                 f"profile's start speed, {start:g} rad/s)")
         if len(self.unbalance.magnitudes_kg_m) != len(self.rig.discs):
             raise ValueError(f"unbalance has {len(self.unbalance.magnitudes_kg_m)} entries "
                              f"(allowed: one per disc, {len(self.rig.discs)})")
@@ -161,7 +185,20 @@ class Run:
 
     @property
     def speed_rpm(self) -> float:
+        """The (start) speed in rpm."""
         return self.speed_rad_s * 30.0 / math.pi
+
+    def speed_at(self, t) -> np.ndarray:
+        """Ω (rad/s) at times ``t`` (s)."""
+        if self.speed_profile is None:
+            return np.full(np.shape(t), self.speed_rad_s)
+        return self.speed_profile.speed(t)
+
+    def angle_at(self, t) -> np.ndarray:
+        """The shaft angle φ(t) = ∫₀ᵗ Ω dt (rad) at times ``t`` (s)."""
+        if self.speed_profile is None:
+            return self.speed_rad_s * np.asarray(t, dtype=float)
+        return self.speed_profile.angle(t)
 
     @classmethod
     def paper_case(cls, case: int, gap_mm: float, speed_rpm: float | None = None,
@@ -173,7 +210,12 @@ class Run:
         case = _check.integer("case", case, lo=1, hi=2)
         rig = paper_rig() if rig is None else rig
         unbalance = rig.unbalance(case)
-        if speed_rpm is None:
+        profile = options.get("speed_profile")
+        if profile is not None:
+            if speed_rpm is not None:
+                raise ValueError("give speed_rpm or speed_profile, not both")
+            speed = profile.start_rad_s
+        elif speed_rpm is None:
             speed = critical_speed_for_case(rig, case)
         else:
             speed = _check.positive("speed_rpm", speed_rpm) * math.pi / 30.0

@@ -31,8 +31,9 @@ from rubdiag.model.rig import BladeContact, Unbalance
 from rubdiag.reduce import Reduction
 from rubdiag.simulate.result import EpisodeLog, SimulationDiverged, StatusLog, SystemResult
 from rubdiag.simulate.rig_system import rig_system
-from rubdiag.simulate.run import Run
+from rubdiag.simulate.run import SPEED_TOLERANCE, Run
 from rubdiag.simulate.sensors import Sensor, sensor_dofs, sensor_signals
+from rubdiag.simulate.speed_profile import SpeedProfile
 from rubdiag.simulate.system import simulate_system
 
 __all__ = ["SimulationResult", "load_result", "response_points", "simulate"]
@@ -88,13 +89,17 @@ def simulate(run: Run, progress: Callable[[float, float], None] | None = None,
     record = [_dof(model, p) for p in points]
     info = {"linear_approach_m": rs.approach, "model": rs.model, **rs.extra}
     try:
+        profile = run.speed_profile
+        varying = {} if profile is None else {
+            "gyroscopic": rs.G, "speed_profile": profile, "speed_tolerance": SPEED_TOLERANCE}
         system = simulate_system(
-            rs.M, rs.damping(speed), rs.K, rs.force, rs.contacts, rs.x0, rs.v0,
+            rs.M, rs.C if profile else rs.damping(speed), rs.K, rs.force, rs.contacts,
+            rs.x0, rs.v0,
             duration=run.duration_s, dt=run.dt_s, dt_min=run.dt_min_s,
             fixed_step=run.fixed_step, output_dt=run.output_dt_s, record_dofs=record,
             sensor_dofs=sensor_dofs(run), gap_ramp=gap_ramp, omega=speed,
             linear_solver=rs.linear_solver, recovery=rs.recovery,
-            progress=progress, raise_on_failure=True)
+            progress=progress, raise_on_failure=True, **varying)
     except SimulationDiverged as exc:
         exc.result.extra.update(info)
         partial = SimulationResult(run, points, exc.result, time.perf_counter() - start_time)
@@ -169,6 +174,18 @@ class SimulationResult:
         q = self.system.q[:, j]
         return q[self.window] if windowed else q
 
+    @property
+    def angle_rad(self) -> np.ndarray:
+        """The shaft angle φ (rad) at the samples ``t``: ∫ Ω dt from 0, exact."""
+        return self.run.angle_at(self.t)
+
+    @property
+    def tacho(self) -> np.ndarray:
+        """A once-per-revolution pulse channel at the samples ``t``, as a key-phasor gives
+        it: 1 over the first 5 % of each revolution (φ mod 2π < 0.1 π), else 0 — the input
+        of ``rubdiag.signal``'s tacho functions for simulated runs, as for measured ones."""
+        return (np.mod(self.angle_rad, 2 * np.pi) < 0.1 * np.pi).astype(float)
+
     def sensor_signals(self, windowed: bool = False) -> dict[str, np.ndarray]:
         """The run's sensors (``run.sensors``), anti-alias filtered and sampled at the
         output rate (:mod:`rubdiag.simulate.sensors`): name -> values at ``t`` (SI: m, m/s,
@@ -226,7 +243,8 @@ class SimulationResult:
 
     def to_frame(self):
         """Waveforms as a DataFrame indexed by time (s): one column per recorded point (m),
-        then ``fn_k``, ``ft_k`` (N) and ``status_k`` for contact element k = 1…"""
+        then ``fn_k``, ``ft_k`` (N) and ``status_k`` for contact element k = 1…; with a
+        speed profile also ``angle_rad`` and ``tacho``."""
         import pandas as pd
 
         cols = {p: self.system.q[:, j] for j, p in enumerate(self.points)}
@@ -234,6 +252,9 @@ class SimulationResult:
             cols[f"fn_{k + 1}"] = self.system.contact_fn[:, k]
             cols[f"ft_{k + 1}"] = self.system.contact_ft[:, k]
             cols[f"status_{k + 1}"] = self.system.contact_status[:, k]
+        if self.run.speed_profile is not None:    # the measured-signal path needs them
+            cols["angle_rad"] = self.angle_rad
+            cols["tacho"] = self.tacho
         return pd.DataFrame(cols, index=pd.Index(self.t, name="t_s"))
 
     # --- files ---------------------------------------------------------------------------
@@ -374,6 +395,11 @@ def run_to_dict(run: Run) -> dict:
                 out[f.name] = {"cutoff_hz": float(value.cutoff_hz),
                                "tip_rotations": bool(value.tip_rotations)}
             continue
+        if f.name == "speed_profile":    # written only when set, like the reduction
+            if value is not None:
+                out[f.name] = {"times_s": list(value.times_s),
+                               "speeds_rad_s": list(value.speeds_rad_s)}
+            continue
         if f.name == "rig":
             value = rig_to_dict(value)
         elif f.name == "sensors":
@@ -391,6 +417,8 @@ def run_from_dict(data: dict) -> Run:
     data = dict(data)
     if data.get("reduction") is not None:
         data["reduction"] = Reduction(**{"tip_rotations": False, **data["reduction"]})
+    if data.get("speed_profile") is not None:
+        data["speed_profile"] = SpeedProfile(**data["speed_profile"])
     data["sensors"] = tuple(Sensor(**s) for s in data.get("sensors", ()))
     data["rig"] = rig_from_dict(data["rig"])
     u = data["unbalance"]

@@ -702,7 +702,8 @@ def _checked_profile(profile, tolerance, G, force: HarmonicForce, n: int, durati
         raise ValueError("speed_profile needs gyroscopic (the unit-speed G; use a zero "
                          "matrix for a system without gyroscopic terms)")
     G = _check_matrix("gyroscopic", G, n)
-    if len(force) and not np.allclose(force.omega, profile.start_rad_s, rtol=1e-12, atol=0):
+    if force.dofs.size and not np.allclose(force.omega, profile.start_rad_s, rtol=1e-12,
+                                           atol=0):
         raise ValueError(f"force.omega = {force.omega[0]:g} rad/s (allowed: the speed "
                          f"profile's start speed, {profile.start_rad_s:g} rad/s)")
     return profile.knots(), profile.stretches(duration, tolerance), G
