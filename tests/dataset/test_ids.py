@@ -15,6 +15,7 @@ from rubdiag.dataset import ids as ids_module
 from rubdiag.model import Unbalance
 from rubdiag.reduce import Reduction
 from rubdiag.simulate import Run, Sensor
+from rubdiag.simulate.speed_profile import SpeedProfile
 
 DESIGN = """
 [base]
@@ -90,6 +91,7 @@ def _changes(run):
         "gap_ramp_s": 0.099,
         "sensors": (Sensor("shaft 4", "y"),),
         "reduction": Reduction(),
+        "speed_profile": SpeedProfile((0.0, 1.0), (run.speed_rad_s, 1.5 * run.speed_rad_s)),
     }
 
 
