@@ -5,6 +5,14 @@ Public API (all frequencies in Hz, speeds in rpm, amplitudes in the signal's uni
 * :func:`amplitude_spectrum` ``(x, fs, …) -> (f, amplitude)`` — peak-amplitude spectrum.
 * :func:`spectral_lines` ``(x, fs, …) -> (f, amplitude, phase_deg)`` — exact lines.
 * :func:`tacho_speed`, :func:`dominant_speed` — running speed in rpm.
+* :func:`tacho_angle`, :func:`tacho_rpm`, :func:`angle_from_rpm` — shaft angle (rad) and speed
+  (rpm) at every sample, for records at a variable speed.
+* :func:`resample_to_angle` ``(x, fs, angle, …) -> (revolutions, x_angle)`` — computed order
+  tracking: equal angle steps, anti-aliased in the angle domain.
+* :func:`order_spectrum` ``(x, fs, angle, …) -> (orders, amplitude)``, :func:`order_track`
+  (amplitude and phase of chosen orders against speed, a DataFrame), :func:`rpm_order_map`
+  ``-> (orders, rpm, amplitude)`` — order analysis at a variable speed.
+* :func:`waterfall` ``(x, fs, nperseg, …) -> (f, t, rpm, amplitude)`` — short-time spectra.
 * :func:`features` — one DataFrame row of features per channel (the table).
 * :func:`feature_names`, :func:`feature_matrix` — the columns; the batch path on a 2-D array.
 * :func:`combination_pairs` — all combination pairs of one signal.
@@ -24,6 +32,12 @@ from rubdiag.signal.combinations import CombinationPair, combination_pairs
 from rubdiag.signal.io import read_signals
 from rubdiag.signal.lines import spectral_lines
 from rubdiag.signal.orders import order_label
+from rubdiag.signal.ordertrack import (
+    order_spectrum,
+    order_track,
+    resample_to_angle,
+    rpm_order_map,
+)
 from rubdiag.signal.spectrum import amplitude_spectrum
 from rubdiag.signal.speed import dominant_speed, tacho_speed
 from rubdiag.signal.table import (
@@ -33,21 +47,31 @@ from rubdiag.signal.table import (
     features,
     prefixed_features,
 )
+from rubdiag.signal.tacho import angle_from_rpm, tacho_angle, tacho_rpm
 from rubdiag.signal.transformer import RubFeatures
+from rubdiag.signal.waterfall import waterfall
 
 __all__ = [
     "FEATURE_NAMES",
     "CombinationPair",
     "RubFeatures",
     "amplitude_spectrum",
+    "angle_from_rpm",
     "combination_pairs",
     "dominant_speed",
     "feature_matrix",
     "feature_names",
     "features",
     "order_label",
+    "order_spectrum",
+    "order_track",
     "prefixed_features",
     "read_signals",
+    "resample_to_angle",
+    "rpm_order_map",
     "spectral_lines",
+    "tacho_angle",
+    "tacho_rpm",
     "tacho_speed",
+    "waterfall",
 ]
