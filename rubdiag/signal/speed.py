@@ -16,6 +16,7 @@ import numpy as np
 from rubdiag.signal.lines import REL_FLOOR
 from rubdiag.signal.records import RecordTooShort, check_fs, check_signals
 from rubdiag.signal.spectrum import _Spectra, _spectra
+from rubdiag.signal.tacho import _pulse_times
 
 #: Least confidence (line amplitude over the local noise floor) of a guessed speed: 10,
 #: i.e. 20 dB, twice what the strongest of a million noise bins reaches.
@@ -42,20 +43,8 @@ def tacho_speed(pulses, fs: float) -> float:
     float
         Speed in rpm.
     """
-    fs = check_fs(fs)
-    x, _ = check_signals(pulses, "tacho signal")
-    if x.shape[0] != 1:
-        raise ValueError("the tacho signal must be 1-D")
-    x = x[0]
-    level = 0.5 * (x.min() + x.max())
-    above = x > level
-    i = np.flatnonzero(~above[:-1] & above[1:])  # crossing between samples i and i + 1
-    if i.size < 3:
-        raise ValueError(
-            f"the tacho signal has {i.size} pulses; at least 3 are needed to measure a speed"
-        )
-    t = (i + (level - x[i]) / (x[i + 1] - x[i])) / fs
-    return 60.0 * (i.size - 1) / (t[-1] - t[0])
+    t, _ = _pulse_times(pulses, check_fs(fs))
+    return 60.0 * (t.size - 1) / (t[-1] - t[0])
 
 
 def dominant_speed(x, fs: float, window="hann", nperseg: int | None = None, detrend="constant"):

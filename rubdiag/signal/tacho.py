@@ -155,8 +155,8 @@ def _pulse_times(pulses, fs: float) -> tuple[np.ndarray, int]:
     """Times (s) of the rising crossings of the mid level of a pulse train.
 
     The level is halfway between the signal's minimum and maximum; each crossing is located
-    to a fraction of a sample by linear interpolation between the samples around it (as in
-    :func:`rubdiag.signal.tacho_speed`). Returns the crossing times in s (``t = 0`` at the
+    to a fraction of a sample by linear interpolation between the samples around it (also
+    :func:`rubdiag.signal.tacho_speed`'s pulses). Returns the crossing times in s (``t = 0`` at the
     first sample; at least :data:`MIN_PULSES` of them) and the number of samples.
     """
     x, _ = check_signals(pulses, "pulses")

@@ -677,14 +677,13 @@ def _kernel_force(force: HarmonicForce, rot: np.ndarray) -> Force:
                  rot)
 
 
-def _load(force: HarmonicForce, rot: np.ndarray, t: float, n: int) -> np.ndarray:
-    """The load vector f(t): harmonic, or rotating with the speed profile's knots ``rot``
+def _load(force: HarmonicForce, profile: SpeedProfile | None, t: float, n: int) -> np.ndarray:
+    """The load vector f(t): harmonic, or rotating with the speed ``profile``
     (:data:`rubdiag.kernels.newmark.Force`)."""
-    if not rot.shape[0]:
+    if profile is None:
         return force.evaluate(t, n)
-    profile = SpeedProfile(tuple(rot[:, 0]), tuple(rot[:, 1]))
     w, alpha = float(profile.speed(t)), float(profile.acceleration(t))
-    gain = (w * w - 1j * alpha) / rot[0, 1] ** 2 * np.exp(1j * float(profile.angle(t)))
+    gain = (w * w - 1j * alpha) / profile.start_rad_s**2 * np.exp(1j * float(profile.angle(t)))
     f = np.zeros(n)
     np.add.at(f, force.dofs, (force.amplitudes * gain).real)
     return f
@@ -1027,7 +1026,8 @@ def simulate_system(
     d0 = B @ q0
     p0, cf, ci, e_c0 = _initial_contact_state(contacts, d0,
                                               g_start if t_ramp > 0 else contacts.gap)
-    a0 = _initial_acceleration(M, C, K, _load(force, rot, 0.0, n), B, p0, q0, v0, a0)
+    a0 = _initial_acceleration(M, C, K, _load(force, speed_profile, 0.0, n), B, p0, q0, v0,
+                               a0)
     factors, s_mat, w_mat, lev_req, aug_k, lu, inv_t = _level_operators(
         M, C, K, B, contacts, grid.dt, grid.n_lev, settings.gamma, settings.beta,
         None if fixed_step else settings.contact_stiffness_ratio, settings.augment_boost, dense)
