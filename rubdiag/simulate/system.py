@@ -689,9 +689,10 @@ def _load(force: HarmonicForce, profile: SpeedProfile | None, t: float, n: int) 
     return f
 
 
-def _checked_profile(profile, tolerance, G, force: HarmonicForce, n: int, duration: float):
+def _checked_profile(profile, tolerance, G, force: HarmonicForce, n: int, grid: _TimeGrid):
     """``(rot, stretches, G)`` of a speed profile (:func:`simulate_system`); for constant
-    speed ``(empty (0, 3), [], None)``."""
+    speed ``(empty (0, 3), [], None)``. ``tolerance`` 0 gives one stretch per largest step,
+    each at Ω at its end (the reference the stretches are tested against)."""
     if profile is None:
         return np.zeros((0, 3)), [], None
     if not isinstance(profile, SpeedProfile):
@@ -705,7 +706,11 @@ def _checked_profile(profile, tolerance, G, force: HarmonicForce, n: int, durati
                                            atol=0):
         raise ValueError(f"force.omega = {force.omega[0]:g} rad/s (allowed: the speed "
                          f"profile's start speed, {profile.start_rad_s:g} rad/s)")
-    return profile.knots(), profile.stretches(duration, tolerance), G
+    if tolerance == 0:
+        ends = grid.dt * np.arange(1, grid.n_big + 1)
+        return profile.knots(), list(zip(ends.tolist(), profile.speed(ends).tolist(),
+                                         strict=True)), G
+    return profile.knots(), profile.stretches(grid.n_big * grid.dt, tolerance), G
 
 
 class _Schedule:
@@ -997,7 +1002,8 @@ def simulate_system(
         refactorised at each new stretch (``extra['speed_stretches']``); kind-2 elements'
         surface speed follows the same reference. ``omega`` is then ignored.
     speed_tolerance : float
-        See ``speed_profile``; in (0, 0.5].
+        See ``speed_profile``; in (0, 0.5], or 0: refactorise at every largest step, with
+        Ω at its end (slow; the reference of the stretches' accuracy test).
 
     Returns
     -------
@@ -1007,12 +1013,12 @@ def simulate_system(
     t_start = time.perf_counter()
     M, C, K, force, contacts, q0, v0 = _checked_system(M, C, K, force, contacts, q0, v0)
     n, nc = M.shape[0], contacts.n_c
+    grid = _time_grid(duration, dt, dt_min, fixed_step, output_dt)
     rot, stretches, G = _checked_profile(speed_profile, speed_tolerance, gyroscopic, force, n,
-                                         duration)
+                                         grid)
     if stretches:
         omega = stretches[0][1]
         C_base, C = C, (C + omega * G).tocsr()
-    grid = _time_grid(duration, dt, dt_min, fixed_step, output_dt)
     dense = _check.choice("linear_solver", linear_solver, ("sparse", "dense")) == "dense"
     recovery, record_dofs, sensor_dofs = _checked_records(grid, n, record_dofs, sensor_dofs,
                                                           recovery)
