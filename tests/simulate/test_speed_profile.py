@@ -129,3 +129,89 @@ def test_the_tacho_channel_marks_every_revolution(slow_runup):
     assert len(rising) == revolutions           # one pulse per revolution, none lost
     np.testing.assert_allclose(np.mod(r.angle_rad[rising], 2 * np.pi), 0.0,
                                atol=2 * np.pi * r.run.speed_at(r.t[-1]) / 2 / np.pi / r.fs)
+
+
+# --- passage through resonance at faster rates ------------------------------------------------
+def _single_mode(model, unbalance, dof, critical_rad_s):
+    """The first forward mode as seen at ``dof``: ω, ζ and a complex gain g fitted to the
+    linear steady-state unbalance response A(Ω) = g Ω² / (ω² - Ω² + 2iζωΩ) within ±10 % of
+    the critical speed (fitted to the steady state only, never to a transient)."""
+    from scipy.optimize import least_squares
+
+    from rubdiag.modal import harmonic_response
+
+    speeds = np.linspace(0.9, 1.1, 41) * critical_rad_s
+    A = np.array([harmonic_response(model, s, unbalance).amplitudes[dof] for s in speeds])
+
+    def single(p, s):
+        w, zeta, g_re, g_im = p
+        return (g_re + 1j * g_im) * s**2 / (w * w - s * s + 2j * zeta * w * s)
+
+    def residual(p):
+        d = (single(p, speeds) - A) / np.abs(A).max()
+        return np.concatenate([d.real, d.imag])
+
+    g0 = A[20] * 2j * 0.02                     # the peak of a mode with ζ ≈ 0.02
+    fit = least_squares(residual, [critical_rad_s, 0.02, g0.real, g0.imag])
+    assert np.abs(fit.fun).max() < 1e-2        # one mode describes the rig there
+    w, zeta, g_re, g_im = fit.x
+    return w, zeta, g_re + 1j * g_im
+
+
+def _passage(mode, profile, t):
+    """The single mode's whirl w(t) (complex, w = y + iz) along ``profile``:
+    w'' + 2ζω w' + ω² w = g (Ω² - iΩ') e^{iφ}, from its steady state at the start speed."""
+    from scipy.integrate import solve_ivp
+
+    w, zeta, g = mode
+
+    def rhs(time, y):
+        q, v = y[0] + 1j * y[1], y[2] + 1j * y[3]
+        speed, accel = float(profile.speed(time)), float(profile.acceleration(time))
+        a = g * (speed**2 - 1j * accel) * np.exp(1j * float(profile.angle(time)))
+        a -= 2 * zeta * w * v + w * w * q
+        return [v.real, v.imag, a.real, a.imag]
+
+    s0 = profile.start_rad_s
+    q0 = g * s0**2 / (w * w - s0 * s0 + 2j * zeta * w * s0)
+    v0 = 1j * s0 * q0
+    sol = solve_ivp(rhs, (0.0, t[-1]), [q0.real, q0.imag, v0.real, v0.imag], t_eval=t,
+                    rtol=1e-9, atol=1e-14, max_step=1e-3)
+    return sol.y[0] + 1j * sol.y[1]
+
+
+def _peak(t, whirl, profile):
+    k = int(np.argmax(np.abs(whirl)))
+    return float(np.abs(whirl[k])), float(profile.speed(t[k])) / RPM
+
+
+def test_a_faster_passage_peaks_later_and_lower_as_a_single_mode_does():
+    """Issue 14: at two faster rates (300 and 1000 rpm/s) the peak of the whirl radius at
+    mid-span moves above the critical speed and drops as the rate grows, as the classical
+    transient passage of the fitted single mode does. Measured: +70 / +158 rpm and -5.4 /
+    -17.5 % for the rig, within 2 rpm and 0.05 % of the single mode."""
+    from rubdiag.assembly import assemble
+    from rubdiag.modal import with_rayleigh
+    from rubdiag.reduce import Reduction
+
+    rig = Run.paper_case(1, 50.0).rig
+    model = with_rayleigh(assemble(rig))
+    critical = 1500 * RPM
+    mode = _single_mode(model, rig.unbalance(1), model.dofs.index(11, "y"), critical)
+    steady_peak = abs(mode[2]) / (2 * mode[1] * np.sqrt(1 - mode[1] ** 2))
+    peaks = []
+    for rate in (300, 1000):
+        profile = SpeedProfile.ramp(1000, 2000, rate)
+        run = Run.paper_case(1, 50.0, speed_profile=profile, duration_s=profile.end_s,
+                             discard_s=0.0, gap_ramp_s=0.0, reduction=Reduction())
+        r = simulate(run)
+        rig_peak = _peak(r.t, r.displacement("shaft 11 y") + 1j * r.displacement("shaft 11 z"),
+                         profile)
+        mode_peak = _peak(r.t, _passage(mode, profile, r.t), profile)
+        assert rig_peak[0] == pytest.approx(mode_peak[0], rel=0.01)
+        assert rig_peak[1] == pytest.approx(mode_peak[1], abs=0.005 * 1500)
+        peaks.append(rig_peak)
+    (amp_slow, rpm_slow), (amp_fast, rpm_fast) = peaks
+    assert mode[0] / RPM < rpm_slow < rpm_fast           # later, and later still
+    assert amp_fast < amp_slow < steady_peak             # lower, and lower still
+    assert rpm_fast - rpm_slow > 50 and amp_slow - amp_fast > 0.05 * steady_peak
