@@ -5,12 +5,16 @@
 * :func:`run_features` — one row per simulated run: parameters, spectral features of the
   shaft, blade tip and casing, contact statistics.
 * :func:`contact_statistics` — contact statistics of one run, from its event logs.
+* :func:`ramp_run`, :func:`runup_orders`, :func:`linear_response`, :func:`runup_summary` —
+  run-ups and coast-downs (:mod:`rubdiag.runs.runup`).
 """
 
 from __future__ import annotations
 
 from rubdiag.runs.contact_stats import CONTACT_STAT_NAMES, contact_statistics
 from rubdiag.runs.features import features, is_result, run_features, run_points, run_signals
+from rubdiag.runs.runup import linear_response, ramp_run, runup_orders, runup_summary
 
-__all__ = ["CONTACT_STAT_NAMES", "contact_statistics", "features", "is_result", "run_features",
-           "run_points", "run_signals"]
+__all__ = ["CONTACT_STAT_NAMES", "contact_statistics", "features", "is_result",
+           "linear_response", "ramp_run", "run_features", "run_points", "run_signals",
+           "runup_orders", "runup_summary"]

