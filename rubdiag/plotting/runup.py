@@ -5,7 +5,8 @@ The inputs are the order analyses of :mod:`rubdiag.signal` — plain arrays and
 Tracks are given as a dict label -> DataFrame (``{"run-up": up, "coast-down": down}``) and
 overlaid in the colours ``COLOURS``; each sweep's markers point the way its speed went (``>``
 rising, ``<`` falling). Lines that tests and readers look up carry a ``gid``: ``"order 1x"``,
-``"critical"``, ``"linear"``, ``"track <label>"``, ``"peak <label>"``.
+``"critical"``, ``"linear"``, ``"track <label>"``, ``"peak <label>"``,
+``"contact <label>"``.
 
 Phase convention, as :func:`~rubdiag.signal.order_track` and
 :func:`rubdiag.modal.harmonic_response`: order k is ``A cos(k φ + θ)``, φ the shaft angle
@@ -17,7 +18,8 @@ in this convention within 1.1° off the critical, from the exact angle and from 
 Where to look: the critical speed is the 1× peak of the linear response with its phase at
 -90° (Bode, polar plot); a rub shows where the measured 1× leaves the linear response
 (clipped near the clearance, run-up and coast-down apart) and where the rub orders — 0.5×,
-2×, 3× … — rise from their floor (order map, :func:`rub_orders_figure`).
+2×, 3× … — rise from their floor (order map, :func:`rub_orders_figure`); for simulated runs
+the contact bars (``contact_rpm``) give the speeds of the first and last contact.
 """
 
 from __future__ import annotations
@@ -43,9 +45,8 @@ from matplotlib.ticker import (
 from rubdiag.plotting.run import DPI, PNG_OPTIONS
 from rubdiag.signal.orders import order_label
 
-__all__ = ["COLOURS", "ORDERS", "RUB_ORDERS", "bode_figure", "linear_response",
-           "order_map_figure", "polar_figure", "rub_orders_figure", "runup_figures",
-           "save_runup_figures", "waterfall_figure"]
+__all__ = ["COLOURS", "ORDERS", "RUB_ORDERS", "bode_figure", "order_map_figure", "polar_figure",
+           "rub_orders_figure", "runup_figures", "save_runup_figures", "waterfall_figure"]
 
 COLOURS = ("#2471a3", "#c0392b", "#229954", "#7d3c98", "#d68910")
 ORDERS = (0.5, 1, 1.5, 2, 3, 4)     # order lines of the colour maps
@@ -118,6 +119,24 @@ def _mark_critical(axes, critical_rpm) -> None:
         for ax in axes:
             label = "critical speed" if j == 0 and ax is axes[0] else None
             ax.axvline(c, gid="critical", label=label, **_CRITICAL)
+
+
+def _contact_bars(ax, tracks: dict, contact_rpm) -> None:
+    """A bar per track from its first to its last contact speed along the bottom of
+    ``ax``, in the track's colour, labelled with both speeds."""
+    inch = 1.0 / (ax.get_position().height * ax.figure.get_figheight())   # axes fraction
+    for i, name in enumerate(tracks):
+        first, last = (contact_rpm or {}).get(name, (np.nan, np.nan))
+        if not (np.isfinite(first) and np.isfinite(last)):
+            continue
+        y = (0.1 + 0.27 * i) * inch
+        colour = COLOURS[i % len(COLOURS)]
+        ax.plot([first, last], [y, y], transform=ax.get_xaxis_transform(), color=colour,
+                lw=5, alpha=0.45, solid_capstyle="butt", gid=f"contact {name}")
+        ax.text(0.5 * (first + last), y + 0.05 * inch,
+                f"{name}: contact {first:.0f} → {last:.0f} rpm",
+                transform=ax.get_xaxis_transform(), ha="center", va="bottom",
+                fontsize="small", color=colour)
 
 
 # --- colour maps -------------------------------------------------------------------------
@@ -263,8 +282,9 @@ def _amount(value: float) -> str:
     return f"{value:.0f}" if abs(value) >= 100 else f"{value:.3g}"
 
 
-def bode_figure(tracks: dict, linear=None, critical_rpm=None, order: float = 1,
-                unit: str = "µm", scale: float = 1e6, title: str | None = None):
+def bode_figure(tracks: dict, linear=None, critical_rpm=None, contact_rpm=None,
+                order: float = 1, unit: str = "µm", scale: float = 1e6,
+                title: str | None = None):
     """Amplitude and phase of one order against speed, tracks overlaid (Bode plot).
 
     Parameters
@@ -275,10 +295,15 @@ def bode_figure(tracks: dict, linear=None, critical_rpm=None, order: float = 1,
         own above the curves.
     linear : tuple (rpm, z), optional
         Speeds (rpm) and complex amplitudes ``z`` (unit of the tracks, same phase
-        convention: module docstring) of the linear response, drawn dashed;
-        :func:`linear_response` computes it for a simulated run.
+        convention: module docstring) of the linear response, drawn dashed; for a
+        simulated run ``(rpm, rubdiag.runs.runup.linear_response(run, point, rpm))``.
     critical_rpm : float or sequence of float, optional
         Critical speed(s), thin vertical lines on both panels.
+    contact_rpm : dict, optional
+        Label -> ``(first_rpm, last_rpm)``, the speeds where a track's contact began and
+        ended (simulated runs: ``first_contact_rpm``, ``last_contact_rpm`` of
+        :func:`rubdiag.runs.runup.runup_summary`); drawn as a bar in the track's colour
+        along the bottom of the amplitude panel, labelled with both speeds. NaN: none.
     order : float
         The order shown (1: the unbalance response).
     unit, scale
@@ -329,6 +354,7 @@ def bode_figure(tracks: dict, linear=None, critical_rpm=None, order: float = 1,
                       arrowprops=dict(arrowstyle="-", ls=":", color=colour, lw=0.9,
                                       shrinkA=2, shrinkB=6))
     _mark_critical((ax_a, ax_p), critical_rpm)
+    _contact_bars(ax_a, tracks, contact_rpm)
     for c in _criticals(critical_rpm):
         ax_p.text(c, 0.96, f" critical {c:.0f} rpm", transform=ax_p.get_xaxis_transform(),
                   ha="left", va="top", fontsize="small", color="0.3")
@@ -414,8 +440,8 @@ def polar_figure(tracks: dict, linear=None, critical_rpm=None, order: float = 1,
     return fig
 
 
-def rub_orders_figure(tracks: dict, orders=RUB_ORDERS, critical_rpm=None, unit: str = "µm",
-                      scale: float = 1e6, title: str = "Rub orders"):
+def rub_orders_figure(tracks: dict, orders=RUB_ORDERS, critical_rpm=None, contact_rpm=None,
+                      unit: str = "µm", scale: float = 1e6, title: str = "Rub orders"):
     """Amplitudes of the orders a rub excites against speed, one panel per order, tracks
     overlaid: a rub begins where they rise from their floor.
 
@@ -425,8 +451,8 @@ def rub_orders_figure(tracks: dict, orders=RUB_ORDERS, critical_rpm=None, unit: 
         Label -> :func:`~rubdiag.signal.order_track` DataFrame holding every order.
     orders : sequence of float
         One panel each, top to bottom; log amplitude axes shared by all panels.
-    critical_rpm, unit, scale, title
-        As for :func:`bode_figure`.
+    critical_rpm, contact_rpm, unit, scale, title
+        As for :func:`bode_figure` (the contact bars along the top panel).
 
     Returns
     -------
@@ -446,6 +472,7 @@ def rub_orders_figure(tracks: dict, orders=RUB_ORDERS, critical_rpm=None, unit: 
         ax.grid(alpha=0.3)
         _log_labels(ax.yaxis)
     _mark_critical(axes, critical_rpm)
+    _contact_bars(axes[0], tracks, contact_rpm)
     axes[-1].set_xlabel("speed (rpm)")
     _ticks(axes[-1], 8, None)
     axes[0].set_title(title, pad=26)
@@ -456,46 +483,18 @@ def rub_orders_figure(tracks: dict, orders=RUB_ORDERS, critical_rpm=None, unit: 
 
 # --- a run's figures ---------------------------------------------------------------------
 
-def linear_response(run, rpm, point: str = "shaft 11 y") -> tuple[np.ndarray, np.ndarray]:
-    """The linear unbalance response of a simulated run's rig, the ``linear`` of
-    :func:`bode_figure`.
-
-    Parameters
-    ----------
-    run : rubdiag.simulate.Run
-        Its rig and unbalance are used (not its gap: the linear rig has no contact).
-    rpm : array_like
-        Speeds in rpm.
-    point : str
-        A recorded point, ``"<node> <direction>"`` (``"shaft 11 y"``).
-
-    Returns
-    -------
-    rpm : ndarray
-    z : ndarray of complex
-        Complex amplitude (m) at each speed, ``x = Re(z e^{iφ})``.
-    """
-    from rubdiag.assembly import assemble
-    from rubdiag.modal import unbalance_response, with_rayleigh
-
-    node, direction = point.rsplit(" ", 1)
-    rpm = np.asarray(rpm, dtype=float)
-    response = unbalance_response(with_rayleigh(assemble(run.rig)), rpm * np.pi / 30.0,
-                                  run.unbalance, points=((node, direction),))
-    return rpm, response.amplitudes[:, 0]
-
-
 def _slug(label: str) -> str:
     return re.sub(r"[^0-9a-zA-Z]+", "_", label).strip("_").lower()
 
 
-def runup_figures(tracks: dict, *, linear=None, critical_rpm=None, waterfalls=None,
-                  order_maps=None, unit: str = "µm", scale: float = 1e6) -> dict:
+def runup_figures(tracks: dict, *, linear=None, critical_rpm=None, contact_rpm=None,
+                  waterfalls=None, order_maps=None, unit: str = "µm",
+                  scale: float = 1e6) -> dict:
     """All figures of a set of sweeps, name -> Figure.
 
     Parameters
     ----------
-    tracks, linear, critical_rpm, unit, scale
+    tracks, linear, critical_rpm, contact_rpm, unit, scale
         As for :func:`bode_figure`. ``"bode"`` and ``"polar"`` show 1×; ``"rub_orders"``
         the ``RUB_ORDERS`` that every track holds (none: no such figure).
     waterfalls : dict, optional
@@ -506,12 +505,13 @@ def runup_figures(tracks: dict, *, linear=None, critical_rpm=None, waterfalls=No
         ``"order_map_<label>"`` each.
     """
     common = dict(critical_rpm=critical_rpm, unit=unit, scale=scale)
-    figures = {"bode": bode_figure(tracks, linear, **common),
+    figures = {"bode": bode_figure(tracks, linear, contact_rpm=contact_rpm, **common),
                "polar": polar_figure(tracks, linear, **common)}
     rub = [k for k in RUB_ORDERS
            if all(f"amp_{order_label(k)}" in df for df in tracks.values())]
     if rub:
-        figures["rub_orders"] = rub_orders_figure(tracks, rub, **common)
+        figures["rub_orders"] = rub_orders_figure(tracks, rub, contact_rpm=contact_rpm,
+                                                  **common)
     for name, (f_hz, rpm, amp) in (waterfalls or {}).items():
         figures[f"waterfall_{_slug(name)}"] = waterfall_figure(
             f_hz, rpm, amp, title=f"Waterfall, {name}", **common)

@@ -10,14 +10,11 @@ import pandas as pd
 import pytest
 from matplotlib.image import imread
 
-from rubdiag.assembly import assemble
-from rubdiag.modal import harmonic_response
 from rubdiag.plotting.run import DPI
 from rubdiag.plotting.runup import (
     ORDERS,
     RUB_ORDERS,
     bode_figure,
-    linear_response,
     order_map_figure,
     polar_figure,
     rub_orders_figure,
@@ -25,7 +22,6 @@ from rubdiag.plotting.runup import (
     waterfall_figure,
 )
 from rubdiag.signal import order_label, order_track
-from rubdiag.simulate import Run
 
 CRITICAL = 1500.0
 LAG = np.exp(-1j * np.radians(60.0))    # extra lag: the phase passes -180° and wraps
@@ -139,6 +135,23 @@ class TestBode:
             np.testing.assert_array_equal(line.get_xdata(), [CRITICAL, CRITICAL])
         assert "critical speed" in [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
 
+    def test_contact_spans_are_bars_from_first_to_last_contact(self, sweeps):
+        contact = {"run-up": (1362.0, 1988.0), "coast-down": (1706.0, 1348.0)}
+        fig = bode_figure(sweeps, contact_rpm=contact)
+        ax = fig.axes[0]
+        heights = []
+        for name, span in contact.items():
+            (bar,) = _gid(ax, f"contact {name}")
+            np.testing.assert_array_equal(bar.get_xdata(), span)
+            heights.append(bar.get_ydata()[0])
+            assert f"{name}: contact {span[0]:.0f} → {span[1]:.0f} rpm" in [
+                t.get_text() for t in ax.texts]
+        assert heights[1] > heights[0]              # one row each
+        # a track without contact (NaN) gets no bar
+        fig = bode_figure(sweeps, contact_rpm={"run-up": (np.nan, np.nan)})
+        gids = [line.get_gid() or "" for line in fig.axes[0].lines]
+        assert not [gid for gid in gids if gid.startswith("contact")]
+
     def test_a_missing_order_is_named(self, sweeps):
         with pytest.raises(ValueError, match=r"'run-up' has no column amp_4x, phase_4x_deg"):
             bode_figure(sweeps, order=4)
@@ -251,22 +264,11 @@ def test_save_writes_every_figure(tmp_path, sweeps, linear):
     rpm = np.linspace(1000.0, 2000.0, 12)
     maps = {"run-up": (f, rpm, np.ones((f.size, rpm.size)) * 1e-6)}
     paths = save_runup_figures(tmp_path, sweeps, stem="case1", linear=linear,
-                               critical_rpm=CRITICAL, waterfalls=maps, order_maps=maps)
+                               critical_rpm=CRITICAL, contact_rpm={"run-up": (1400, 1600)},
+                               waterfalls=maps, order_maps=maps)
     names = [p.name for p in paths]
     assert names == ["case1_bode.png", "case1_polar.png", "case1_rub_orders.png",
                      "case1_waterfall_run_up.png", "case1_order_map_run_up.png"]
     height, width = imread(paths[0]).shape[:2]
     assert (width, height) == (round(8.5 * DPI), round(7.0 * DPI))
     assert not plt.get_fignums()                # saved figures are closed
-
-
-def test_linear_response_is_the_rigs_unbalance_response():
-    """At the rig's first critical speed (1500 rpm, case 1) the 1× of shaft 11 y peaks and
-    lags the unbalance by 90°: the convention of x = Re(z e^{iφ})."""
-    run = Run.paper_case(1, 50.0, speed_rpm=1000)
-    rpm, z = linear_response(run, np.arange(1400.0, 1601.0, 2.0))
-    j = int(np.argmax(np.abs(z)))
-    assert rpm[j] == pytest.approx(1500.0, abs=10.0)
-    assert np.angle(z[j], deg=True) == pytest.approx(-90.0, abs=5.0)
-    direct = harmonic_response(assemble(run.rig), 1450 * np.pi / 30, run.unbalance)
-    assert z[rpm == 1450.0][0] == pytest.approx(direct.amplitude(11, "y"), rel=1e-12)
