@@ -27,7 +27,10 @@ def register(subparsers) -> None:
             "around n x and the strongest combination pair fa + fb = m x. Absent lines have "
             "amplitude 0 and NaN frequency; features above Nyquist are NaN. Prints a "
             "summary in words per channel (per run for a simulation result), then every "
-            "feature; --csv and --json write the features only."
+            "feature; --csv and --json write the features only. With --revs-per-bin N: "
+            "features across speed, one row per bin of N revolutions in the angle domain "
+            "(from --tacho or --angle) with its mean rpm; frequencies then in orders, phases "
+            "against the shaft angle."
         ),
     )
     p.add_argument("input", metavar="INPUT", help=_INPUT_HELP)
@@ -49,13 +52,18 @@ def register(subparsers) -> None:
         description=(
             "Plot both amplitude spectra over orders of the running speed (log scale) with the "
             "detected features marked, and print the features of A and B and their "
-            "difference B - A (amplitudes in the signals' unit, frequencies in Hz)."
+            "difference B - A (amplitudes in the signals' unit, frequencies in Hz). With "
+            "--revs-per-bin N: compare across speed: the main order amplitudes of A's bins "
+            "and B - A at the same speeds (B interpolated in rpm), over the speeds both "
+            "cover; --out plots them against rpm."
         ),
     )
     p.add_argument("a", metavar="A", help="reference signal file (" + _INPUT_HELP + ")")
     p.add_argument("b", metavar="B", help="signal file compared with A (same formats)")
     _common(p)
-    p.add_argument("--out", metavar="FIG.png", help="write the spectra figure to this file")
+    p.add_argument("--out", metavar="FIG.png",
+                   help="write the spectra figure (with --revs-per-bin: amplitudes against "
+                        "rpm) to this file")
     p.set_defaults(func=_compare)
 
 
@@ -73,16 +81,28 @@ def _common(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--tacho",
         metavar="NAME",
-        help="once-per-revolution pulse channel giving the speed (default: a column 'tacho')",
+        help="once-per-revolution pulse channel giving the speed (default: a column 'tacho'); "
+             "with --revs-per-bin the shaft angle",
+    )
+    p.add_argument(
+        "--angle", metavar="NAME",
+        help="channel holding the shaft angle in rad, instead of a tacho (with --revs-per-bin)",
+    )
+    p.add_argument(
+        "--revs-per-bin", type=int, metavar="N",
+        help="features across speed: one row per bin of N whole revolutions (at least 10) and "
+             "channel, with its mean rpm; the angle from --tacho or --angle (a simulation "
+             "result: its shaft angle)",
     )
 
 
 def _load(path, args):
-    """Channels (DataFrame), fs (Hz) and the feature table of one signal file."""
+    """Channels (DataFrame), fs (Hz) and the feature table of one signal file (with
+    ``--revs-per-bin``: the table across speed, :func:`rubdiag.signal.features_by_revolution`)."""
     from rubdiag.runs import is_result, run_signals
-    from rubdiag.signal import features, read_signals
+    from rubdiag.signal import features, features_by_revolution, read_signals
 
-    speed = args.speed_rpm
+    speed, angle = args.speed_rpm, args.angle
     if is_result(path):
         # a simulation result: its shaft, blade and casing responses over the analysis
         # window, at the run's speed unless --speed-rpm says otherwise
@@ -95,19 +115,40 @@ def _load(path, args):
         if args.column is None:   # a casing that was never touched does not move: skip it
             frame = frame.loc[:, frame.std() > 0]
         speed = result.run.speed_rpm if speed is None else speed
+        if args.revs_per_bin is not None and args.tacho is None and angle is None:
+            angle = result.angle_rad[result.window]       # the run's exact shaft angle
     else:
         frame, fs = read_signals(path, args.fs)
-    table = features(frame, fs, speed, tacho=args.tacho, columns=args.column)
+    if args.revs_per_bin is not None:
+        table = features_by_revolution(frame, fs, angle, tacho=args.tacho,
+                                       revs_per_bin=args.revs_per_bin, columns=args.column)
+    else:
+        table = features(frame, fs, speed, tacho=args.tacho, columns=args.column)
     return frame, fs, table
+
+
+def _check_across_speed(args) -> None:
+    """The options of features across speed go together (one line each when not)."""
+    if args.revs_per_bin is None:
+        if args.angle is not None:
+            raise ValueError("--angle gives the shaft angle for --revs-per-bin: give "
+                             "--revs-per-bin N too")
+        return
+    if args.speed_rpm is not None:
+        raise ValueError("--revs-per-bin takes the speed from the shaft angle (--tacho or "
+                         "--angle), not --speed-rpm")
+    if args.tacho is not None and args.angle is not None:
+        raise ValueError("give --tacho or --angle, not both")
 
 
 def _features(args) -> int:
     from rubdiag.cli._paths import load_result, output_file
     from rubdiag.runs import is_result, run_features
 
+    _check_across_speed(args)
     if args.csv:
         output_file(args.csv, "--csv")
-    if is_result(args.input):
+    if is_result(args.input) and args.revs_per_bin is None:
         # a simulation result: one row for the run, as rubdiag.features(result) gives it
         # (shaft_/blade_/casing_ spectra and the contact statistics)
         table = run_features(load_result(args.input))
@@ -124,6 +165,8 @@ def _features(args) -> int:
     elif args.csv:
         table.to_csv(args.csv, index=False)
         print(f"wrote {len(table)} row(s) to {args.csv}")
+    elif args.revs_per_bin is not None:
+        print("\n".join(across_speed_lines(table, args.revs_per_bin, args.summary)))
     else:
         print("\n".join(summary_lines(table)))
         if not args.summary:
@@ -134,6 +177,33 @@ def _features(args) -> int:
             with _pandas_display():
                 print(table.set_index(table.columns[0]).T.to_string())   # channel or source
     return 0
+
+
+#: Order amplitudes that the printed tables across speed show.
+_ACROSS_SPEED_ORDERS = ("0p5x", "1x", "1p5x", "2x", "4x")
+
+
+def across_speed_lines(table, revs_per_bin: int, summary_only: bool = False) -> list[str]:
+    """Per channel of a table across speed: one line (bins, speeds, 1× range), then the
+    main order amplitudes bin by bin unless ``summary_only``."""
+    from rubdiag.signal import REVOLUTION_FEATURE_NAMES
+
+    lines = []
+    shown = ["rev_start", "t_s", "rpm", "rms", *(f"amp_{k}" for k in _ACROSS_SPEED_ORDERS),
+             "n_half_orders", "n_third_orders"]
+    for channel, rows in table.groupby("channel", sort=False):
+        lines.append(f"{channel}: {len(rows)} bins of {revs_per_bin} revolutions, "
+                     f"{rows.rpm.min():.0f} to {rows.rpm.max():.0f} rpm, 1× "
+                     f"{rows.amp_1x.min():.4g} to {rows.amp_1x.max():.4g}")
+        if not summary_only:
+            with _pandas_display():
+                lines.extend(rows[["bin", *shown]].to_string(index=False).splitlines())
+            lines.append("")
+    if not summary_only:
+        lines.append(f"all {len(REVOLUTION_FEATURE_NAMES)} features per bin with --csv or --json "
+                     "(amplitudes in the signal's unit, frequencies in orders, phases in "
+                     "degrees against the shaft angle)")
+    return lines
 
 
 def summary_lines(table) -> list[str]:
@@ -192,6 +262,7 @@ def _compare(args) -> int:
     from rubdiag.cli._paths import output_file
     from rubdiag.signal import amplitude_spectrum
 
+    _check_across_speed(args)
     if args.out:
         output_file(args.out)
     loaded = {"A": _load(args.a, args), "B": _load(args.b, args)}
@@ -200,6 +271,9 @@ def _compare(args) -> int:
     if not common:
         raise ValueError(f"{args.a} and {args.b} have no channel in common")
     channel = common[0]
+    if args.revs_per_bin is not None:
+        return _compare_across_speed(args, channel, ta[ta.channel == channel],
+                                     tb[tb.channel == channel])
     ra = ta.set_index("channel").loc[channel]
     rb = tb.set_index("channel").loc[channel]
     diff = pd.DataFrame({"A": ra, "B": rb, "B - A": rb - ra})
@@ -217,6 +291,50 @@ def _compare(args) -> int:
             f, amp = amplitude_spectrum(frame[channel].to_numpy(dtype=np.float64), fs)
             curves.append((f"{label}: {path}", f, amp, row))
         fig = plot_order_spectra(curves, title=f"channel {channel}")
+        fig.savefig(args.out, dpi=120)
+        print(f"wrote {args.out}")
+    return 0
+
+
+def _compare_across_speed(args, channel, ta, tb) -> int:
+    """Print A's main order amplitudes per bin and B - A at the same speeds (B's bins
+    interpolated linearly in rpm) over the speeds both cover; plot them with ``--out``."""
+    import numpy as np
+    import pandas as pd
+
+    lo, hi = max(ta.rpm.min(), tb.rpm.min()), min(ta.rpm.max(), tb.rpm.max())
+    a = ta[(ta.rpm >= lo) & (ta.rpm <= hi)]
+    if a.empty:
+        raise ValueError(
+            f"{args.a} ({ta.rpm.min():.0f} to {ta.rpm.max():.0f} rpm) and {args.b} "
+            f"({tb.rpm.min():.0f} to {tb.rpm.max():.0f} rpm) share no speed range")
+    b = tb.sort_values("rpm")
+    columns = {("", "rpm"): a.rpm.to_numpy()}
+    for k in _ACROSS_SPEED_ORDERS:
+        amp_a = a[f"amp_{k}"].to_numpy()
+        amp_b = np.interp(a.rpm, b.rpm, b[f"amp_{k}"])
+        columns[(f"amp_{k}", "A")] = amp_a
+        columns[(f"amp_{k}", "B - A")] = amp_b - amp_a
+    diff = pd.DataFrame(columns)
+    print(f"channel {channel!r}: A = {args.a}, B = {args.b}; bins of {args.revs_per_bin} "
+          f"revolutions, B at the speeds of A's bins, {lo:.0f} to {hi:.0f} rpm")
+    with _pandas_display():
+        print(diff.to_string(index=False))
+    if args.out:
+        from matplotlib.figure import Figure
+
+        fig = Figure(figsize=(9.0, 6.0), layout="constrained")
+        axes = fig.subplots(2, 2, sharex=True).ravel()
+        for ax, k in zip(axes, _ACROSS_SPEED_ORDERS[:4], strict=True):
+            for label, path, rows in (("A", args.a, ta), ("B", args.b, tb)):
+                ax.plot(rows.rpm, rows[f"amp_{k}"], "o-", ms=3, label=f"{label}: {path}")
+            ax.set_title(k.replace("p", ".").replace("x", "×"))
+            ax.set_ylabel("amplitude (signal unit)")
+            ax.set_ylim(bottom=0.0, top=1.15 * max(ax.get_ylim()[1], 1e-300))
+        for ax in axes[2:]:
+            ax.set_xlabel("speed (rpm)")
+        axes[0].legend(fontsize="small")
+        fig.suptitle(f"channel {channel}: order amplitudes across speed")
         fig.savefig(args.out, dpi=120)
         print(f"wrote {args.out}")
     return 0

@@ -14,6 +14,8 @@ Public API (all frequencies in Hz, speeds in rpm, amplitudes in the signal's uni
   ``-> (orders, rpm, amplitude)`` — order analysis at a variable speed.
 * :func:`waterfall` ``(x, fs, nperseg, …) -> (f, t, rpm, amplitude)`` — short-time spectra.
 * :func:`features` — one DataFrame row of features per channel (the table).
+* :func:`features_by_revolution` — the same features across speed: one row per bin of whole
+  revolutions in the angle domain (frequencies in orders) and channel, with its ``rpm``.
 * :func:`feature_names`, :func:`feature_matrix` — the columns; the batch path on a 2-D array.
 * :func:`combination_pairs` — all combination pairs of one signal.
 * :func:`prefixed_features` — one row for several named signals of one run.
@@ -40,6 +42,7 @@ from rubdiag.signal.ordertrack import (
 )
 from rubdiag.signal.spectrum import amplitude_spectrum
 from rubdiag.signal.speed import dominant_speed, tacho_speed
+from rubdiag.signal.speedtable import REVOLUTION_FEATURE_NAMES, features_by_revolution
 from rubdiag.signal.table import (
     FEATURE_NAMES,
     feature_matrix,
@@ -53,6 +56,7 @@ from rubdiag.signal.waterfall import waterfall
 
 __all__ = [
     "FEATURE_NAMES",
+    "REVOLUTION_FEATURE_NAMES",
     "CombinationPair",
     "RubFeatures",
     "amplitude_spectrum",
@@ -62,6 +66,7 @@ __all__ = [
     "feature_matrix",
     "feature_names",
     "features",
+    "features_by_revolution",
     "order_label",
     "order_spectrum",
     "order_track",

@@ -8,7 +8,9 @@ per revolution. :func:`resample_to_angle` resamples a record onto equal angle st
 * :func:`order_spectrum` — one peak-amplitude spectrum over orders (MATLAB ``orderspectrum``);
 * :func:`order_track` — amplitude and phase of chosen orders, bin by bin of whole revolutions,
   against speed (MATLAB ``ordertrack``);
-* :func:`rpm_order_map` — the spectrum of every bin, orders × speed (MATLAB ``rpmordermap``).
+* :func:`rpm_order_map` — the spectrum of every bin, orders × speed (MATLAB ``rpmordermap``);
+* :func:`~rubdiag.signal.features_by_revolution` — every feature of the feature table, bin by
+  bin (:mod:`rubdiag.signal.speedtable`, on :func:`angle_bins`).
 
 Anti-aliasing in the angle domain
 ---------------------------------
@@ -332,11 +334,28 @@ class _Bins:
     spec: _Spectra      # f in orders
 
 
-def _binned(x, fs, angle, n_rev, revs_step, spr, max_order, window) -> _Bins:
-    X, _ = check_signals(x, "x")
-    if X.shape[0] != 1:
-        raise ValueError(f"x has {X.shape[0]} rows (allowed: one signal, 1-D)")
-    phi = check_angle(angle, X.shape[1])
+@dataclass(frozen=True)
+class AngleBins:
+    """Rows resampled at equal angle steps and cut into bins of whole revolutions.
+
+    ``x`` has shape ``(n_rows, n_bins, revs_per_bin · samples_per_rev)``: bin ``i`` of a row
+    starts at revolution ``rev_start[i]`` (``angle / 2π``, a whole number). ``t_s`` is the
+    time midway between a bin's start and end (s), ``rpm`` its mean speed (revolutions over
+    duration) and ``max_rpm`` the highest speed of the samples within it.
+    """
+
+    x: np.ndarray
+    rev_start: np.ndarray
+    t_s: np.ndarray
+    rpm: np.ndarray
+    max_rpm: np.ndarray
+
+
+def angle_bins(X: np.ndarray, fs: float, phi: np.ndarray, n_rev: int, revs_step,
+               spr: int, max_order: float) -> AngleBins:
+    """Checked rows ``X`` (n_rows, n_samples) at angles ``phi`` (rad, checked), resampled
+    (:func:`resample_to_angle`) and cut into bins of ``n_rev`` whole revolutions, one every
+    ``revs_step`` (default ``n_rev``)."""
     step = n_rev if revs_step is None else _check.integer("revs_step", revs_step, lo=1)
     rec = _resample(X, fs, phi, spr, max_order)
     r0 = -(-rec.m0 // spr)                              # first whole revolution on the grid
@@ -347,9 +366,22 @@ def _binned(x, fs, angle, n_rev, revs_step, spr, max_order, window) -> _Bins:
             f"ends (allowed: at least revs_per_bin = {n_rev})")
     rev_start = np.arange(r0, r_end - n_rev + 1, step)
     idx = (rev_start * spr - rec.m0)[:, np.newaxis] + np.arange(n_rev * spr)
-    spec = _spectra(rec.x[0][idx], float(spr), window, None, None, None, "constant")
     t = np.arange(phi.size) / fs
     t0 = np.interp(2.0 * np.pi * rev_start, phi, t)
     t1 = np.interp(2.0 * np.pi * (rev_start + n_rev), phi, t)
-    return _Bins(rev_start=rev_start, t_s=0.5 * (t0 + t1), rpm=60.0 * n_rev / (t1 - t0),
-                 spec=spec)
+    # the highest speed within a bin: of the sample steps that overlap it
+    speed = _rpm(np.diff(phi), fs)
+    i0 = np.clip(np.floor(t0 * fs).astype(np.int64), 0, speed.size - 1)
+    i1 = np.clip(np.ceil(t1 * fs).astype(np.int64), i0 + 1, speed.size)
+    max_rpm = np.array([speed[a:b].max() for a, b in zip(i0, i1, strict=True)])
+    return AngleBins(x=rec.x[:, idx], rev_start=rev_start, t_s=0.5 * (t0 + t1),
+                     rpm=60.0 * n_rev / (t1 - t0), max_rpm=max_rpm)
+
+
+def _binned(x, fs, angle, n_rev, revs_step, spr, max_order, window) -> _Bins:
+    X, _ = check_signals(x, "x")
+    if X.shape[0] != 1:
+        raise ValueError(f"x has {X.shape[0]} rows (allowed: one signal, 1-D)")
+    b = angle_bins(X, fs, check_angle(angle, X.shape[1]), n_rev, revs_step, spr, max_order)
+    spec = _spectra(b.x[0], float(spr), window, None, None, None, "constant")
+    return _Bins(rev_start=b.rev_start, t_s=b.t_s, rpm=b.rpm, spec=spec)

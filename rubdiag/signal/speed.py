@@ -21,6 +21,8 @@ from rubdiag.signal.tacho import _pulse_times
 #: Least confidence (line amplitude over the local noise floor) of a guessed speed: 10,
 #: i.e. 20 dB, twice what the strongest of a million noise bins reaches.
 MIN_SPEED_CONFIDENCE = 10.0
+#: Revolutions over which :func:`tacho_speed_range` averages the speed.
+SPREAD_REVOLUTIONS = 10
 
 
 def tacho_speed(pulses, fs: float) -> float:
@@ -45,6 +47,21 @@ def tacho_speed(pulses, fs: float) -> float:
     """
     t, _ = _pulse_times(pulses, check_fs(fs))
     return 60.0 * (t.size - 1) / (t[-1] - t[0])
+
+
+def tacho_speed_range(pulses, fs: float) -> tuple[float, float, float]:
+    """Mean, lowest and highest running speed (rpm) of a once-per-revolution pulse train.
+
+    The mean is :func:`tacho_speed`'s. The lowest and highest are those of the mean speeds
+    over :data:`SPREAD_REVOLUTIONS` consecutive revolutions (fewer in a short record: a
+    quarter of its revolutions, at least one), so that the jitter of single pulses (a
+    fraction of a sample each) hardly counts.
+    """
+    t, _ = _pulse_times(pulses, check_fs(fs))
+    n = t.size - 1
+    w = min(SPREAD_REVOLUTIONS, max(n // 4, 1))
+    rpm = 60.0 * w / (t[w:] - t[:-w])
+    return 60.0 * n / (t[-1] - t[0]), float(rpm.min()), float(rpm.max())
 
 
 def dominant_speed(x, fs: float, window="hann", nperseg: int | None = None, detrend="constant"):

@@ -62,7 +62,9 @@ transposed: the error says so.
 from __future__ import annotations
 
 import os
+import warnings
 from collections.abc import Mapping
+from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
@@ -81,7 +83,7 @@ from rubdiag.signal.records import (
     check_speed,
     transposed_hint,
 )
-from rubdiag.signal.speed import tacho_speed
+from rubdiag.signal.speed import tacho_speed_range
 
 # Rows analysed together: bounds the memory of the batch path.
 _ROWS_PER_CHUNK = 128
@@ -241,7 +243,10 @@ def features(
         that does not stand out (below ``MIN_SPEED_CONFIDENCE``) raises a ValueError.
     tacho : str or array_like, optional
         Name of the once-per-revolution channel, or the pulse train itself (same ``fs``).
-        The tacho channel (and a channel named ``tacho``) is never analysed.
+        The tacho channel (and a channel named ``tacho``) is never analysed. Its mean speed
+        is the running speed; a UserWarning says when the speed (over 10 revolutions) strays
+        from it by more than ``band``: the lines smear, and
+        :func:`~rubdiag.signal.features_by_revolution` gives the features across speed.
     columns : str or list of str, optional
         Channels to analyse (default: all).
     band : float
@@ -275,29 +280,17 @@ def features(
     """
     opts = Options(band=band, threshold=threshold, window=window, nperseg=nperseg,
                    detrend=detrend, min_revolutions=min_revolutions, combo_tol_hz=combo_tol_hz)
-    frame, fs = _channels(signal, fs)
-    if isinstance(tacho, str):
-        _require(frame, [tacho])
-    elif tacho is None:
-        tacho = next((c for c in frame.columns if str(c).lower() == "tacho"), None)
-    if isinstance(tacho, str):
-        pulses = frame[tacho].to_numpy()
-        frame = frame.drop(columns=[tacho])
-    else:
-        pulses = tacho
-    if columns is not None:
-        names = [columns] if isinstance(columns, str) else list(columns)
-        _require(frame, names)
-        frame = frame[names]
-    if frame.shape[1] == 0:
-        raise ValueError("no channel left to analyse")
-    if speed_rpm is None and pulses is not None:
-        speed_rpm = tacho_speed(pulses, fs)
-    try:
-        X = frame.to_numpy(dtype=np.float64).T
-    except (TypeError, ValueError):
-        raise ValueError("every channel must be numeric") from None
-    labels = [f"channel {c!r}" for c in frame.columns]
+    ch = split_channels(signal, fs, tacho, columns)
+    frame, fs = ch.frame, ch.fs
+    if speed_rpm is None and ch.pulses is not None:
+        speed_rpm, low, high = tacho_speed_range(ch.pulses, fs)
+        if max(high / speed_rpm - 1.0, 1.0 - low / speed_rpm) > opts.band:
+            warnings.warn(
+                f"the tacho speed varies from {low:.5g} to {high:.5g} rpm, by more than band = "
+                f"{opts.band:g} of its mean {speed_rpm:.5g} rpm: the order lines smear; for "
+                "features across speed give revs_per_bin (features_by_revolution, "
+                "--revs-per-bin)", UserWarning, stacklevel=2)
+    X, labels = channel_rows(frame)
     array = not isinstance(signal, str | os.PathLike | pd.DataFrame | pd.Series)
     layout = ("signal", "channel") if array and np.ndim(signal) == 2 else None
     values = _feature_matrix(X, fs, speed_rpm, opts, labels, layout)
@@ -363,6 +356,52 @@ def still_features() -> dict[str, float]:
 
 # A still row of the feature matrix: speed and its confidence NaN, then still_features().
 _STILL_ROW = np.array([np.nan, np.nan, *still_features().values()])
+
+
+@dataclass(frozen=True)
+class Channels:
+    """The channels to analyse (columns of ``frame``), their sampling frequency, and the
+    tacho pulses and recorded angle taken out of them (None where not given)."""
+
+    frame: pd.DataFrame
+    fs: float
+    pulses: np.ndarray | None
+    angle: np.ndarray | None
+
+
+def split_channels(signal, fs, tacho=None, columns=None, angle=None) -> Channels:
+    """The channels of ``signal`` (as :func:`features` reads them), less the tacho and angle.
+
+    ``tacho`` and ``angle`` are channel names or arrays (one value per sample); without a
+    tacho a channel named ``tacho`` (any case) is taken as one. Neither is analysed.
+    """
+    frame, fs = _channels(signal, fs)
+    if tacho is None:
+        tacho = next((c for c in frame.columns if str(c).lower() == "tacho"), None)
+    aux = {}
+    for name, value in (("tacho", tacho), ("angle", angle)):
+        if isinstance(value, str):
+            _require(frame, [value])
+            aux[name] = frame[value].to_numpy()
+            frame = frame.drop(columns=[value])
+        else:
+            aux[name] = value
+    if columns is not None:
+        names = [columns] if isinstance(columns, str) else list(columns)
+        _require(frame, names)
+        frame = frame[names]
+    if frame.shape[1] == 0:
+        raise ValueError("no channel left to analyse")
+    return Channels(frame=frame, fs=fs, pulses=aux["tacho"], angle=aux["angle"])
+
+
+def channel_rows(frame: pd.DataFrame) -> tuple[np.ndarray, list[str]]:
+    """The channels of ``frame`` as float64 rows and their labels for messages."""
+    try:
+        X = frame.to_numpy(dtype=np.float64).T
+    except (TypeError, ValueError):
+        raise ValueError("every channel must be numeric") from None
+    return X, [f"channel {c!r}" for c in frame.columns]
 
 
 def _require(frame: pd.DataFrame, names) -> None:

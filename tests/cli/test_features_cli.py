@@ -96,3 +96,94 @@ def test_summary_of_a_simulation_result(tmp_path, capsys):
             f"{summary['contact1_sticking_entries']}") in lines[4]
     assert lines[5] == (f"  all contacts: max force {summary['max_contact_force_n']:.1f} N, "
                         f"{summary['n_episodes']} episodes")
+
+
+@pytest.fixture(scope="module")
+def run_ups(tmp_path_factory):
+    """Two run-ups 600 -> 2400 rpm over 6 s (150 revolutions) with a tacho and the angle:
+    A has 1× (1.0), 1.5× (0.3) and 2× (0.5); B has a 0.5× of 0.1 besides."""
+    t = np.arange(int(6 * FS)) / FS
+    phi = 2 * np.pi * (10 * t + 2.5 * t**2)
+    psi = np.mod(phi + np.pi, 2 * np.pi) - np.pi         # pulses rise through 0.5 at φ = 0
+    tacho = np.clip(0.5 + psi / 0.4, 0, 1) * (psi < 1.0)
+    noise = np.random.default_rng(2).standard_normal((2, t.size)) * 1e-4
+    x = np.cos(phi) + 0.3 * np.cos(1.5 * phi + 1.0) + 0.5 * np.cos(2 * phi)
+    folder = tmp_path_factory.mktemp("run_ups")
+    paths = []
+    for name, extra, n in (("a", 0.0, noise[0]), ("b", 0.1 * np.cos(0.5 * phi), noise[1])):
+        path = folder / f"{name}.csv"
+        pd.DataFrame({"time": t, "shaft": x + extra + n, "tacho": tacho,
+                      "phi": phi}).to_csv(path, index=False)
+        paths.append(str(path))
+    return paths
+
+
+def test_features_across_speed_csv(run_ups, tmp_path, capsys):
+    out = tmp_path / "bins.csv"
+    assert main(["features", run_ups[0], "--tacho", "tacho", "--revs-per-bin", "24",
+                 "--column", "shaft", "--csv", str(out)]) == 0
+    assert capsys.readouterr().out == f"wrote 6 row(s) to {out}\n"
+    table = pd.read_csv(out)
+    expected = rubdiag.signal.features_by_revolution(run_ups[0], tacho="tacho",
+                                                     revs_per_bin=24, columns="shaft")
+    pd.testing.assert_frame_equal(table, expected, check_dtype=False)
+    assert table.rpm.is_monotonic_increasing
+    assert table.rpm.iloc[0] < 900 and table.rpm.iloc[-1] > 2200     # 600 -> 2400 rpm
+    np.testing.assert_allclose(table[["amp_1x", "amp_1p5x", "amp_2x"]], [[1.0, 0.3, 0.5]] * 6,
+                               rtol=0.01)
+    np.testing.assert_allclose(table.freq_1p5x_order, 1.5, atol=1e-3)
+    # the recorded angle instead of the tacho: the same bins (the tacho's angle is 0 at φ = 0)
+    assert main(["features", run_ups[0], "--angle", "phi", "--revs-per-bin", "24",
+                 "--column", "shaft", "--json"]) == 0
+    rows = pd.DataFrame(json.loads(capsys.readouterr().out))
+    np.testing.assert_allclose(rows.rpm, table.rpm, rtol=1e-4)
+    np.testing.assert_allclose(rows.amp_1p5x, table.amp_1p5x, rtol=1e-3)
+
+
+def test_features_across_speed_printed(run_ups, capsys):
+    assert main(["features", run_ups[0], "--revs-per-bin", "24", "--column", "shaft"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    table = rubdiag.signal.features_by_revolution(run_ups[0], revs_per_bin=24, columns="shaft")
+    assert lines[0] == (f"shaft: 6 bins of 24 revolutions, {table.rpm.min():.0f} to "
+                        f"{table.rpm.max():.0f} rpm, 1× {table.amp_1x.min():.4g} to "
+                        f"{table.amp_1x.max():.4g}")
+    assert lines[1].split() == ["bin", "rev_start", "t_s", "rpm", "rms", "amp_0p5x", "amp_1x",
+                                "amp_1p5x", "amp_2x", "amp_4x", "n_half_orders",
+                                "n_third_orders"]
+    assert [float(ln.split()[3]) for ln in lines[2:8]] == pytest.approx(table.rpm, rel=1e-5)
+    assert lines[-1].startswith(f"all {len(table.columns) - 5} features per bin with --csv")
+    assert main(["features", run_ups[0], "--revs-per-bin", "24", "--column", "shaft",
+                 "--summary"]) == 0
+    assert capsys.readouterr().out.splitlines() == lines[:1]
+
+
+def test_compare_across_speed(run_ups, tmp_path, capsys):
+    fig = tmp_path / "speed.png"
+    assert main(["compare", *run_ups, "--tacho", "tacho", "--column", "shaft",
+                 "--revs-per-bin", "24", "--out", str(fig)]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0].startswith("channel 'shaft': A = ")
+    assert "B at the speeds of A's bins" in lines[0]
+    rows = np.array([[float(v) for v in ln.split()] for ln in lines[3:-1]])
+    assert rows.shape == (6, 11)                 # rpm, then A and B - A of five orders
+    np.testing.assert_allclose(rows[:, 1:3], [[0.0, 0.1]] * 6, rtol=0.01,     # 0.5×: B only
+                               atol=1e-4)          # (the tacho's angle: 3e-5 of 1× at 0.5×)
+    np.testing.assert_allclose(rows[:, 3], 1.0, rtol=0.01)                     # 1× of A
+    assert np.abs(rows[:, [4, 6, 8, 10]]).max() < 1e-3                         # B - A
+    assert lines[-1] == f"wrote {fig}" and fig.stat().st_size > 10_000
+
+
+@pytest.mark.parametrize(("args", "message"), [
+    (["--revs-per-bin", "0"], "revs_per_bin = 0 is out of range (allowed: >= 10"),
+    (["--revs-per-bin", "24", "--speed-rpm", "1500"], "--revs-per-bin takes the speed from"),
+    (["--revs-per-bin", "24", "--tacho", "tacho", "--angle", "phi"],
+     "give --tacho or --angle, not both"),
+    (["--angle", "phi"], "--angle gives the shaft angle for --revs-per-bin"),
+    (["--revs-per-bin", "24", "--angle", "shaft"], "angle[1] = "),
+])
+def test_features_across_speed_bad_input(run_ups, capsys, args, message):
+    assert main(["features", run_ups[0], *args]) == 2
+    out = capsys.readouterr()
+    assert out.out == ""
+    assert out.err.startswith(f"rubdiag features: error: {message}")
+    assert out.err.count("\n") == 1
