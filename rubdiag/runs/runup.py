@@ -17,14 +17,16 @@ with φ the shaft angle, so the linear response ``A`` (``x = Re(A e^{iφ})``) ha
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pandas as pd
 
 from rubdiag import _check
 from rubdiag.signal import order_label, order_track
-from rubdiag.simulate import Run
-from rubdiag.simulate.speed_profile import SpeedProfile
+
+if TYPE_CHECKING:   # the simulator loads on first use: rubdiag.features must not need it
+    from rubdiag.simulate import Run
 
 __all__ = ["DEFAULT_POINT", "RUNUP_ORDERS", "linear_response", "ramp_run", "runup_orders",
            "runup_summary"]
@@ -52,6 +54,7 @@ def ramp_run(case: int, from_rpm: float, to_rpm: float, rate_rpm_s: float, gap_m
     """
     from rubdiag.assembly import assemble
     from rubdiag.modal import with_rayleigh
+    from rubdiag.simulate import Run, SpeedProfile
     from rubdiag.simulate.rig_system import rig_system
     from rubdiag.simulate.simulation import _RAMP_MARGIN
 

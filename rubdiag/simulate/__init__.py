@@ -10,6 +10,7 @@ from rubdiag.simulate.result import EpisodeLog, SimulationDiverged, SystemResult
 from rubdiag.simulate.run import GapRampInWindow, Run, critical_speed_for_case
 from rubdiag.simulate.sensors import Sensor, default_sensors
 from rubdiag.simulate.simulation import SimulationResult, load_result, response_points, simulate
+from rubdiag.simulate.speed_profile import SpeedProfile
 from rubdiag.simulate.system import Contacts, HarmonicForce, simulate_system
 
 __all__ = [
@@ -21,6 +22,7 @@ __all__ = [
     "Sensor",
     "SimulationDiverged",
     "SimulationResult",
+    "SpeedProfile",
     "SystemResult",
     "critical_speed_for_case",
     "default_sensors",
