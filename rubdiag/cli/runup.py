@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import sys
 from pathlib import Path
 
@@ -82,7 +83,7 @@ def _runup(args) -> int:
         table = runup_orders(result, args.point, revs_per_bin=args.revs_per_bin)
         _write_csv(table, args.out / f"{name}_orders.csv")
         summary = runup_summary(result, args.point, orders=table)
-        tracks[name] = (result, table)
+        tracks[name] = (result, table, summary)
         summaries.append(summary)
         if not args.json:
             print(_line(name, summary))
@@ -170,5 +171,34 @@ def _write_text(path: Path, text: str) -> None:
 
 
 def _figures(tracks: dict, linear, args) -> list[Path]:
-    """The run-up figures (rubdiag.plotting.runup), written into ``args.out``."""
-    return []
+    """Bode, polar and rub-order figures of every direction together, and a waterfall and
+    order map of each (:mod:`rubdiag.plotting.runup`), written into ``args.out``."""
+    import numpy as np
+
+    from rubdiag.assembly import assemble
+    from rubdiag.modal import critical_speeds
+    from rubdiag.plotting.runup import save_runup_figures
+    from rubdiag.signal import rpm_order_map, waterfall
+
+    words = {"runup": "run-up", "coastdown": "coast-down"}
+    orders, contact, waterfalls, maps = {}, {}, {}, {}
+    for name, (result, table, summary) in tracks.items():
+        label = words[name]
+        orders[label] = table
+        if summary["n_episodes"]:
+            contact[label] = (summary["first_contact_rpm"], summary["last_contact_rpm"])
+        x, fs = result.displacement(args.point), result.fs
+        f, _, rpm, amp = waterfall(x, fs, nperseg=_segment(fs), angle=result.angle_rad)
+        waterfalls[label] = (f, rpm, amp)
+        maps[label] = rpm_order_map(x, fs, result.angle_rad, revs_per_bin=8, revs_step=2)
+    run = next(iter(tracks.values()))[0].run
+    lo, hi = sorted((args.from_rpm, args.to_rpm))
+    criticals = critical_speeds(assemble(run.rig), n=4) * 30 / math.pi
+    criticals = [c for c in np.atleast_1d(criticals) if lo <= c <= hi]
+    return save_runup_figures(args.out, orders, linear=linear, critical_rpm=criticals or None,
+                              contact_rpm=contact, waterfalls=waterfalls, order_maps=maps)
+
+
+def _segment(fs: float) -> int:
+    """Waterfall segments of about 0.2 s (5 Hz resolution), a power of two."""
+    return 1 << max(6, round(math.log2(0.2 * fs)))

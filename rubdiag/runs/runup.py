@@ -73,13 +73,15 @@ def ramp_run(case: int, from_rpm: float, to_rpm: float, rate_rpm_s: float, gap_m
 
 
 def runup_orders(result, point: str = DEFAULT_POINT, orders=RUNUP_ORDERS,
-                 revs_per_bin: int = 4, **options) -> pd.DataFrame:
+                 revs_per_bin: int = 4, revs_step: int = 1, **options) -> pd.DataFrame:
     """Order tracks of ``point`` over the whole record of a run along a speed profile:
     :func:`rubdiag.signal.order_track` of its displacement (m) on the run's shaft angle,
     with ``options`` passed on. Bins of ``revs_per_bin`` revolutions (even, for the half
-    orders): four keep a 300 rpm/s passage through a critical within ≈ 1 % of its peak."""
+    orders), one starting every ``revs_step``: at 300 rpm/s four revolutions are 48 rpm at
+    the first critical, and overlapping bins draw the passage as a curve, not a polygon."""
     return order_track(result.displacement(point), result.fs, result.angle_rad,
-                       orders=orders, revs_per_bin=revs_per_bin, **options)
+                       orders=orders, revs_per_bin=revs_per_bin, revs_step=revs_step,
+                       **options)
 
 
 def linear_response(run: Run, point: str = DEFAULT_POINT, speed_rpm=None) -> np.ndarray:

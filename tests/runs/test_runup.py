@@ -90,6 +90,10 @@ def test_rub_flattens_the_peak_and_outlasts_on_the_way_up(cli_out):
 
 
 def test_the_command_writes_what_it_prints(cli_out, capsys):
+    pngs = {p.name for p in cli_out.glob("*.png")}
+    assert pngs == {f"runup_{name}.png" for name in (
+        "bode", "polar", "rub_orders", "waterfall_run_up", "waterfall_coast_down",
+        "order_map_run_up", "order_map_coast_down")}
     summaries = json.loads((cli_out / "summary.json").read_text())
     assert [s["direction"] for s in summaries] == ["run-up", "coast-down"]
     for s, name in zip(summaries, ("runup", "coastdown"), strict=True):
