@@ -57,3 +57,7 @@ def test_notebook_runs_and_draws(path, tmp_path, monkeypatch):
         printed = [float(v) for v in line.group(1).split()]
         expected = critical_speeds(assemble(paper_rig()), n=2) * 30 / math.pi
         np.testing.assert_allclose(printed, expected, atol=0.05)
+    if path.stem == "07_runup":
+        # the tacho path (a measured record's) gives the exact angle's 1× track
+        line = re.search(r"exact angle: largest difference ([\d.]+) %", _text(outputs))
+        assert float(line.group(1)) < 0.5
