@@ -6,6 +6,8 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import re
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -17,6 +19,11 @@ from rubdiag.simulate.simulation import run_from_dict, run_to_dict
 from rubdiag.simulate.speed_profile import SpeedProfile
 
 RPM = math.pi / 30
+#: The issue's bands for a slow run-up against the steady state, as README "Run-up and
+#: coast-down" states them: amplitude (relative) and phase (degrees).
+_BANDS = re.search(r"outside ±10 % of the critical \| ([0-9.]+) %, ([0-9.]+)° \|",
+                   (Path(__file__).resolve().parents[2] / "README.md").read_text("utf-8"))
+AMPLITUDE_BAND, PHASE_BAND_DEG = float(_BANDS.group(1)) / 100, float(_BANDS.group(2))
 
 
 def test_ramp_knots_and_exact_angle():
@@ -117,9 +124,9 @@ def test_a_slow_runup_follows_the_steady_state_unbalance_response(slow_runup):
     ss = np.array([harmonic_response(model, s, r.run.unbalance).amplitudes[dof] for s in w])
     away = np.abs(w / (1500 * RPM) - 1) > 0.10
     assert away.sum() > 50
-    np.testing.assert_allclose(np.abs(z[away]), np.abs(ss[away]), rtol=0.02)
+    np.testing.assert_allclose(np.abs(z[away]), np.abs(ss[away]), rtol=AMPLITUDE_BAND)
     dphase = np.degrees(np.angle(z[away] / ss[away]))
-    assert np.abs(dphase).max() <= 3.0
+    assert np.abs(dphase).max() <= PHASE_BAND_DEG
 
 
 def test_the_tacho_channel_marks_every_revolution(slow_runup):
