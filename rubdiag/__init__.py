@@ -47,6 +47,16 @@ _LAZY = {
     "read_signals": "rubdiag.signal",
     "tacho_speed": "rubdiag.signal",
     "dominant_speed": "rubdiag.signal",
+    "SpeedProfile": "rubdiag.simulate",
+    "ramp_run": "rubdiag.runs",
+    "runup_orders": "rubdiag.runs",
+    "runup_summary": "rubdiag.runs",
+    "tacho_angle": "rubdiag.signal",
+    "order_track": "rubdiag.signal",
+    "order_spectrum": "rubdiag.signal",
+    "rpm_order_map": "rubdiag.signal",
+    "waterfall": "rubdiag.signal",
+    "features_by_revolution": "rubdiag.signal",
 }
 
 __all__ = ["__version__", *sorted(_LAZY)]
