@@ -22,6 +22,7 @@ _WHERE = {
     "SCHEMA_VERSION": "schema",
     "LabelRules": "labels", "label_run": "labels", "labels_from_measures": "labels",
     "NoiseFloors": "noise",
+    "SpeedRamp": "ramp",
     "MAX_REPLICATES": "sampling", "gap_ramps_s": "sampling",
     "acquisition": "store", "load": "store", "load_waveforms": "store",
 }

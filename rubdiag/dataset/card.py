@@ -17,14 +17,15 @@ from rubdiag._version import __version__
 from rubdiag.dataset.factors import FACTORS
 from rubdiag.dataset.ids import SCHEMA_VERSION
 from rubdiag.dataset.labels import LABELS, MEASURES, RUB_STATES, SEVERITIES
-from rubdiag.dataset.rows import ID_COLUMNS, PROVENANCE, SEPARATOR
+from rubdiag.dataset.rows import ID_COLUMNS, PROVENANCE, RAMP_COLUMNS, SEPARATOR
 from rubdiag.dataset.schema import MODEL_COLUMN
 
 __all__ = ["column_map", "write_card"]
 
 _TRUTH = re.compile(r"^(contact\d+|contacts|truth)$")
 # unit by name ending, longest first
-_SUFFIX_UNITS = (("_per_rev", "1/rev"), ("_per_s", "1/s"), ("_n_m", "N/m"), ("_rpm", "rpm"),
+_SUFFIX_UNITS = (("_per_rev", "1/rev"), ("_per_s", "1/s"), ("_rpm_s", "rpm/s"),
+                 ("_n_m", "N/m"), ("_rpm", "rpm"),
                  ("_deg", "deg"), ("_hz", "Hz"), ("_mm", "mm"), ("_um", "µm"),
                  ("_j", "J"), ("_n", "N"), ("_m", "m"), ("_s", "s"))
 # spectral amplitudes are in the unit of the signal: the responses are displacements (m)
@@ -58,8 +59,8 @@ def column_map(columns, sensors=()) -> pd.DataFrame:
         channel, feature = "", name
         if name in ID_COLUMNS:
             group = "id"
-        elif name in ("speed_rpm", MODEL_COLUMN):   # the run's speed (also when a factor set
-            group = "run"                              # it) and which model simulated it
+        elif name in ("speed_rpm", MODEL_COLUMN, *RAMP_COLUMNS):   # the run's speed (also
+            group = "run"            # when a factor set it), its sweep, which model made it
         elif name in FACTORS:
             group = "factor"
         elif name in MEASURES:
@@ -130,11 +131,11 @@ makes the same runs, bit for bit, on any machine and any number of workers.
 ## Design
 
 Sampling: {design.method}, {design.n} design points × {design.replicates} replicate(s) =
-{design.n_runs} runs (seed {design.seed}); {design.duration_s:g} s simulated per run, the
-first {design.discard_s:g} s discarded; model: {_model(design)}. Factors:
+{design.n_runs} runs (seed {design.seed}); {_timing(design)}; model: {_model(design)}.
+Factors:
 
 {factors}
-
+{_ramp(design)}
 Labels (rubdiag.dataset.labels): severity threshold {design.labels.severity_threshold:g}
 (interference ratio; calibrated on the study's four cells), full rub from a contact-time
 share of {design.labels.full_contact_share:g}.
@@ -165,6 +166,36 @@ Sensor channels (features `CHANNEL__FEATURE`; amplitudes in the channel's unit; 
 gives each one's group, channel, feature and unit. Read the rows with
 `rubdiag.dataset.load(DIR)` (one row per run) or `pandas.read_parquet(DIR / "features")`.
 Group splits by `point_id`: replicates of a design point are near-copies.
+"""
+
+
+def _timing(design) -> str:
+    if design.ramp is None:
+        return (f"{design.duration_s:g} s simulated per run, the first {design.discard_s:g} s "
+                "discarded")
+    return (f"each run holds its start speed for {design.discard_s:g} s (discarded), then "
+            "sweeps (see Speed ramp)")
+
+
+def _ramp(design) -> str:
+    """The card's paragraph on a design's speed ramp (empty without one)."""
+    ramp = design.ramp
+    if ramp is None:
+        return ""
+    kind = "run-up" if ramp.direction == "up" else "coast-down"
+    sweep = ("speed·(1 − span) to speed·(1 + span)" if ramp.direction == "up"
+             else "speed·(1 + span) to speed·(1 − span)")
+    return f"""
+Speed ramp: every run is a {kind} at {ramp.rate_rpm_s:g} rpm/s through its design point's
+speed, from {sweep} with span {ramp.span:g}
+(`ramp_from_rpm`, `ramp_to_rpm`, `ramp_rate_rpm_s`). The analysis window is the whole
+ramp: a run lasts {design.discard_s:g} s + 2·span·speed / rate. `speed_rpm` is the design
+point's speed (the sweep's middle). The features are those of the window's channels
+order-tracked on the exact shaft angle (32 samples per revolution, whole revolutions) and
+read as a constant-speed record at its mean speed `ramp_mean_rpm`: every order is a steady
+line, frequencies are in Hz at that speed, `rms` covers the orders up to 12.5.
+`interference_ratio` is the largest linear approach over the sweep, over g0; `…_per_rev`
+counts the window's revolutions.
 """
 
 

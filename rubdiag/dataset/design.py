@@ -4,10 +4,15 @@ A design file has three tables::
 
     [base]
     rig = "paper"             # preset name, a rig TOML path, or a rig table (the resolved form)
-    duration_s = 2.3          # Run.duration_s (default 2.3)
+    duration_s = 2.3          # Run.duration_s (default 2.3; not with [ramp])
     discard_s = 0.3           # Run.discard_s (default 0.3)
     reduced = false           # true: every run simulates the reduced-order model
     reduction_cutoff_hz = 2000.0  # optional, implies reduced: the Craig–Bampton cutoff (Hz)
+
+    [ramp]                    # optional: every run sweeps its speed (rubdiag.dataset.ramp)
+    rate_rpm_s = 300          # > 0
+    span = 0.15               # from speed·(1 - span) to speed·(1 + span); 0 < span < 1
+    direction = "up"          # "up" (a run-up, default) | "down" (a coast-down)
 
     [sampling]
     method = "lhs"            # "grid" (default) | "lhs" | "sobol" | "random"
@@ -54,6 +59,20 @@ gap-ramp length ``gap_ramps_s(replicates, duration_s)[r]`` — the standard 0.1 
 ±2 % (:func:`rubdiag.dataset.sampling.ramp_offsets`). ``discard_s`` must be at least the
 longest ramp, so that no analysis window holds the ramp's transient.
 
+**Speed ramp.** With ``[ramp]`` (:mod:`rubdiag.dataset.ramp`) the design point's speed is
+the middle of a sweep: each run holds ``speed·(1 ∓ span)`` for ``discard_s`` (its gap ramp,
+the replicate's start history, happens there), then ramps at ``rate_rpm_s`` to
+``speed·(1 ± span)`` and ends. Its length is derived — ``discard_s + 2·span·speed /
+rate_rpm_s``, so ``base.duration_s`` is not given (an error names both keys) — its analysis
+window is the whole ramp, and every replicate has the standard gap ramp (0.1 s, ±2 %,
+``gap_ramps_s(replicates)``). The ramp must hold at least ``MIN_REVOLUTIONS`` +
+``ORDER_TRACK_LOST_REVOLUTIONS`` (13) revolutions at the design's slowest speed: the
+features are measured on the window's order-tracked record
+(:func:`rubdiag.runs.features.order_tracked`), which loses up to 3 at its ends; and the
+fastest speed must keep the features' 8.25× below 0.2 × the output rate
+(:func:`~rubdiag.runs.features.max_tracked_rpm`: 14545 rpm at 10 kHz). Rows of a ramp
+design say so (:mod:`rubdiag.dataset.rows`).
+
 **Model.** ``reduced = true`` makes every run ``Run(..., reduction=Reduction())``: the
 Craig–Bampton model of :mod:`rubdiag.reduce` with its default cutoff (2 kHz);
 ``reduction_cutoff_hz`` sets another cutoff and implies ``reduced`` (with ``reduced = false``
@@ -61,7 +80,8 @@ it is an error). Every row says which model made it (its ``model`` column).
 
 **Resolved form.** :meth:`Design.to_dict` / :meth:`Design.to_toml` write everything a run
 depends on: the model (``reduced = true`` and the cutoff; nothing for the full model, so
-that the resolved form of a design made before reductions existed is unchanged), the rig
+that the resolved form of a design made before reductions existed is unchanged), the
+``[ramp]`` table after ``[base]`` (only when set, and then no ``duration_s``), the rig
 as a table (a rig file may change; a resolved design does not), the
 factors in canonical order with numbers as floats, the grid's point count as ``n``, the
 seed, and the critical speeds that ``speed_ratio`` refers to (``critical_speeds_rad_s``,
@@ -88,6 +108,8 @@ from rubdiag.dataset.factors import EXCLUSIVE, FACTORS, Factor
 from rubdiag.dataset.ids import point_id, run_id
 from rubdiag.dataset.labels import LabelRules
 from rubdiag.dataset.noise import NoiseFloors
+from rubdiag.dataset.ramp import KEYS as RAMP_KEYS
+from rubdiag.dataset.ramp import SpeedRamp
 from rubdiag.dataset.sampling import (
     MAX_REPLICATES,
     METHODS,
@@ -97,6 +119,7 @@ from rubdiag.dataset.sampling import (
 )
 from rubdiag.model.rig import Rig, Unbalance
 from rubdiag.reduce import Reduction
+from rubdiag.runs.features import ORDER_TRACK_LOST_REVOLUTIONS, max_tracked_rpm
 from rubdiag.simulate import Run, Sensor, default_sensors
 from rubdiag.simulate.sensors import check_sensors
 
@@ -104,10 +127,13 @@ __all__ = ["MIN_REVOLUTIONS", "Design", "DesignRun"]
 
 #: Revolutions the analysis window must hold (the spectral features' default minimum).
 MIN_REVOLUTIONS = 10.0
+#: ``base.duration_s`` of a constant-speed design that does not give it (s).
+DEFAULT_DURATION_S = 2.3
 
 _SECTIONS = {
     "base": ("rig", "duration_s", "discard_s", "reduced", "reduction_cutoff_hz",
              "critical_speeds_rad_s"),
+    "ramp": RAMP_KEYS,
     "sampling": ("method", "n", "seed", "replicates"),
     "factors": tuple(FACTORS),
     "labels": ("severity_threshold", "full_contact_share"),
@@ -120,13 +146,20 @@ _SECTIONS = {
 class DesignRun:
     """One run of a design: the design point (factor name -> value, canonical order), the
     replicate, the :class:`~rubdiag.simulate.Run` they make, and its identities
-    (:mod:`rubdiag.dataset.ids`)."""
+    (:mod:`rubdiag.dataset.ids`); ``speed_rpm``, the design point's speed (None: the run's
+    constant speed; with a ramp, the middle of the sweep), and the design's ``ramp``."""
 
     point: dict = field(hash=False)
     replicate: int
     run: Run
     point_id: str
     run_id: str
+    speed_rpm: float | None = None
+    ramp: SpeedRamp | None = None
+
+    def __post_init__(self):
+        if self.speed_rpm is None:
+            object.__setattr__(self, "speed_rpm", self.run.speed_rpm)
 
 
 @dataclass(frozen=True)
@@ -140,7 +173,10 @@ class Design:
     ``critical_speeds_rad_s[c-1]`` is case c's reference speed of ``speed_ratio``; computed
     from the rig when ``None`` and needed. ``reduction`` (a
     :class:`~rubdiag.reduce.Reduction`, or None for the full model) goes into every run;
-    the TOML form is ``[base] reduced`` / ``reduction_cutoff_hz``.
+    the TOML form is ``[base] reduced`` / ``reduction_cutoff_hz``. ``ramp`` (a
+    :class:`~rubdiag.dataset.ramp.SpeedRamp` or its table, or None: constant speed) makes
+    every run a sweep; ``duration_s`` is then None (each run's length is derived), else
+    2.3 s by default.
     """
 
     rig: Rig
@@ -149,13 +185,14 @@ class Design:
     n: int | None = None
     seed: int = 0
     replicates: int = 1
-    duration_s: float = 2.3
+    duration_s: float | None = None
     discard_s: float = 0.3
     critical_speeds_rad_s: tuple[float, ...] | None = None
     labels: LabelRules = field(default_factory=LabelRules)
     noise: NoiseFloors = field(default_factory=NoiseFloors)
     sensors: tuple[Sensor, ...] | None = None
     reduction: Reduction | None = None
+    ramp: SpeedRamp | None = None
 
     def __post_init__(self):
         def set_(name, value):
@@ -197,9 +234,22 @@ class Design:
         set_("seed", _check.integer("sampling.seed", self.seed, lo=0))
         set_("replicates", _check.integer("sampling.replicates", self.replicates, lo=1,
                                           hi=MAX_REPLICATES))
-        duration = _check.positive("base.duration_s", self.duration_s, "s")
-        discard = _check.number("base.discard_s", self.discard_s, lo=0.0, hi=duration,
-                                hi_open=True, unit="s")
+        if isinstance(self.ramp, Mapping):
+            set_("ramp", SpeedRamp.from_dict(self.ramp))
+        if self.ramp is not None and not isinstance(self.ramp, SpeedRamp):
+            raise _check.wrong_type("ramp", self.ramp, "a SpeedRamp, a table or None")
+        if self.ramp is None:
+            given = DEFAULT_DURATION_S if self.duration_s is None else self.duration_s
+            duration = _check.positive("base.duration_s", given, "s")
+            discard = _check.number("base.discard_s", self.discard_s, lo=0.0, hi=duration,
+                                    hi_open=True, unit="s")
+        elif self.duration_s is not None:
+            raise ValueError(f"base.duration_s = {_check.plain(self.duration_s)} is given "
+                             "with [ramp] (allowed: no base.duration_s: a run lasts "
+                             "base.discard_s + 2·ramp.span·speed / ramp.rate_rpm_s)")
+        else:
+            duration = None
+            discard = _check.non_negative("base.discard_s", self.discard_s, "s")
         set_("duration_s", duration)
         set_("discard_s", discard)
         longest = max(gap_ramps_s(self.replicates, duration))
@@ -221,7 +271,7 @@ class Design:
             cases = by_name["case"].levels
             slowest = _lowest(by_name["speed_ratio"]) * min(
                 self.critical_speeds_rad_s[c - 1] for c in cases)
-        _check_revolutions(self.duration_s - self.discard_s, slowest)
+        _check_revolutions(self.duration_s, self.discard_s, self.ramp, slowest)
 
     def _n(self) -> int:
         if self.method == "grid":
@@ -292,6 +342,8 @@ class Design:
                         raise ValueError(f"unknown {what} '{section}.{key}' "
                                          f"(allowed: {', '.join(_SECTIONS[section])})")
         base = dict(data.get("base", {}))
+        if "ramp" in data:
+            base["ramp"] = SpeedRamp.from_dict(data["ramp"])
         base["rig"] = _rig(base.get("rig", "paper"), root)
         base["reduction"] = _reduction(base.pop("reduced", None),
                                        base.pop("reduction_cutoff_hz", None))
@@ -308,13 +360,16 @@ class Design:
         from rubdiag.model.io import rig_to_dict
 
         base = {"duration_s": self.duration_s, "discard_s": self.discard_s}
+        if self.ramp is not None:
+            del base["duration_s"]          # derived, run by run
         if self.reduction is not None:
             base["reduced"] = True
             base["reduction_cutoff_hz"] = float(self.reduction.cutoff_hz)
         if self.critical_speeds_rad_s is not None:
             base["critical_speeds_rad_s"] = list(self.critical_speeds_rad_s)
         base["rig"] = rig_to_dict(self.rig)
-        return {"base": base,
+        ramp = {} if self.ramp is None else {"ramp": self.ramp.to_dict()}
+        return {"base": base, **ramp,
                 "sampling": {"method": self.method, "n": self.n, "seed": self.seed,
                              "replicates": self.replicates},
                 "factors": {f.name: f.to_spec() for f in self.factors},
@@ -371,13 +426,20 @@ class Design:
                     run = self.run_for(point, replicate)
                 except ValueError as exc:
                     raise ValueError(f"point {index} ({_describe(point)}): {exc}") from None
-                item = DesignRun(dict(point), replicate, run, point_id(run), run_id(run))
+                item = DesignRun(dict(point), replicate, run, point_id(run), run_id(run),
+                                 self._speed_rad_s(point) * 30.0 / math.pi, self.ramp)
                 if item.run_id in seen:
                     raise ValueError(f"the design repeats a run: point {index} is point "
                                      f"{seen[item.run_id]} ({_describe(point)})")
                 seen[item.run_id] = index
                 out.append(item)
         return out
+
+    def _speed_rad_s(self, point: Mapping) -> float:
+        """The design point's speed (rad/s): with a ramp, the middle of the sweep."""
+        if "speed_ratio" in point:
+            return point["speed_ratio"] * self.critical_speeds_rad_s[point["case"] - 1]
+        return point["speed_rpm"] * math.pi / 30.0
 
     def run_for(self, point: Mapping, replicate: int = 0) -> Run:
         """The :class:`~rubdiag.simulate.Run` of design point ``point`` (factor name ->
@@ -394,33 +456,59 @@ class Design:
         else:
             step = math.radians(point["phase_diff_deg"])
             phases = tuple(step * (j % 2) for j in range(len(magnitudes)))
-        if "speed_ratio" in point:
-            speed = point["speed_ratio"] * self.critical_speeds_rad_s[point["case"] - 1]
-        else:
-            speed = point["speed_rpm"] * math.pi / 30.0
+        speed = self._speed_rad_s(point)
         if "casing_stiffness_scale" in point:
             rig = _scaled_casing(rig, point["casing_stiffness_scale"])
-        _check_revolutions(self.duration_s - self.discard_s, speed)
         gap = point.get("gap_mm")
-        return Run(rig=rig, speed_rad_s=speed, unbalance=Unbalance(magnitudes, phases),
-                   gap_m=None if gap is None else gap * 1e-3, duration_s=self.duration_s,
-                   discard_s=self.discard_s, contact=_contact(rig, point), gap_ramp_s=ramp_s,
-                   sensors=self.sensors, reduction=self.reduction,
-                   label=f"{_describe(point)}, replicate {replicate}")
+        options = {}
+        _check_revolutions(self.duration_s, self.discard_s, self.ramp, speed)
+        duration = self.duration_s
+        if self.ramp is not None:
+            profile = self.ramp.profile(speed * 30.0 / math.pi, hold_s=self.discard_s)
+            speed, duration = profile.start_rad_s, profile.end_s
+            options["speed_profile"] = profile
+        run = Run(rig=rig, speed_rad_s=speed, unbalance=Unbalance(magnitudes, phases),
+                  gap_m=None if gap is None else gap * 1e-3, duration_s=duration,
+                  discard_s=self.discard_s, contact=_contact(rig, point), gap_ramp_s=ramp_s,
+                  sensors=self.sensors, reduction=self.reduction,
+                  label=f"{_describe(point)}, replicate {replicate}", **options)
+        if self.ramp is not None:
+            _check_top_speed(run)
+        return run
 
 
 def _lowest(factor: Factor) -> float:
     return min(factor.levels) if factor.levels is not None else factor.low
 
 
-def _check_revolutions(window_s: float, speed_rad_s: float) -> None:
-    revolutions = window_s * speed_rad_s / (2 * math.pi)
-    if revolutions < MIN_REVOLUTIONS * (1 - 1e-12):
-        raise ValueError(
-            f"the analysis window (base.duration_s - base.discard_s = {window_s:g} s) holds "
-            f"{revolutions:.3g} revolutions at {speed_rad_s * 30 / math.pi:.6g} rpm, the "
-            f"design's slowest speed (allowed: at least {MIN_REVOLUTIONS:g}, for the spectral "
-            "features)")
+def _check_revolutions(duration_s: float | None, discard_s: float, ramp: SpeedRamp | None,
+                       speed_rad_s: float) -> None:
+    """The analysis window at ``speed_rad_s`` (the design's slowest) must hold
+    MIN_REVOLUTIONS; a ramp's, also the revolutions its order tracking takes off."""
+    rpm = speed_rad_s * 30.0 / math.pi
+    if ramp is None:
+        window_s, needed = duration_s - discard_s, MIN_REVOLUTIONS
+        what = f"the analysis window (base.duration_s - base.discard_s = {window_s:g} s)"
+        why = "for the spectral features"
+    else:
+        window_s = ramp.sweep_s(rpm)     # a linear sweep's mean speed is its middle
+        needed = MIN_REVOLUTIONS + ORDER_TRACK_LOST_REVOLUTIONS
+        what = f"the ramp (2·ramp.span·speed / ramp.rate_rpm_s = {window_s:.4g} s)"
+        why = ("for the spectral features of its order-tracked record; lower ramp.rate_rpm_s "
+               "or widen ramp.span")
+    revolutions = window_s * rpm / 60.0
+    if revolutions < needed * (1 - 1e-12):
+        raise ValueError(f"{what} holds {revolutions:.3g} revolutions at {rpm:.6g} rpm, the "
+                         f"design's slowest speed (allowed: at least {needed:g}, {why})")
+
+
+def _check_top_speed(run: Run) -> None:
+    top = max(run.speed_profile.speeds_rad_s) * 30.0 / math.pi
+    fastest = max_tracked_rpm(run.output_rate_hz)
+    if top > fastest:
+        raise ValueError(f"the ramp reaches {top:.6g} rpm (allowed: at most {fastest:.6g} rpm "
+                         f"at the output rate {run.output_rate_hz:g} Hz, for the features of "
+                         "the order-tracked record; lower ramp.span or the speed)")
 
 
 def _factors(factors) -> tuple[Factor, ...]:

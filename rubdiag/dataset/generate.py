@@ -113,11 +113,14 @@ def _task(item, labels, noise, timeout, waveforms) -> tuple[dict, dict | None]:
 
 
 def _acquisition(design: Design, items) -> dict:
-    return {"fs_hz": 1.0 / items[0].run.output_dt_s,
-            "window_s": design.duration_s - design.discard_s,
+    meta = {"fs_hz": 1.0 / items[0].run.output_dt_s,
+            "window_s": min(item.run.duration_s for item in items) - design.discard_s,
             "discard_s": design.discard_s,
             "sensors": [{"name": s.name, "point": s.point, "direction": s.direction,
                          "quantity": s.quantity, "unit": s.unit} for s in design.sensors]}
+    if design.ramp is not None:
+        meta["ramp"] = design.ramp.to_dict()
+    return meta
 
 
 def _run_local(todo, jobs, args) -> Iterable[tuple]:

@@ -8,7 +8,13 @@ with other thresholds:
     The largest radial approach of the linear (contact-free) unbalance response over all
     contact elements, divided by g0 (``SimulationResult.linear_approach_m / gap_m``): how
     deep the rotor would reach into the casing if nothing stopped it. > 1 means the linear
-    orbit crosses the casing.
+    orbit crosses the casing. A run along a speed profile (a design's ``[ramp]``) takes
+    the largest approach over the speeds its window sweeps
+    (:func:`rubdiag.dataset.approach.sweep_linear_approach_m`, given to :func:`label_run`):
+    how deep the rotor would reach at the sweep's worst speed, e.g. the critical speed it
+    passes. A run-up passes a critical faster than the steady response builds up, so this
+    is an upper bound of the depth the window reaches; at the worst speed it is that
+    speed's constant-speed ratio, so ``severity_threshold`` reads the same way.
 ``contact_time_fraction``
     The largest, over the contact elements, share of the window during which the element
     is closed (episodes clipped to the window, from their interpolated start and end).
@@ -19,7 +25,8 @@ with other thresholds:
     augmentation the multiplier carries part of the force, so this is an upper bound.
 ``friction_work_per_rev_j``
     Energy dissipated by friction in the window per revolution (J), from the energy
-    ledger's cumulative ``dissipated_friction``.
+    ledger's cumulative ``dissipated_friction`` (the window's revolutions from the shaft
+    angle along a speed profile).
 ``sticking_share``
     Sticking time / closed time over all elements and window episodes; NaN without
     contact.
@@ -86,10 +93,15 @@ class LabelRules:
                 "full_contact_share": self.full_contact_share}
 
 
-def label_run(result, rules: LabelRules | None = None) -> dict:
+def label_run(result, rules: LabelRules | None = None,
+              linear_approach_m: float | None = None) -> dict:
     """The measures and labels of a :class:`~rubdiag.simulate.SimulationResult`: one dict,
-    measures first (:data:`MEASURES`, then :data:`LABELS`)."""
-    measures = run_measures(result)
+    measures first (:data:`MEASURES`, then :data:`LABELS`).
+
+    ``linear_approach_m``: the approach behind ``interference_ratio``; default the run's
+    (``result.linear_approach_m``, at its constant speed). A run along a speed profile needs
+    it given: :func:`rubdiag.dataset.approach.sweep_linear_approach_m` of its run."""
+    measures = run_measures(result, linear_approach_m)
     return {**measures, **labels_from_measures(measures, rules)}
 
 
@@ -106,9 +118,17 @@ def labels_from_measures(measures: dict, rules: LabelRules | None = None) -> dic
             "severity": "serious" if serious else "light"}
 
 
-def run_measures(result) -> dict:
-    """The raw measures of the module docstring."""
+def run_measures(result, linear_approach_m: float | None = None) -> dict:
+    """The raw measures of the module docstring (``linear_approach_m``: as for
+    :func:`label_run`)."""
     run, system = result.run, result.system
+    varying = getattr(run, "speed_profile", None) is not None
+    if linear_approach_m is None:
+        if varying:
+            raise ValueError("a run along a speed profile needs linear_approach_m (the "
+                             "largest over its window's speeds: rubdiag.dataset.approach."
+                             "sweep_linear_approach_m(run))")
+        linear_approach_m = result.linear_approach_m
     start = run.discard_s
     end = float(system.t[-1]) if system.t.size else start
     window = max(end - start, 0.0)
@@ -122,11 +142,14 @@ def run_measures(result) -> dict:
     slide, stick = ep.slide_time[overlap].sum(), ep.stick_time[overlap].sum()
     peak = float(ep.peak_normal_force[overlap].max()) if overlap.any() else 0.0
     law = run.contact_law
-    revolutions = window * run.speed_rad_s / (2 * math.pi)
+    if not varying:
+        revolutions = window * run.speed_rad_s / (2 * math.pi)
+    else:
+        revolutions = float(run.angle_at(end) - run.angle_at(start)) / (2 * math.pi)
     friction = _ledger_in_window(system.t, system.dissipated_friction, start)
     gap = run.gap_m if run.gap_m else float("nan")
     return {
-        "interference_ratio": result.linear_approach_m / gap,
+        "interference_ratio": linear_approach_m / gap,
         "contact_time_fraction": float(per_element.max() / window) if window > 0 else 0.0,
         "peak_normal_force_n": peak,
         "peak_penetration_m": peak / law.normal_stiffness_n_m if law is not None else 0.0,

@@ -12,7 +12,8 @@ while it runs (the linear algebra is then the same on every worker, and parallel
 across runs).
 
 Columns, in order: :data:`ID_COLUMNS`, the design point's factors (as the design names
-them), ``speed_rpm`` (the run's speed), ``model`` (``"full"`` or ``"reduced"``: which model
+them), ``speed_rpm`` (the run's speed; the design point's), for a design with a speed ramp
+:data:`RAMP_COLUMNS`, ``model`` (``"full"`` or ``"reduced"``: which model
 the run simulated, in every row, failed ones included), the measures and labels, the sensor features
 ``CHANNEL__FEATURE`` (e.g. ``shaft11_y_disp__amp_1x``, :mod:`rubdiag.signal.table`), the
 ground truth a plant cannot measure — contact statistics ``contact<k>__…`` and
@@ -20,6 +21,20 @@ ground truth a plant cannot measure — contact statistics ``contact<k>__…`` a
 :data:`PROVENANCE` (``rubdiag_version``, ``status``, ``message``, ``wall_s``: the row's
 wall time, ``simulate_s``: the simulation's part of it), which the determinism checks
 leave out.
+
+**Runs along a speed ramp** (a design's ``[ramp]``, :mod:`rubdiag.dataset.ramp`).
+``speed_rpm`` is the design point's speed, the middle of the sweep; ``ramp_from_rpm`` and
+``ramp_to_rpm`` are the sweep's start and end, ``ramp_rate_rpm_s`` its rate, and
+``ramp_mean_rpm`` the mean speed of the record the features are measured on. The features
+come from the window's measured channels order-tracked on the run's exact shaft angle
+(:func:`rubdiag.runs.features.order_tracked`: equal angle steps, 32 per revolution,
+anti-aliased in the angle domain, whole revolutions) and presented as a constant-speed
+record at that mean speed, so the columns are those of a constant-speed dataset: every
+order is a steady line, its ``freq_*_hz`` in Hz at ``ramp_mean_rpm``; ``rms`` covers the
+orders up to 12.5 (the angle-domain low-pass); phases are against the shaft angle. The
+labels' ``interference_ratio`` takes the largest linear approach over the sweep
+(:mod:`rubdiag.dataset.approach`), and the ``…_per_rev`` contact statistics count the
+window's revolutions from the shaft angle.
 """
 
 from __future__ import annotations
@@ -34,8 +49,11 @@ from rubdiag.dataset.labels import LabelRules, label_run
 from rubdiag.dataset.noise import NoiseFloors, add_noise, noise_seed
 from rubdiag.dataset.schema import ID_COLUMNS, MODEL_COLUMN, PROVENANCE, SEPARATOR, STATUSES
 
-__all__ = ["ID_COLUMNS", "PROVENANCE", "SEPARATOR", "STATUSES", "RunTimeout", "make_row",
-           "make_row_and_waveforms"]
+__all__ = ["ID_COLUMNS", "PROVENANCE", "RAMP_COLUMNS", "SEPARATOR", "STATUSES", "RunTimeout",
+           "make_row", "make_row_and_waveforms"]
+
+#: The columns of a run along a design's speed ramp, after ``speed_rpm`` (module docstring).
+RAMP_COLUMNS = ("ramp_from_rpm", "ramp_to_rpm", "ramp_rate_rpm_s", "ramp_mean_rpm")
 
 
 class RunTimeout(RuntimeError):
@@ -52,15 +70,20 @@ def make_row_and_waveforms(item, rules: LabelRules | None = None,
                            noise: NoiseFloors | None = None,
                            run_timeout_s: float | None = None) -> tuple[dict, dict | None]:
     """The row of ``item`` and its measured waveforms: ``{"fs": Hz, "channels": {name:
-    float32 array over the whole run, noise included}}`` (None when the run failed)."""
+    float32 array over the whole run, noise included}}``, for a run along a speed profile
+    also ``"angle_rad"`` (the shaft angle at the samples), or None when the run failed."""
     from threadpoolctl import threadpool_limits  # installed with scikit-learn
 
     rules = LabelRules() if rules is None else rules
     noise = NoiseFloors() if noise is None else noise
     start = time.perf_counter()
     row = {"run_id": item.run_id, "point_id": item.point_id, "replicate": item.replicate,
-           **item.point, "speed_rpm": item.run.speed_rpm,
-           MODEL_COLUMN: item.run.model_kind}
+           **item.point, "speed_rpm": item.speed_rpm}
+    if item.ramp is not None:
+        from_rpm, to_rpm = item.ramp.speeds_rpm(item.speed_rpm)
+        row.update(ramp_from_rpm=from_rpm, ramp_to_rpm=to_rpm,
+                   ramp_rate_rpm_s=item.ramp.rate_rpm_s, ramp_mean_rpm=float("nan"))
+    row[MODEL_COLUMN] = item.run.model_kind
     waves = None
     with threadpool_limits(limits=1):
         try:
@@ -83,7 +106,9 @@ def make_row_and_waveforms(item, rules: LabelRules | None = None,
 
 def _simulate_and_describe(item, rules, noise, run_timeout_s,
                            start) -> tuple[dict, dict]:
+    from rubdiag.dataset.approach import sweep_linear_approach_m
     from rubdiag.runs import contact_statistics
+    from rubdiag.runs.features import order_tracked_features
     from rubdiag.signal.table import prefixed_features
     from rubdiag.simulate import simulate
 
@@ -94,25 +119,51 @@ def _simulate_and_describe(item, rules, noise, run_timeout_s,
                              f"of {duration:.4g} s (--run-timeout {run_timeout_s:g} s)")
 
     run = item.run
+    varying = run.speed_profile is not None
     result = simulate(run, progress=None if run_timeout_s is None else watchdog)
-    labelled = label_run(result, rules)
+    labelled = label_run(result, rules,
+                         sweep_linear_approach_m(run) if varying else None)
     # noise over the whole record (what --waveforms stores), features over the window
     measured = add_noise(result.sensor_signals(),
                          {s.name: noise.floor(s.quantity) for s in run.sensors},
                          noise_seed(item.run_id))
     window = result.window
-    spectra = prefixed_features({k: v[window] for k, v in measured.items()}, result.fs,
-                                run.speed_rpm, separator=SEPARATOR)
+    windowed = {k: v[window] for k, v in measured.items()}
+    computed = {}
+    if varying:
+        spectra = order_tracked_features(windowed, result.fs, result.angle_rad[window],
+                                         separator=SEPARATOR)
+        computed["ramp_mean_rpm"] = float(spectra["speed_rpm"].iloc[0])
+    else:
+        spectra = prefixed_features(windowed, result.fs, run.speed_rpm, separator=SEPARATOR)
     features = spectra.iloc[0].drop("speed_rpm").to_dict()
-    for name, value in contact_statistics(result).items():
+    stats = contact_statistics(result)
+    if varying:     # contact_statistics divides by window × start speed: the shaft angle's
+        revolutions = _window_revolutions(result)         # revolutions instead
+        for name in [n for n in stats if n.endswith("_entries_per_rev")]:
+            stats[name] = _ratio(stats[name.removesuffix("_per_rev")], revolutions)
+    for name, value in stats.items():
         if name == "window_s":          # the design's, not the run's
             continue
         channel, stat = name.split("_", 1) if name.startswith("contact") else ("truth", name)
         features[f"{channel}{SEPARATOR}{stat}"] = value
     waves = {"fs": result.fs,
              "channels": {k: v.astype(np.float32) for k, v in measured.items()}}
-    return {**labelled, **{k: _plain(v) for k, v in features.items()},
+    if varying:
+        waves["angle_rad"] = result.angle_rad
+    return {**computed, **labelled, **{k: _plain(v) for k, v in features.items()},
             "simulate_s": result.wall_s}, waves
+
+
+def _window_revolutions(result) -> float:
+    """Revolutions of the shaft over the analysis window (as contact_statistics's window)."""
+    run = result.run
+    end = float(result.t[-1]) if result.t.size else run.discard_s
+    return float(run.angle_at(end) - run.angle_at(run.discard_s)) / (2 * math.pi)
+
+
+def _ratio(num: float, den: float) -> float:
+    return float(num / den) if den > 0 else float("nan")
 
 
 def _plain(value):

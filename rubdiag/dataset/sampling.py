@@ -76,10 +76,12 @@ def ramp_offsets(replicates: int) -> tuple[float, ...]:
     return tuple(offsets[:replicates])
 
 
-def gap_ramps_s(replicates: int, duration_s: float) -> tuple[float, ...]:
+def gap_ramps_s(replicates: int, duration_s: float | None = None) -> tuple[float, ...]:
     """Gap-ramp lengths (s) of replicates ``0 … replicates-1`` of a run of ``duration_s``:
     the standard ramp of :class:`~rubdiag.simulate.Run` (0.1 s, or half the duration of a
-    run shorter than 0.2 s) times ``1 + ramp_offsets(replicates)``, rounded to 1e-12 s (so
+    run shorter than 0.2 s; None: 0.1 s, as for the runs of a design with a speed ramp,
+    whose lengths differ) times ``1 + ramp_offsets(replicates)``, rounded to 1e-12 s (so
     that five replicates of a 2.3 s run are exactly the paper's 0.098 … 0.102 s)."""
-    standard = min(0.1, 0.5 * _check.positive("duration_s", duration_s, "s"))
+    standard = 0.1 if duration_s is None else min(
+        0.1, 0.5 * _check.positive("duration_s", duration_s, "s"))
     return tuple(round(standard * (1.0 + x), 12) for x in ramp_offsets(replicates))

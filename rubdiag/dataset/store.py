@@ -18,7 +18,8 @@ Layout of ``DIR``:
 ``waveforms/<run_id>.npz``
     With ``--waveforms``: each run's measured channels (the sensors, anti-aliased, noise
     included) over the whole run, float32, compressed, one file per run, written
-    atomically when its row arrives; :func:`load_waveforms` reads one.
+    atomically when its row arrives; :func:`load_waveforms` reads one. A run along a speed
+    ramp also stores its exact shaft angle (float64), for order tracking.
 ``columns.csv``, ``README.md``
     The column map (name, group, unit) and the dataset card, rewritten at the end of a job.
 
@@ -211,9 +212,11 @@ def write_waveforms(root: str | Path, run_id: str, waves: dict, design) -> Path:
     meta = {"run_id": run_id, "fs_hz": waves["fs"], "discard_s": design.discard_s,
             "channels": list(waves["channels"]),
             "units": [units[name] for name in waves["channels"]]}
+    arrays = {f"channel_{i}": v for i, v in enumerate(waves["channels"].values())}
+    if "angle_rad" in waves:
+        arrays["angle_rad"] = np.asarray(waves["angle_rad"], dtype=np.float64)
     sink = io.BytesIO()
-    np.savez_compressed(sink, meta=np.array(json.dumps(meta)),
-                        **{f"channel_{i}": v for i, v in enumerate(waves["channels"].values())})
+    np.savez_compressed(sink, meta=np.array(json.dumps(meta)), **arrays)
     path = folder / f"{run_id}.npz"
     _atomic_write_bytes(path, sink.getvalue())
     return path
@@ -222,8 +225,10 @@ def write_waveforms(root: str | Path, run_id: str, waves: dict, design) -> Path:
 def load_waveforms(root: str | Path, run_id: str) -> pd.DataFrame:
     """The measured channels of one run of a dataset made with ``--waveforms``: a DataFrame
     indexed by time ``t_s`` (s, from the run's start; the analysis window starts at
-    ``attrs["discard_s"]``), one float32 column per sensor; ``attrs["units"]`` maps each
-    column to its unit."""
+    ``attrs["discard_s"]``), one float32 column per sensor, and for a run along a speed ramp
+    a last column ``angle_rad`` (float64: the shaft angle at the samples, the input of
+    :func:`rubdiag.signal.resample_to_angle`); ``attrs["units"]`` maps each column to its
+    unit."""
     path = Path(root) / "waveforms" / f"{run_id}.npz"
     if not path.is_file():
         stored = (Path(root) / "waveforms").is_dir()
@@ -232,16 +237,21 @@ def load_waveforms(root: str | Path, run_id: str) -> pd.DataFrame:
     with np.load(path, allow_pickle=False) as archive:
         meta = json.loads(str(archive["meta"]))
         columns = {name: archive[f"channel_{i}"] for i, name in enumerate(meta["channels"])}
+        units = dict(zip(meta["channels"], meta["units"], strict=True))
+        if "angle_rad" in archive.files:
+            columns["angle_rad"], units["angle_rad"] = archive["angle_rad"], "rad"
     n = len(next(iter(columns.values()))) if columns else 0
     frame = pd.DataFrame(columns, index=pd.Index(np.arange(n) / meta["fs_hz"], name="t_s"))
-    frame.attrs.update(units=dict(zip(meta["channels"], meta["units"], strict=True)),
-                       fs_hz=meta["fs_hz"], discard_s=meta["discard_s"], run_id=run_id)
+    frame.attrs.update(units=units, fs_hz=meta["fs_hz"], discard_s=meta["discard_s"],
+                       run_id=run_id)
     return frame
 
 
 def acquisition(root: str | Path) -> dict:
     """How a dataset's channels were measured: ``{"fs_hz", "window_s", "discard_s",
-    "sensors": [{"name", "point", "direction", "quantity", "unit"}, …]}``."""
+    "sensors": [{"name", "point", "direction", "quantity", "unit"}, …]}``; for a design with
+    a speed ramp also ``"ramp"`` (its ``rate_rpm_s``, ``span``, ``direction``), and
+    ``window_s`` is then the shortest analysis window of its runs."""
     meta = DatasetFolder(root).meta()
     if "acquisition" not in meta:
         raise ValueError(f"{root}: dataset.json does not say how the channels were measured "

@@ -7,22 +7,47 @@ casing responses over the analysis window (columns prefixed ``shaft_``, ``blade_
 :func:`features` is the public ``rubdiag.features``: a simulation result goes to
 :func:`run_features`, anything else (a measured signal) to :func:`rubdiag.signal.features`
 without loading the simulator.
+
+:func:`order_tracked` and :func:`order_tracked_features` give records along a changing speed
+(run-ups, coast-downs) the same columns as constant-speed ones: the record is resampled at
+equal shaft-angle steps (:func:`rubdiag.signal.resample_to_angle`, anti-aliased in the angle
+domain), cut to whole revolutions, and presented as a constant-speed record at its mean
+speed. In that record every order is a steady line, so the features of
+:func:`rubdiag.signal.prefixed_features` apply unchanged, their frequencies in Hz at the
+mean speed (order × mean revolutions per second).
 """
 
 from __future__ import annotations
 
+import math
 import sys
 import zipfile
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
+from rubdiag import _check
 from rubdiag.runs.contact_stats import contact_statistics
 from rubdiag.signal import features as signal_features
+from rubdiag.signal import resample_to_angle
+from rubdiag.signal.orders import HARMONICS
+from rubdiag.signal.records import RecordTooShort
+from rubdiag.signal.sidebands import HALF_WIDTH_ORDERS
+from rubdiag.signal.speedtable import MAX_FS_FRACTION, SAMPLES_PER_REV
 from rubdiag.signal.table import prefixed_features
 
-__all__ = ["features", "is_result", "run_features", "run_points", "run_signals"]
+__all__ = ["ORDER_TRACK_LOST_REVOLUTIONS", "TOP_FEATURE_ORDER", "features", "is_result",
+           "max_tracked_rpm", "order_tracked", "order_tracked_features", "run_features",
+           "run_points", "run_signals"]
+
+#: The highest order the features read: 8× and the ±0.25× of its sidebands and broadband.
+TOP_FEATURE_ORDER = max(HARMONICS) + HALF_WIDTH_ORDERS
+#: The most revolutions :func:`order_tracked` takes off a record: the anti-alias filter's
+#: ends (0.36 revolutions each at 32 samples per revolution) and the part revolutions before
+#: the first whole one and after the last.
+ORDER_TRACK_LOST_REVOLUTIONS = 3.0
 
 _RESULT_MARK = "rubdiag.simulation-result"
 
@@ -112,3 +137,93 @@ def run_features(results, **options) -> pd.DataFrame:
         stats = pd.DataFrame([contact_statistics(result)])
         rows.append(pd.concat([meta, spectra, stats], axis=1))
     return pd.concat(rows, ignore_index=True)
+
+
+def max_tracked_rpm(fs: float) -> float:
+    """The fastest speed (rpm) at which :func:`order_tracked` reads every feature of a record
+    sampled at ``fs`` (Hz): :data:`TOP_FEATURE_ORDER` × speed at most
+    :data:`~rubdiag.signal.speedtable.MAX_FS_FRACTION` × ``fs``, where the cubic
+    interpolation onto the angle grid reads a line 0.5 % low (2 kHz at 10 kHz: 14545 rpm)."""
+    return MAX_FS_FRACTION * _check.positive("fs", fs, "Hz") / TOP_FEATURE_ORDER * 60.0
+
+
+def order_tracked(signals: Mapping[str, object], fs: float, angle,
+                  samples_per_rev: int = SAMPLES_PER_REV) -> tuple[dict, float, float]:
+    """Signals recorded along a changing speed, as a constant-speed record at their mean
+    speed.
+
+    Parameters
+    ----------
+    signals : mapping of str to 1-D array_like
+        Name → signal, all sampled at ``fs`` over the same samples.
+    fs : float
+        Sampling frequency in Hz.
+    angle : array_like
+        The shaft angle (rad) at every sample, strictly increasing (a simulated run's
+        exact ``angle_rad``, or :func:`rubdiag.signal.tacho_angle`).
+    samples_per_rev : int
+        Samples per revolution of the angle record. The default, 32, is
+        :func:`rubdiag.signal.features_by_revolution`'s: the angle-domain anti-alias filter
+        passes 12.5 orders, above the features' :data:`TOP_FEATURE_ORDER` (8.25×).
+
+    Returns
+    -------
+    record : dict of str to ndarray
+        The signals at ``samples_per_rev`` equal angle steps per revolution
+        (:func:`rubdiag.signal.resample_to_angle` with its default ``max_order``), over the
+        whole revolutions inside the record: it starts at a whole revolution (angle a
+        multiple of 2π), so phases of integer orders are against the shaft angle.
+    fs_equiv : float
+        The record's sampling frequency at its mean speed (Hz): ``samples_per_rev`` × the
+        revolutions it spans over the time they took.
+    speed_rpm : float
+        That mean speed (rpm). ``(record, fs_equiv, speed_rpm)`` is a constant-speed record:
+        an order k lies at ``k · speed_rpm / 60`` Hz, and the record lasts as long as its
+        revolutions did.
+
+    Notes
+    -----
+    Content above 12.5 orders is removed by the angle-domain low-pass, so ``rms`` of the
+    record covers the orders up to there (a constant-speed record's covers its whole
+    band). The fastest speed must keep the features below 0.2 ``fs``
+    (:func:`max_tracked_rpm`); a faster record raises ``ValueError``. At most
+    :data:`ORDER_TRACK_LOST_REVOLUTIONS` revolutions of the input are left out.
+    """
+    if not signals:
+        raise ValueError("signals is empty: give at least one {name: signal}")
+    fs = _check.positive("fs", fs, "Hz")
+    spr = _check.integer("samples_per_rev", samples_per_rev, lo=2)
+    names = list(signals)
+    X = np.vstack([np.asarray(signals[n], dtype=np.float64) for n in names])
+    phi = np.asarray(angle, dtype=np.float64)
+    if phi.ndim == 1 and phi.size == X.shape[1] > 1:
+        fastest = 60.0 * float(np.max(np.diff(phi))) * fs / (2.0 * math.pi)
+        if fastest > max_tracked_rpm(fs):
+            raise ValueError(
+                f"angle: the speed reaches {fastest:.6g} rpm (allowed: at most "
+                f"{max_tracked_rpm(fs):.6g} rpm at fs = {fs:g} Hz, where "
+                f"{TOP_FEATURE_ORDER:g}x stays below {MAX_FS_FRACTION:g} fs)")
+    revolutions, Y = resample_to_angle(X, fs, phi, samples_per_rev=spr)
+    m0 = round(float(revolutions[0]) * spr)
+    i0 = (-m0) % spr                                # the first whole revolution
+    n_rev = (Y.shape[1] - i0) // spr
+    if n_rev < 1:
+        raise RecordTooShort(f"angle: the order-tracked record holds no whole revolution "
+                             f"({Y.shape[1]} angle samples at {spr} per revolution)")
+    first = (m0 + i0) // spr
+    t = np.arange(phi.size) / fs
+    t0, t1 = np.interp(2.0 * math.pi * np.array([first, first + n_rev]), phi, t)
+    rev_per_s = n_rev / (t1 - t0)
+    record = {n: Y[j, i0:i0 + n_rev * spr] for j, n in enumerate(names)}
+    return record, spr * rev_per_s, 60.0 * rev_per_s
+
+
+def order_tracked_features(signals: Mapping[str, object], fs: float, angle,
+                           separator: str = "_", samples_per_rev: int = SAMPLES_PER_REV,
+                           **options) -> pd.DataFrame:
+    """:func:`rubdiag.signal.prefixed_features` of signals recorded along a changing speed:
+    one row, ``speed_rpm`` (the record's mean speed) then ``<name><separator><feature>``,
+    computed on :func:`order_tracked`'s constant-speed record (frequencies in Hz at the mean
+    speed). ``options`` are those of :func:`rubdiag.signal.features`."""
+    record, fs_equiv, speed_rpm = order_tracked(signals, fs, angle, samples_per_rev)
+    return prefixed_features(record, fs_equiv, speed_rpm, separator=separator, **options)

@@ -355,7 +355,7 @@ BAD = [
      r"unknown key 'base.duration' \(allowed: rig, duration_s, discard_s, reduced, "
      r"reduction_cutoff_hz, critical_speeds_rad_s\)"),
     ({**GOOD, "noises": {}},
-     r"unknown table \[noises\] \(allowed: base, sampling, factors, labels, noise, "
+     r"unknown table \[noises\] \(allowed: base, ramp, sampling, factors, labels, noise, "
      r"sensors\)"),
     ({**GOOD, "sensors": [{"point": "shaft 99", "direction": "y"}]},
      r"sensor 'shaft99_y_disp': no DOF \('shaft 99', 'y'\) in rig"),
