@@ -137,12 +137,7 @@ def _simulate_and_describe(item, rules, noise, run_timeout_s,
     else:
         spectra = prefixed_features(windowed, result.fs, run.speed_rpm, separator=SEPARATOR)
     features = spectra.iloc[0].drop("speed_rpm").to_dict()
-    stats = contact_statistics(result)
-    if varying:     # contact_statistics divides by window × start speed: the shaft angle's
-        revolutions = _window_revolutions(result)         # revolutions instead
-        for name in [n for n in stats if n.endswith("_entries_per_rev")]:
-            stats[name] = _ratio(stats[name.removesuffix("_per_rev")], revolutions)
-    for name, value in stats.items():
+    for name, value in contact_statistics(result).items():
         if name == "window_s":          # the design's, not the run's
             continue
         channel, stat = name.split("_", 1) if name.startswith("contact") else ("truth", name)
@@ -153,17 +148,6 @@ def _simulate_and_describe(item, rules, noise, run_timeout_s,
         waves["angle_rad"] = result.angle_rad
     return {**computed, **labelled, **{k: _plain(v) for k, v in features.items()},
             "simulate_s": result.wall_s}, waves
-
-
-def _window_revolutions(result) -> float:
-    """Revolutions of the shaft over the analysis window (as contact_statistics's window)."""
-    run = result.run
-    end = float(result.t[-1]) if result.t.size else run.discard_s
-    return float(run.angle_at(end) - run.angle_at(run.discard_s)) / (2 * math.pi)
-
-
-def _ratio(num: float, den: float) -> float:
-    return float(num / den) if den > 0 else float("nan")
 
 
 def _plain(value):

@@ -81,7 +81,12 @@ def contact_statistics(result) -> dict[str, float]:
     ep = result.window_episodes()
     end = float(result.t[-1]) if result.t.size else result.run.discard_s
     window_s = max(end - result.run.discard_s, 0.0)
-    revolutions = window_s * result.run.speed_rad_s / (2 * np.pi)
+    run = result.run
+    if run.speed_profile is None:
+        revolutions = window_s * run.speed_rad_s / (2 * np.pi)
+    else:       # along a speed profile: the shaft angle turned over the window
+        revolutions = float(run.angle_at(run.discard_s + window_s)
+                            - run.angle_at(run.discard_s)) / (2 * np.pi)
     n_elements = result.system.contact_fn.shape[1]
     row: dict[str, float] = {"window_s": window_s}
     for k in range(1, n_elements + 1):

@@ -114,6 +114,9 @@ def run_features(results, **options) -> pd.DataFrame:
     ``window`` …). Columns: ``label``, ``status``, ``speed_rpm``, ``gap_m``,
     ``friction_coefficient``, ``dt_s``, ``model`` ("full" or "reduced"), ``window_s``, then
     ``shaft_…``, ``blade_…``, ``casing_…`` spectral features, then the contact statistics.
+    A run along a speed profile is order-tracked on its shaft angle first
+    (:func:`order_tracked_features`): its ``speed_rpm`` is the window's mean speed and its
+    frequencies are in Hz at that speed.
     """
     from rubdiag.simulate import SimulationResult, load_result
 
@@ -133,7 +136,12 @@ def run_features(results, **options) -> pd.DataFrame:
             "friction_coefficient": law.friction_coefficient if law else np.nan,
             "dt_s": run.dt_s, "model": run.model_kind,
         }])
-        spectra = prefixed_features(run_signals(result), result.fs, run.speed_rpm, **options)
+        if run.speed_profile is None:
+            spectra = prefixed_features(run_signals(result), result.fs, run.speed_rpm,
+                                        **options)
+        else:   # order-tracked on the shaft angle, at the window's mean speed
+            spectra = order_tracked_features(run_signals(result), result.fs,
+                                             result.angle_rad[result.window], **options)
         stats = pd.DataFrame([contact_statistics(result)])
         rows.append(pd.concat([meta, spectra, stats], axis=1))
     return pd.concat(rows, ignore_index=True)

@@ -123,3 +123,19 @@ def test_bad_input_is_one_line_and_exit_2(argv, match, tmp_path, capsys):
     assert main(args) == 2
     err = capsys.readouterr().err
     assert match in err and err.count("\n") == 1
+
+
+def test_a_ramp_runs_row_is_order_tracked_at_its_mean_speed(cli_out):
+    """``rubdiag.features`` of a run-up: spectra order-tracked on the shaft angle at the
+    window's mean speed, and contact counts per revolution of the angle turned."""
+    from rubdiag.runs import run_features
+
+    result = load_result(cli_out / "runup.npz")
+    row = run_features(result).iloc[0]
+    run, t = result.run, result.t[result.window]
+    turned = (run.angle_at(t[-1]) - run.angle_at(t[0])) / (2 * np.pi)
+    mean_rpm = 60 * turned / (t[-1] - t[0])
+    assert row["speed_rpm"] == pytest.approx(mean_rpm, rel=0.02)     # whole revolutions
+    whole = (run.angle_at(result.t[-1]) - run.angle_at(run.discard_s)) / (2 * np.pi)
+    assert row["contact1_sliding_entries_per_rev"] == pytest.approx(
+        row["contact1_sliding_entries"] / whole, rel=1e-9)
