@@ -917,7 +917,8 @@ def simulate_system(
         the raw stream sensors are filtered and decimated from (default: none).
     gap_ramp : (t_ramp, g_start), optional
         Ramp every element's gap linearly from ``g_start`` (m; scalar or (n_c,), >= g0) at
-        t = 0 down to its g0 at ``t_ramp`` (s) (DESIGN item 10). Default: no ramp.
+        t = 0 down to its g0 at ``t_ramp`` (s), so that a linear orbit larger than the gap does not start deep inside the
+        casing. Default: no ramp.
     omega : float
         Shaft speed Ω (rad/s): the surface speed Ω R of kind-2 elements.
     gamma : float
@@ -949,7 +950,8 @@ def simulate_system(
         rigid wall at depth ε; with the trapezoidal rule a wall hit inside one step gives an
         impulsive force (tens of times the penalty force) and, in *sustained* contact, force
         chatter orders of magnitude above the penalty force and a broken energy balance.
-        Pure penalty (the default, DESIGN item 7) has none of this.
+        Pure penalty (the default; README "Differences from the study, and why") has none
+        of this.
     augment_strict : bool
         If True (default) a step whose multipliers do not bring every closed element into the
         band within ``max_augment`` updates is a failed contact iteration (halve the step /
