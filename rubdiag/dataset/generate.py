@@ -1,10 +1,12 @@
 """Make a dataset: run a design's runs in parallel and write their rows as they come.
 
 Workers (local processes, or Dask workers) get run descriptions and return rows; only this
-process writes, so Dask workers need no shared disk. Rows are written in chunks
-(:mod:`rubdiag.dataset.store`) at least every ``chunk_rows`` rows or ``flush_s`` seconds,
-so a killed job loses at most the runs in flight and the last unwritten rows; the same
-call then resumes, running only what is not stored yet.
+process writes, so Dask workers need no shared disk. Each row is stored the moment it
+arrives, before the progress line counts it (the folder's journal,
+:mod:`rubdiag.dataset.store`), and the journal is moved into a Parquet chunk every
+``chunk_rows`` rows or ``flush_s`` seconds and when the job ends: a job killed at any moment
+loses only the runs in flight, and the same call then resumes, running only what is not
+stored yet. A resume first sets aside the chunks that cannot be read (their runs run again).
 """
 
 from __future__ import annotations
@@ -13,14 +15,14 @@ import math
 import os
 import sys
 import time
+import warnings
 from collections.abc import Callable, Iterable
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
-import pyarrow as pa
-
 from rubdiag import _check
 from rubdiag.dataset.card import write_card
+from rubdiag.dataset.chunks import row_schema
 from rubdiag.dataset.design import Design
 from rubdiag.dataset.rows import make_row_and_waveforms
 from rubdiag.dataset.store import DatasetFolder, write_waveforms
@@ -30,13 +32,16 @@ __all__ = ["GenerateSummary", "generate", "pending_runs"]
 
 class GenerateSummary(dict):
     """What a :func:`generate` call did: ``total``, ``stored_before``, ``run``, ``ok``,
-    ``failed`` (this call), ``wall_s``, ``out``."""
+    ``failed`` (this call), ``wall_s``, ``out``, ``set_aside`` (the unreadable files moved
+    into ``out/broken``, as ``(from, to)`` paths)."""
 
 
 def pending_runs(design: Design, out: str | Path, retry_failed: bool = False) -> list:
     """The runs of ``design`` not stored in ``out`` yet (and, with ``retry_failed``, those
-    stored with a status other than ``ok``)."""
-    return _pending(design.runs(), DatasetFolder(out).stored_status(), retry_failed)
+    stored with a status other than ``ok``); the runs of an unreadable chunk count as not
+    stored (:func:`generate` sets it aside and runs them again)."""
+    stored = DatasetFolder(out).stored_status(skip_unreadable=True)
+    return _pending(design.runs(), stored, retry_failed)
 
 
 def _pending(items, stored: dict[str, str], retry_failed: bool) -> list:
@@ -55,8 +60,14 @@ def generate(design: Design, out: str | Path, *, jobs: int | None = None, client
     limit of one run (a run over it becomes a ``timeout`` row). ``retry_failed``: run again
     the runs stored with a failure. ``waveforms``: also store each run's measured channels
     (:func:`rubdiag.dataset.load_waveforms`). Resumes: runs already stored are not run again.
-    Returns
-    a :class:`GenerateSummary`; :func:`rubdiag.dataset.load` reads the rows.
+
+    Each row is stored when it arrives, whatever ``chunk_rows`` and ``flush_s``: they say
+    how often the stored rows are moved into a Parquet chunk (every ``chunk_rows`` rows or
+    ``flush_s`` seconds, and at the end), i.e. how far ``pandas.read_parquet(out /
+    "features")`` may lag behind a running job, and how large the chunks are. An unreadable
+    chunk or journal row (a disk or a copy failed) is moved into ``out/broken`` with a
+    warning naming it, and its runs run again. Returns a :class:`GenerateSummary`;
+    :func:`rubdiag.dataset.load` reads the rows.
     """
     if not isinstance(design, Design):
         raise _check.wrong_type("design", design, "a Design, e.g. Design.from_toml(path)")
@@ -74,6 +85,11 @@ def generate(design: Design, out: str | Path, *, jobs: int | None = None, client
     folder = DatasetFolder(out)
     folder.check_writable(toml)
     folder.create(toml, _acquisition(design, items))
+    set_aside = folder.set_aside_unreadable()
+    for source, target, why in set_aside:
+        warnings.warn(f"{source}: unreadable ({why}); moved to {target}, its runs run again",
+                      stacklevel=2)
+    folder.compact(final=True)          # what a killed job left in the journal
     stored = folder.stored_status()
     todo = _pending(items, stored, retry_failed)
     retried = {item.run_id for item in todo if item.run_id in stored}
@@ -91,12 +107,13 @@ def generate(design: Design, out: str | Path, *, jobs: int | None = None, client
             writer.add(row)
             bar.update(row["status"] == "ok")
     finally:
-        writer.flush(final=True)
+        writer.compact(final=True)
         bar.close()
     write_card(folder, design)
     return GenerateSummary(total=len(items), stored_before=len(items) - len(todo),
                            run=len(todo), ok=bar.ok, failed=bar.failed,
-                           wall_s=time.perf_counter() - start, out=str(folder.root))
+                           wall_s=time.perf_counter() - start, out=str(folder.root),
+                           set_aside=[(str(a), str(b)) for a, b, _ in set_aside])
 
 
 # --- executors ----------------------------------------------------------------------------
@@ -158,53 +175,39 @@ def _run_dask(todo, client, args) -> Iterable[tuple]:
 
 # --- writing --------------------------------------------------------------------------------
 class _Writer:
-    """Rows into chunks; failed rows wait for the first success, which fixes the columns
-    (a chunk of failures alone would not know the feature columns)."""
+    """Each row into the folder's journal as it arrives (stored before the progress line
+    counts it), the journal into a chunk every ``chunk_rows`` rows or ``flush_s`` seconds.
+    The first successful row fixes the columns (failed rows alone do not know the feature
+    columns, so they wait in the journal for it, or for the end)."""
 
     def __init__(self, folder: DatasetFolder, chunk_rows: int, flush_s: float,
                  retried: set[str]):
         self.folder, self.chunk_rows, self.flush_s = folder, chunk_rows, flush_s
-        self.retried = retried
+        self.retried = retried            # run ids whose old rows are in older chunks
         self.schema = folder.schema()
-        self.buffer: list[dict] = []
+        self.waiting = 0                  # rows in the journal
         self.last = time.monotonic()
 
     def add(self, row: dict) -> None:
         if self.schema is None and row["status"] == "ok":
-            self.schema = _schema_of(row)
+            self.schema = row_schema(row)
             self.folder.set_schema(self.schema)
-        self.buffer.append(row)
-        if len(self.buffer) >= self.chunk_rows or time.monotonic() - self.last >= self.flush_s:
-            self.flush()
+        self.folder.journal(row)
+        self.waiting += 1
+        if self.schema is not None and (self.waiting >= self.chunk_rows
+                                        or time.monotonic() - self.last >= self.flush_s):
+            self.compact()
 
-    def flush(self, final: bool = False) -> None:
-        if not self.buffer or (self.schema is None and not final):
-            return
-        schema = self.schema or _schema_of(self.buffer[0])
-        path = self.folder.write_chunk(self.buffer, schema)
-        done = {r["run_id"] for r in self.buffer} & self.retried
-        if done:
-            self.folder.drop_superseded(done, path)
-        self.buffer, self.last = [], time.monotonic()
-
-
-def _schema_of(row: dict) -> pa.Schema:
-    def kind(value):
-        if isinstance(value, bool):
-            return pa.bool_()
-        if isinstance(value, int):
-            return pa.int64()
-        if isinstance(value, float):
-            return pa.float64()
-        return pa.string()
-
-    return pa.schema([(name, kind(value)) for name, value in row.items()])
+    def compact(self, final: bool = False) -> None:
+        self.folder.compact(final, stored=self.retried)
+        self.waiting, self.last = 0, time.monotonic()
 
 
 # --- progress -------------------------------------------------------------------------------
 class _Progress:
     """``done / failed / remaining, ETA`` on stderr: one updating line on a terminal, a
-    line per 10 % otherwise."""
+    line per finished run otherwise (a log then shows what is stored: a run is counted
+    once its row is)."""
 
     def __init__(self, total: int, skipped: int, enabled: bool = True,
                  stream=None, clock: Callable[[], float] = time.monotonic):
@@ -213,7 +216,6 @@ class _Progress:
         self.clock, self.start = clock, clock()
         self.ok = self.failed = 0
         self.tty = getattr(self.stream, "isatty", lambda: False)()
-        self.next_line = 0.1
         if self.enabled and skipped:
             print(f"{skipped} runs already stored, {total} to run", file=self.stream)
 
@@ -222,12 +224,10 @@ class _Progress:
         self.failed += not ok
         if not self.enabled:
             return
-        done = self.ok + self.failed
         if self.tty:
             print(f"\r{self.line()}", end="", file=self.stream, flush=True)
-        elif done / self.total >= self.next_line or done == self.total:
+        else:
             print(self.line(), file=self.stream, flush=True)
-            self.next_line = math.floor(done / self.total * 10 + 1) / 10
 
     def line(self) -> str:
         done = self.ok + self.failed

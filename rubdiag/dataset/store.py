@@ -1,4 +1,4 @@
-"""A dataset folder that a crash cannot corrupt.
+"""A dataset folder that a crash cannot corrupt, and in which nothing finished is lost.
 
 Layout of ``DIR``:
 
@@ -9,24 +9,38 @@ Layout of ``DIR``:
     The format: ``schema_version`` (:data:`~rubdiag.dataset.schema.SCHEMA_VERSION`, the one
     the run ids were made with) and, once a run has succeeded, ``columns``: every column
     with its Arrow type, the same in every chunk.
+``journal/row-NNNNNN.json``
+    Each finished run's row, written the moment it arrives (before the progress line counts
+    it): a job killed at any moment loses only the runs in flight. The job moves them into
+    a chunk every few rows or seconds, when it ends and when it resumes
+    (:meth:`DatasetFolder.compact`).
 ``features/part-NNNNNN.parquet``
-    The rows, in chunks. Each chunk is written to a hidden temporary file in the same
-    folder and renamed (atomic on POSIX and Windows), so a chunk is either complete or
-    absent, whenever the job is killed. Hidden and temporary files are ignored by every
-    reader (``pandas.read_parquet(DIR / "features")`` included) and removed by the next
-    job.
+    The rows, in chunks: what ``pandas.read_parquet(DIR / "features")`` reads — every row
+    of a finished job; while a job runs, or after it was killed until the next job on the
+    folder, all but the rows still in the journal. :func:`load` reads both.
 ``waveforms/<run_id>.npz``
     With ``--waveforms``: each run's measured channels (the sensors, anti-aliased, noise
     included) over the whole run, float32, compressed, one file per run, written
     atomically when its row arrives; :func:`load_waveforms` reads one. A run along a speed
     ramp also stores its exact shaft angle (float64), for order tracking.
+``broken/``
+    Chunks and journal rows that could not be read (empty, truncated, garbled: a disk or a
+    copy failed), set aside by the next job, which runs their runs again; kept for a look.
 ``columns.csv``, ``README.md``
     The column map (name, group, unit) and the dataset card, rewritten at the end of a job.
 
-A run id appears in at most one chunk, except for a moment while failed runs are retried:
-the new row is written first, then the chunks holding the old one are rewritten without it.
-:func:`load` keeps the newest row of a run id (the highest chunk number), so a crash in
-between still gives every run once.
+Every file is written to a hidden temporary file in the same folder and renamed
+(:mod:`rubdiag.dataset.chunks`), so it is complete or absent whenever the job is killed.
+Hidden and temporary files are ignored by every reader (``pandas.read_parquet`` included)
+and removed by the next job. Readers never write; a damaged file is a one-line
+``ValueError`` naming it and saying how to recover.
+
+Which row of a run id counts: the newest — a journal row over any chunk's, and a chunk of
+a higher number over one of a lower. A run id is in one place, except for a moment: a
+compaction writes its chunk first and then removes the journal rows it holds; a retried
+run's new row is written first and the chunks holding the old one are then rewritten
+without it. A crash in between leaves two copies of which :func:`load` keeps the newest,
+and the next job removes the older.
 """
 
 from __future__ import annotations
@@ -39,31 +53,24 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pyarrow as pa
-import pyarrow.parquet as pq
 
+from rubdiag.dataset.chunks import (
+    UnreadableFile,
+    atomic_write_bytes,
+    atomic_write_text,
+    read_chunk,
+    read_journal_row,
+    row_schema,
+    write_chunk,
+    write_journal_row,
+)
 from rubdiag.dataset.schema import MODEL_COLUMN, SCHEMA_VERSION
 
 __all__ = ["DatasetFolder", "acquisition", "load", "load_waveforms", "write_waveforms"]
 
 _FORMAT = "rubdiag.dataset"
 _CHUNK_PREFIX, _CHUNK_SUFFIX = "part-", ".parquet"
-
-
-def _atomic_write_bytes(path: Path, data: bytes) -> None:
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        with open(tmp, "wb") as f:
-            f.write(data)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
-
-
-def atomic_write_text(path: Path, text: str) -> None:
-    _atomic_write_bytes(Path(path), text.encode("utf-8"))
+_JOURNAL_PREFIX, _JOURNAL_SUFFIX = "row-", ".json"
 
 
 class DatasetFolder:
@@ -72,6 +79,8 @@ class DatasetFolder:
     def __init__(self, root: str | Path):
         self.root = Path(root)
         self.chunks_dir = self.root / "features"
+        self.journal_dir = self.root / "journal"
+        self.broken_dir = self.root / "broken"
 
     # --- opening ---------------------------------------------------------------------------
     def check_writable(self, design_toml: str) -> None:
@@ -130,6 +139,7 @@ class DatasetFolder:
         if meta != self.meta():
             self.write_meta(meta)
         for leftover in [*self.root.glob(".*.tmp"), *self.chunks_dir.glob(".*.tmp"),
+                         *self.journal_dir.glob(".*.tmp"),
                          *(self.root / "waveforms").glob(".*.tmp")]:
             leftover.unlink(missing_ok=True)
 
@@ -154,37 +164,80 @@ class DatasetFolder:
         meta["columns"] = [(f.name, str(f.type)) for f in schema]
         self.write_meta(meta)
         for path in self.chunk_paths():
-            if pq.read_schema(path) != schema:
-                self._rewrite(path, pq.read_table(path).to_pylist(), schema)
+            table = read_chunk(path)
+            if table.schema != schema:
+                write_chunk(path, table.to_pylist(), schema)
 
-    # --- chunks ----------------------------------------------------------------------------
+    # --- chunks and journal ------------------------------------------------------------------
     def chunk_paths(self) -> list[Path]:
-        if not self.chunks_dir.is_dir():
-            return []
-        return sorted(p for p in self.chunks_dir.iterdir()
-                      if p.name.startswith(_CHUNK_PREFIX) and p.name.endswith(_CHUNK_SUFFIX))
+        return _numbered(self.chunks_dir, _CHUNK_PREFIX, _CHUNK_SUFFIX)
 
-    def _next_path(self) -> Path:
-        paths = self.chunk_paths()
-        last = int(paths[-1].name[len(_CHUNK_PREFIX):-len(_CHUNK_SUFFIX)]) if paths else 0
-        return self.chunks_dir / f"{_CHUNK_PREFIX}{last + 1:06d}{_CHUNK_SUFFIX}"
+    def journal_paths(self) -> list[Path]:
+        return _numbered(self.journal_dir, _JOURNAL_PREFIX, _JOURNAL_SUFFIX)
 
     def write_chunk(self, rows: list[dict], schema: pa.Schema) -> Path:
-        path = self._next_path()
-        self._rewrite(path, rows, schema)
+        path = _next_path(self.chunks_dir, _CHUNK_PREFIX, _CHUNK_SUFFIX)
+        write_chunk(path, rows, schema)
         return path
 
-    def _rewrite(self, path: Path, rows: list[dict], schema: pa.Schema) -> None:
-        table = pa.Table.from_pylist(rows, schema=schema)
-        sink = pa.BufferOutputStream()
-        pq.write_table(table, sink, compression="zstd")
-        _atomic_write_bytes(path, sink.getvalue().to_pybytes())
+    def journal(self, row: dict) -> Path:
+        """Write one finished row to the journal: stored when this returns."""
+        self.journal_dir.mkdir(exist_ok=True)
+        path = _next_path(self.journal_dir, _JOURNAL_PREFIX, _JOURNAL_SUFFIX)
+        write_journal_row(path, row)
+        return path
 
-    def stored_status(self) -> dict[str, str]:
-        """run_id -> status of every stored row (the newest per run id)."""
+    def compact(self, final: bool = False, stored: set[str] | None = None) -> Path | None:
+        """Move the journal's rows into a new chunk, then remove them from the journal.
+
+        While no row has succeeded the columns are unknown: failed rows wait in the journal,
+        unless ``final`` (then they get their own columns, and the first successful row of a
+        later job rewrites their chunk). ``stored``: the run ids that older chunks may hold
+        (a retried run's old row, removed from them once the new one is in its chunk);
+        ``None``: read them from the chunks. Returns the new chunk, if any."""
+        chunk = self._compact(final, stored)
+        if final and self.journal_dir.is_dir() and not any(self.journal_dir.iterdir()):
+            self.journal_dir.rmdir()               # a finished folder has no empty journal
+        return chunk
+
+    def _compact(self, final: bool, stored: set[str] | None) -> Path | None:
+        schema = self.schema()
+        paths = self.journal_paths()
+        if not paths or (schema is None and not final):
+            return None
+        rows: dict[str, dict] = {}
+        for path in paths:
+            row = read_journal_row(path)
+            rows.pop(row["run_id"], None)          # the newest of a run id, last
+            rows[row["run_id"]] = row
+        older = self.chunk_paths()
+        chunk = self.write_chunk(list(rows.values()),
+                                 schema or row_schema(next(iter(rows.values()))))
+        if stored is None:
+            stored = {run_id for path in older
+                      for run_id in read_chunk(path, ["run_id"])["run_id"].to_pylist()}
+        if superseded := stored & set(rows):
+            self.drop_superseded(superseded, chunk)
+        for path in paths:
+            path.unlink()
+        return chunk
+
+    def stored_status(self, skip_unreadable: bool = False) -> dict[str, str]:
+        """run_id -> status of every stored row (the newest per run id). An unreadable file
+        raises :class:`~rubdiag.dataset.chunks.UnreadableFile`, or with ``skip_unreadable``
+        counts as holding no run."""
         out = {}
-        for path in self.chunk_paths():
-            table = pq.read_table(path, columns=["run_id", "status"])
+        for path in [*self.chunk_paths(), *self.journal_paths()]:
+            try:
+                if path.suffix == _JOURNAL_SUFFIX:
+                    row = read_journal_row(path)
+                    out[row["run_id"]] = row["status"]
+                    continue
+                table = read_chunk(path, ["run_id", "status"])
+            except UnreadableFile:
+                if skip_unreadable:
+                    continue
+                raise
             out.update(zip(table["run_id"].to_pylist(), table["status"].to_pylist(),
                            strict=True))
         return out
@@ -194,14 +247,59 @@ class DatasetFolder:
         for path in self.chunk_paths():
             if path >= newest:
                 continue
-            table = pq.read_table(path)
+            table = read_chunk(path)
             keep = [r for r in table.to_pylist() if r["run_id"] not in run_ids]
             if len(keep) == table.num_rows:
                 continue
             if keep:
-                self._rewrite(path, keep, table.schema)
+                write_chunk(path, keep, table.schema)
             else:
                 path.unlink()
+
+    # --- damaged files ---------------------------------------------------------------------
+    def unreadable(self) -> list[UnreadableFile]:
+        """Every chunk and journal row that cannot be read, each read whole."""
+        found = []
+        for path in self.chunk_paths():
+            try:
+                read_chunk(path)
+            except UnreadableFile as exc:
+                found.append(exc)
+        for path in self.journal_paths():
+            try:
+                read_journal_row(path)
+            except UnreadableFile as exc:
+                found.append(exc)
+        return found
+
+    def set_aside_unreadable(self) -> list[tuple[Path, Path, str]]:
+        """Move every unreadable chunk and journal row into ``broken/`` (kept, under its
+        own name; ``.1``, ``.2`` … after it if that is taken), where no reader looks: their
+        runs count as not stored. Returns (from, to, why) of each."""
+        moved = []
+        for exc in self.unreadable():
+            self.broken_dir.mkdir(exist_ok=True)
+            target, n = self.broken_dir / exc.path.name, 0
+            while target.exists():
+                n += 1
+                target = self.broken_dir / f"{exc.path.name}.{n}"
+            os.replace(exc.path, target)
+            moved.append((exc.path, target, exc.reason))
+        return moved
+
+
+def _numbered(folder: Path, prefix: str, suffix: str) -> list[Path]:
+    """The files ``<prefix>NNNNNN<suffix>`` of ``folder``, in number order."""
+    if not folder.is_dir():
+        return []
+    return sorted(p for p in folder.iterdir()
+                  if p.name.startswith(prefix) and p.name.endswith(suffix))
+
+
+def _next_path(folder: Path, prefix: str, suffix: str) -> Path:
+    paths = _numbered(folder, prefix, suffix)
+    last = int(paths[-1].name[len(prefix):-len(suffix)]) if paths else 0
+    return folder / f"{prefix}{last + 1:06d}{suffix}"
 
 
 def write_waveforms(root: str | Path, run_id: str, waves: dict, design) -> Path:
@@ -218,7 +316,7 @@ def write_waveforms(root: str | Path, run_id: str, waves: dict, design) -> Path:
     sink = io.BytesIO()
     np.savez_compressed(sink, meta=np.array(json.dumps(meta)), **arrays)
     path = folder / f"{run_id}.npz"
-    _atomic_write_bytes(path, sink.getvalue())
+    atomic_write_bytes(path, sink.getvalue())
     return path
 
 
@@ -261,16 +359,27 @@ def acquisition(root: str | Path) -> dict:
 
 
 def load(root: str | Path) -> pd.DataFrame:
-    """The rows of a dataset folder, one per run (ordered as written). A folder made before
-    rows had a ``model`` column holds runs of the full model: the column is filled with
-    ``"full"`` (after ``speed_rpm``)."""
+    """The rows of a dataset folder, one per run (ordered as written): its chunks and its
+    journal (the rows a running or killed job has not moved into a chunk yet). A folder
+    made before rows had a ``model`` column holds runs of the full model: the column is
+    filled with ``"full"`` (after ``speed_rpm``). Writes nothing. An unreadable chunk or
+    journal row is a ``ValueError`` naming it, with the command that repairs the folder."""
     folder = DatasetFolder(root)
     if not (folder.root / "design.toml").is_file():
         raise ValueError(f"{folder.root}: not a rubdiag dataset folder (no design.toml)")
-    frames = [pq.read_table(p).to_pandas() for p in folder.chunk_paths()]
-    if not frames:
+    try:
+        tables = [read_chunk(p) for p in folder.chunk_paths()]
+        journal = [read_journal_row(p) for p in folder.journal_paths()]
+    except UnreadableFile as exc:
+        raise UnreadableFile(exc.path, exc.reason, advice=(
+            f"`rubdiag dataset {folder.root / 'design.toml'} --out {folder.root}` moves it "
+            f"into {folder.broken_dir} and runs its runs again")) from None
+    if journal:
+        schema = folder.schema() or (tables[0].schema if tables else row_schema(journal[0]))
+        tables.append(pa.Table.from_pylist(journal, schema=schema))
+    if not tables:
         return pd.DataFrame()
-    rows = pd.concat(frames, ignore_index=True)
+    rows = pd.concat([t.to_pandas() for t in tables], ignore_index=True)
     rows = rows.drop_duplicates("run_id", keep="last").reset_index(drop=True)
     if MODEL_COLUMN not in rows:
         at = rows.columns.get_loc("speed_rpm") + 1 if "speed_rpm" in rows else len(rows.columns)

@@ -253,13 +253,16 @@ SEEDS = (1, 5, 6)
 KILL_WINDOW_S = (0.5, 3.5)
 # (n, what the n-th rename writes, kill before or after it, waveforms): the child's renames,
 # from an empty folder, with chunk_rows=1 and two runs, are 1 design.toml, 2 dataset.json,
-# 3 dataset.json (the columns, at the first ok row), 4 and 5 the two chunks, 6 columns.csv,
-# 7 README.md; with waveforms, each run's waveform file comes just before its row
+# 3 dataset.json (the columns, at the first ok row), 4 the first row into the journal, 5 its
+# chunk (then the journal row is removed), 6 and 7 the same for the second row, 8
+# columns.csv, 9 README.md; with waveforms, each run's waveform file comes just before its
+# row
 RENAME_KILLS = [
     (1, "design.toml", "before", False),          # an empty chunk folder and a temporary file
     (2, "dataset.json", "before", False),         # a design and no format
-    (4, "part-000001.parquet", "after", False),   # the first chunk, nothing after it
-    (5, "part-000002.parquet", "before", False),  # the first chunk, the second's temporary
+    (4, "row-000001.json", "after", False),       # the first row, in the journal only
+    (5, "part-000001.parquet", "after", False),   # its chunk, and the row still in the journal
+    (6, "row-000001.json", "before", False),      # the first chunk, the second row's temporary
     (3, ".npz", "before", True),                  # a waveform file's temporary file
 ]
 
