@@ -59,3 +59,30 @@ def kernels_in_use() -> str | None:
     names = {info.get("architecture") for info in threadpool_info()
              if info.get("internal_api") == "openblas"}
     return names.pop() if len(names) == 1 else None
+
+
+def one_thread():
+    """A context in which the BLAS libraries run on one thread (threadpoolctl).
+
+    Used around a run's dense linear algebra (the reduction, the steady state, the step
+    operators). The matrices are small (≤ a few hundred rows), where threads gain nothing;
+    on busy cores OpenBLAS's threads spin waiting for each other against the other jobs
+    (a reduced run's set-up took 6 s instead of 0.1 s beside two CPU-bound processes); and a
+    multithreaded product sums in another order, so that a reduced run's bits depended on
+    the machine's core count."""
+    from threadpoolctl import threadpool_limits
+
+    return threadpool_limits(limits=1, user_api="blas")
+
+
+def blas_signature() -> list[list[str]]:
+    """The BLAS libraries this process runs, as ``[internal_api, version, kernels]`` rows
+    (sorted; numpy's and scipy.linalg's): what, besides the library versions, decides the
+    bits of a LAPACK result. Loads scipy.linalg, so that the answer does not depend on
+    whether it was loaded yet."""
+    import scipy.linalg  # noqa: F401  (its BLAS library, where it brings its own)
+    from threadpoolctl import threadpool_info
+
+    rows = {(str(i.get("internal_api")), str(i.get("version")), str(i.get("architecture")))
+            for i in threadpool_info() if i.get("user_api") == "blas"}
+    return [list(row) for row in sorted(rows)]

@@ -18,7 +18,7 @@ from rubdiag._version import __version__
 # Modules that register commands, in the order they appear in --help.
 _COMMAND_MODULES = ("rubdiag.cli.paper", "rubdiag.cli.linear", "rubdiag.cli.simulate",
                     "rubdiag.cli.runup", "rubdiag.cli.signal", "rubdiag.cli.dataset",
-                    "rubdiag.cli.learn")
+                    "rubdiag.cli.learn", "rubdiag.cli.cache")
 
 
 # argparse takes "-1e-5" or "-inf" for an option (its own pattern knows only "-1" and

@@ -26,15 +26,18 @@ its clamped-pinned modes lie above 4.5 kHz).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
 import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from rubdiag.reduce.reduced import ReducedModel, reduced_model
 from rubdiag.reduce.spec import Reduction
+
+if TYPE_CHECKING:   # loaded by check() only: a reduced run does not need pandas (0.4 s)
+    import pandas as pd
 
 __all__ = ["FREQUENCY_TOLERANCE", "RESPONSE_TOLERANCE", "STATIC_TOLERANCE", "ReductionCheck",
            "check"]
@@ -112,6 +115,8 @@ def check(rig, reduction: Reduction | None = None, speeds_rpm=None,
     to the cutoff; ``n_frequencies``: points of the frequency grid, from 1 Hz to
     the cutoff, log-spaced.
     """
+    import pandas as pd
+
     from rubdiag.assembly import assemble
     from rubdiag.modal import critical_speeds, with_rayleigh
 

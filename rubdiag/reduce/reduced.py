@@ -1,4 +1,5 @@
-"""The reduced model of a rig: one Craig–Bampton reduction per rig, cached per process.
+"""The reduced model of a rig: one Craig–Bampton reduction per rig, cached per process and
+on disk.
 
 The boundary is every DOF a contact element of the rig touches (blade tips and casing nodes
 of the blade contacts, shaft nodes of stator contacts): what is nonlinear stays physical;
@@ -6,8 +7,13 @@ with ``Reduction.tip_rotations`` also the contact blades' tip rotations, which t
 stick-slip needs (:func:`boundary_dofs`).
 M, K, C (Rayleigh + discrete dampers) and the unit-speed gyroscopic G are projected once;
 a run at speed Ω uses ``C + Ω G``, so one reduction serves every speed (and a speed that
-changes in time). The cache is per process — a Dask worker or a pool process builds it
-once, on its first reduced run of that rig.
+changes in time). A process keeps the reduced models it used (a Dask worker or a pool
+process reads or builds one on its first reduced run of that rig), and the disk cache
+(:mod:`rubdiag._cache`: keyed by the rig's content, the reduction, the rubdiag and library
+versions and the BLAS kernels) keeps them for the next process: a reduced run from the
+command line reads its model in a few milliseconds instead of assembling and reducing the
+rig. The reduction runs on one BLAS thread, so that its bits (and so a reduced run's) do not
+depend on the machine's core count.
 """
 
 from __future__ import annotations
@@ -18,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rubdiag import _cache
 from rubdiag.reduce.craig_bampton import CraigBampton, craig_bampton
 from rubdiag.reduce.spec import Reduction
 
@@ -30,8 +37,9 @@ class ReducedModel:
 
     ``M``, ``K``, ``C`` (damping without the gyroscopic part) and ``G`` (unit speed:
     multiply by Ω in rad/s) are ``Tᵀ X T`` of the full model's matrices; ``basis.T``
-    recovers physical displacements. ``build_seconds`` is the one-time cost of the
-    reduction (assembly and modal analysis of the full model included).
+    recovers physical displacements. ``build_seconds`` is what getting it cost this
+    process (s): the reduction (assembly and modal analysis of the full model included), or
+    reading it from the disk cache (``from_disk``).
     """
 
     reduction: Reduction
@@ -41,6 +49,7 @@ class ReducedModel:
     C: np.ndarray
     G: np.ndarray
     build_seconds: float
+    from_disk: bool = False
 
     @property
     def n_reduced(self) -> int:
@@ -86,27 +95,53 @@ def boundary_dofs(model, reduction: Reduction) -> np.ndarray:
 
 
 def reduced_model(rig, reduction: Reduction | None = None) -> ReducedModel:
-    """The reduced model of ``rig`` (default :class:`Reduction`); cached: the same rig and
-    reduction are reduced once per process."""
+    """The reduced model of ``rig`` (default :class:`Reduction`); cached per process and on
+    disk (module docstring): the same rig and reduction are reduced once per environment."""
     return _reduced_model(rig, Reduction() if reduction is None else reduction)
+
+
+#: the arrays of a reduced model as the disk cache holds them
+_ARRAYS = ("boundary", "T", "mode_frequencies_hz", "first_dropped_hz", "M", "K", "C", "G")
 
 
 @functools.lru_cache(maxsize=8)
 def _reduced_model(rig, reduction: Reduction) -> ReducedModel:
-    from rubdiag.assembly import assemble
-    from rubdiag.modal import with_rayleigh
+    from rubdiag.model.io import rig_to_dict
 
     if not isinstance(reduction, Reduction):
         raise TypeError(f"reduction has the wrong type {type(reduction).__name__} "
                         "(expected a Reduction)")
     start = time.perf_counter()
-    model = with_rayleigh(assemble(rig))
-    basis = craig_bampton(model.M, model.K, boundary_dofs(model, reduction), reduction.cutoff_hz)
-    M, K = _modal_tail(basis.boundary.size, _symmetric(basis.project(model.M)),
-                       _symmetric(basis.project(model.K)))
-    return ReducedModel(
-        reduction=reduction, basis=basis, M=M, K=K, C=basis.project(model.C),
-        G=basis.project(model.G), build_seconds=time.perf_counter() - start)
+    depends_on = {"rig": rig_to_dict(rig),
+                  "reduction": {"cutoff_hz": float(reduction.cutoff_hz),
+                                "tip_rotations": bool(reduction.tip_rotations)}}
+    arrays, from_disk = _cache.cached("reduced-model", depends_on, _ARRAYS,
+                                      functools.partial(_reduce, rig, reduction))
+    basis = CraigBampton(boundary=arrays["boundary"], T=arrays["T"],
+                         mode_frequencies_hz=arrays["mode_frequencies_hz"],
+                         first_dropped_hz=float(arrays["first_dropped_hz"]))
+    return ReducedModel(reduction=reduction, basis=basis, M=arrays["M"], K=arrays["K"],
+                        C=arrays["C"], G=arrays["G"], from_disk=from_disk,
+                        build_seconds=time.perf_counter() - start)
+
+
+def _reduce(rig, reduction: Reduction) -> dict[str, np.ndarray]:
+    """The reduction itself, on one BLAS thread: the arrays of :data:`_ARRAYS`."""
+    from rubdiag._blas import one_thread
+    from rubdiag.assembly import assemble
+    from rubdiag.modal import with_rayleigh
+
+    with one_thread():
+        model = with_rayleigh(assemble(rig))
+        basis = craig_bampton(model.M, model.K, boundary_dofs(model, reduction),
+                              reduction.cutoff_hz)
+        M, K = _modal_tail(basis.boundary.size, _symmetric(basis.project(model.M)),
+                           _symmetric(basis.project(model.K)))
+        C, G = basis.project(model.C), basis.project(model.G)
+    return {"boundary": basis.boundary, "T": basis.T,
+            "mode_frequencies_hz": basis.mode_frequencies_hz,
+            "first_dropped_hz": np.float64(basis.first_dropped_hz),
+            "M": M, "K": K, "C": C, "G": G}
 
 
 def _modal_tail(n_b: int, M: np.ndarray, K: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

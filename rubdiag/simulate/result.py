@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
+
+if TYPE_CHECKING:   # pandas is loaded by to_frame only: a run does not need it (0.4 s)
+    import pandas as pd
 
 __all__ = ["EpisodeLog", "SimulationDiverged", "StatusLog", "SystemResult"]
 
@@ -58,6 +61,8 @@ class EpisodeLog:
 
     def to_frame(self) -> pd.DataFrame:
         """One row per episode."""
+        import pandas as pd
+
         return pd.DataFrame(
             {
                 "element": self.element,
@@ -101,6 +106,8 @@ class StatusLog:
 
     def to_frame(self) -> pd.DataFrame:
         """One row per segment, in the order the segments ended."""
+        import pandas as pd
+
         return pd.DataFrame({"element": self.element, "status": self.status,
                              "t_start": self.t_start, "t_end": self.t_end})
 
@@ -238,6 +245,8 @@ class SystemResult:
         """Samples as a DataFrame indexed by ``t``: ``q_<dof>`` then ``fn_<k>``, ``ft_<k>``,
         ``status_<k>``, ``gap_<k>``, ``slip_<k>`` per contact element k = 1…, then the
         energies."""
+        import pandas as pd
+
         cols: dict[str, np.ndarray] = {}
         for j, dof in enumerate(self.record_dofs):
             cols[f"q_{int(dof)}"] = self.q[:, j]

@@ -226,11 +226,10 @@ class Run:
 
 def critical_speed_for_case(rig: Rig, case: int) -> float:
     """Forward critical speed (rad/s) that the study's case excites: 1st (case 1), 2nd (2)."""
-    from rubdiag.assembly import assemble
-    from rubdiag.modal import critical_speeds
+    from rubdiag.simulate.rig_cache import forward_critical_speeds
 
     case = _check.integer("case", case, lo=1, hi=2)
-    speeds = critical_speeds(assemble(rig), n=case)
+    speeds = forward_critical_speeds(rig, case)    # cached: per process and on disk
     if len(speeds) < case:
         raise ValueError(f"the rig has no forward critical speed number {case}")
     return float(speeds[case - 1])

@@ -26,11 +26,13 @@ from pathlib import Path
 import numpy as np
 
 from rubdiag import _check
+from rubdiag._blas import one_thread
 from rubdiag._version import __version__
 from rubdiag.model.io import rig_from_dict, rig_to_dict
 from rubdiag.model.rig import BladeContact, Unbalance
 from rubdiag.reduce import Reduction
 from rubdiag.simulate.result import EpisodeLog, SimulationDiverged, StatusLog, SystemResult
+from rubdiag.simulate.rig_cache import damped_model
 from rubdiag.simulate.rig_system import rig_system
 from rubdiag.simulate.run import SPEED_TOLERANCE, Run
 from rubdiag.simulate.sensors import Sensor, sensor_dofs, sensor_signals
@@ -72,14 +74,21 @@ def simulate(run: Run, progress: Callable[[float, float], None] | None = None,
     :class:`~rubdiag.simulate.result.SimulationDiverged` whose ``result`` is the
     :class:`SimulationResult` up to the failure (or, with ``raise_on_failure=False``, that
     result is returned with ``status != 0``).
-    """
-    from rubdiag.assembly import assemble
-    from rubdiag.modal import with_rayleigh
 
+    The run's dense linear algebra runs on one BLAS thread (:func:`rubdiag._blas.one_thread`:
+    threads spin against other work on busy cores, and their sums would make a reduced
+    run's bits depend on the core count); what depends on the rig alone is cached
+    (:mod:`rubdiag.simulate.rig_cache`, :func:`rubdiag.reduce.reduced_model`).
+    """
     if not isinstance(run, Run):
         raise _check.wrong_type("run", run, "a Run, e.g. Run.paper_case(1, 2.0)")
+    with one_thread():
+        return _simulate(run, progress, raise_on_failure)
+
+
+def _simulate(run: Run, progress, raise_on_failure: bool) -> SimulationResult:
     start_time = time.perf_counter()
-    model = with_rayleigh(assemble(run.rig))
+    model = damped_model(run.rig)
     speed = run.speed_rad_s
     rs = rig_system(run, model)
     gap_ramp = None
