@@ -14,7 +14,9 @@ def register(sub) -> None:
         description="Simulate every run of a design (TOML: [base], [sampling], [factors], "
         "[labels]), label it from what it did (rub, rub_state, severity) and write one row "
         "of features per run into DIR/features/ (parquet chunks, each written atomically). "
-        "Killed at any moment, the same command resumes. See README, 'Labelled datasets'.")
+        "A run is stored as soon as it finishes, before the progress line counts it: killed "
+        "at any moment, the same command resumes. It also moves unreadable chunks into "
+        "DIR/broken/ and runs their runs again. See README, 'Labelled datasets'.")
     p.add_argument("design", type=Path, help="design TOML file")
     p.add_argument("--out", type=Path,
                    help="dataset folder (new, empty, or this design's to resume)")
@@ -107,12 +109,17 @@ def _executor(args):
 def _dry_run(design, args) -> int:
     from rubdiag.dataset import pending_runs
     from rubdiag.dataset.rows import make_row
+    from rubdiag.dataset.store import DatasetFolder
 
     runs = design.runs()
     todo = pending_runs(design, args.out, args.retry_failed) if args.out is not None else runs
     print(f"{design.method}: {design.n} design points x {design.replicates} replicate(s) = "
           f"{len(runs)} runs; {len(todo)} to run"
           + (f" ({len(runs) - len(todo)} stored in {args.out})" if args.out else ""))
+    unreadable = DatasetFolder(args.out).unreadable() if args.out is not None else []
+    if unreadable:
+        print(f"unreadable, to be moved into {args.out / 'broken'} (their runs are counted to "
+              f"run): {', '.join(str(exc.path) for exc in unreadable)}")
     example = runs[0]
     point = ", ".join(f"{k} = {v:.6g}" for k, v in example.point.items())
     run = example.run
