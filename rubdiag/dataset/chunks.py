@@ -5,8 +5,9 @@ Two kinds (their place in the folder: :mod:`rubdiag.dataset.store`):
 
 * a **journal row** — one finished run's row, JSON (``json`` writes a float's shortest
   repr, which reads back bit for bit; NaN and ±inf included), written the moment the row
-  arrives: ≈ 1 ms however many columns, where a one-row Parquet file of the ≈ 870 columns
-  of a default design costs 15–30 ms (per-column overhead);
+  arrives: the encoding takes ≈ 0.5 ms however many columns and the flush to disk most of
+  the rest, where a one-row Parquet file of the ≈ 870 columns of a default design costs
+  10× more (per-column overhead; ``benchmarks/bench_store.py``);
 * a **chunk** — many rows in one Parquet file (zstd, page checksums, so that a flipped
   byte is an error rather than a wrong value), what ``pandas.read_parquet`` reads.
 

@@ -1,6 +1,7 @@
 """Damaged dataset files (issue 24): an empty, truncated, garbled or bit-flipped chunk, or a
 truncated journal row, is one line naming the file — from ``load``, ``rubdiag train`` and
-``rubdiag.learn.evaluate`` — never a traceback, and the command that line names
+``rubdiag.learn.evaluate`` (and, in a slow test, ``rubdiag evaluate`` and ``rubdiag predict
+MODEL DATA``) — never a traceback, and the command that line names
 (``rubdiag dataset DIR/design.toml --out DIR``) moves the file into ``DIR/broken/``
 (kept, byte for byte) and runs again exactly the runs it held: every run ends up once, with
 the rows an undamaged folder has. Readers write nothing.
@@ -124,7 +125,8 @@ def test_load_names_the_file_in_one_line_and_writes_nothing(damaged):
     message = str(info.value)
     assert "\n" not in message
     assert message.startswith(f"{path}: unreadable (")
-    assert f"`rubdiag dataset {out / 'design.toml'} --out {out}`" in message
+    assert message.endswith(f"; `rubdiag dataset {out / 'design.toml'} --out {out}` moves it "
+                            f"into {out / 'broken'} and runs its runs again")
     with pytest.raises(ValueError, match="unreadable"):
         evaluate(out)                                    # rubdiag.learn reads through load
     assert snapshot(out) == before
@@ -176,3 +178,27 @@ def test_a_dry_run_counts_its_runs_to_run_and_writes_nothing(pristine, tmp_path,
     assert "4 runs; 1 to run (3 stored in" in stdout
     assert f"unreadable, to be moved into {out / 'broken'}" in stdout and str(path) in stdout
     assert snapshot(out) == before
+
+
+@pytest.mark.slow
+def test_evaluate_and_predict_name_the_file_too(tmp_path, capsys):
+    """A model trained on 16 runs (``--quick``; about a minute in all), then the dataset's
+    second chunk emptied: ``rubdiag evaluate`` and ``predict MODEL DATA`` end on the same
+    one-line error (exit 2); after the named command, both read the folder again."""
+    toml = TOML.replace("speed_ratio = [1.0]", "speed_ratio = [1.0, 1.05]").replace(
+        "gap_mm = [1.9, 4.0]", "gap_mm = [1.9, 2.6, 3.2, 4.0]")
+    out, model = tmp_path / "dataset", tmp_path / "model"
+    generate(Design.from_toml(toml), out, jobs=2, progress=False, chunk_rows=4)
+    assert main(["train", str(out), "--out", str(model), "--quick"]) == 0
+    path = empty(out)
+    capsys.readouterr()
+    for command in ("evaluate", "predict"):
+        assert main([command, str(model), str(out)]) == 2
+        errors = [line for line in capsys.readouterr().err.splitlines() if "error" in line]
+        assert len(errors) == 1
+        assert errors[0].startswith(f"rubdiag {command}: error: {path}: unreadable (")
+    assert main(["dataset", str(out / "design.toml"), "--out", str(out), "--jobs", "1",
+                 "--no-progress"]) == 0
+    assert "16 runs, 12 already stored, 4 ok" in capsys.readouterr().out
+    for command in ("evaluate", "predict"):
+        assert main([command, str(model), str(out)]) == 0
