@@ -22,12 +22,15 @@ def register(subparsers) -> None:
         "features",
         help="spectral rub-impact features of a signal file, one row per channel",
         description=(
-            "Order lines (0.5x ... 8x, peak amplitude in the signal's unit, frequency in Hz, "
-            "phase in degrees), 1/3-order lines, sidebands n x +/- delta (Hz), broadband RMS "
-            "around n x and the strongest combination pair fa + fb = m x. Absent lines have "
-            "amplitude 0 and NaN frequency; features above Nyquist are NaN. Prints a "
-            "summary in words per channel (per run for a simulation result), then every "
-            "feature; --csv and --json write the features only. With --revs-per-bin N: "
+            "Order lines (0.5x ... 8x, peak amplitude in the signal's unit: --unit, m for a "
+            "simulation result; frequency in Hz, phase in degrees), 1/3-order lines, "
+            "sidebands n x +/- delta (Hz), broadband RMS around n x and the strongest "
+            "combination pair fa + fb = m x. Absent lines have amplitude 0 and NaN "
+            "frequency; features above Nyquist are NaN. Without --speed-rpm or a tacho the "
+            "channels' strongest lines vote on the speed (a noise-only channel does not "
+            "spoil it). Prints a summary in words per channel (per run for a simulation "
+            "result), then every feature; --csv and --json write the features only. With "
+            "--revs-per-bin N: "
             "features across speed, one row per bin of N revolutions in the angle domain "
             "(from --tacho or --angle) with its mean rpm; frequencies then in orders, phases "
             "against the shaft angle."
@@ -50,12 +53,15 @@ def register(subparsers) -> None:
         "compare",
         help="compare the spectra and features of two signal files (B - A)",
         description=(
-            "Plot both amplitude spectra over orders of the running speed (log scale) with the "
-            "detected features marked, and print the features of A and B and their "
-            "difference B - A (amplitudes in the signals' unit, frequencies in Hz). With "
-            "--revs-per-bin N: compare across speed: the main order amplitudes of A's bins "
-            "and B - A at the same speeds (B interpolated in rpm), over the speeds both "
-            "cover; --out plots them against rpm."
+            "For every channel A and B share (--column to choose): print the features of A "
+            "and B and their difference B - A (amplitudes in the signals' unit: --unit, m "
+            "for simulation results; frequencies in Hz), and with --out plot both amplitude "
+            "spectra over orders of the running speed (log scale, one panel per channel) "
+            "with the detected features marked. Each file's speed is its own (--speed-rpm, "
+            "a tacho, or the vote of its channels' strongest lines). With --revs-per-bin N: "
+            "compare across speed: the main order amplitudes of A's bins and B - A at the "
+            "same speeds (B interpolated in rpm), over the speeds both cover; --out plots "
+            "them against rpm."
         ),
     )
     p.add_argument("a", metavar="A", help="reference signal file (" + _INPUT_HELP + ")")
@@ -67,13 +73,25 @@ def register(subparsers) -> None:
     p.set_defaults(func=_compare)
 
 
+def _compare(args) -> int:
+    from rubdiag.cli.compare import compare
+
+    return compare(args)
+
+
 def _common(p: argparse.ArgumentParser) -> None:
     p.add_argument("--fs", type=float, metavar="HZ", help="sampling frequency in Hz")
     p.add_argument(
         "--speed-rpm",
         type=float,
         metavar="N",
-        help="running speed in rpm (default: from the tacho channel, else the strongest line)",
+        help="running speed in rpm (default: from the tacho channel, else the vote of the "
+             "channels' strongest lines)",
+    )
+    p.add_argument(
+        "--unit", metavar="UNIT",
+        help="unit of the file's values, named in the output (default: m for a simulation "
+             "result, else 'signal unit')",
     )
     p.add_argument(
         "--column", metavar="NAME", action="append", help="channel to analyse (repeatable)"
@@ -96,9 +114,38 @@ def _common(p: argparse.ArgumentParser) -> None:
     )
 
 
+#: The unit of a simulation result's responses.
+RESULT_UNIT = "m"
+
+
+def unit_of(path, args) -> str | None:
+    """The unit of a file's values: ``--unit``, m for a simulation result, else None
+    (unknown). ``--unit`` other than m on a result is refused (one line)."""
+    from rubdiag.runs import is_result
+
+    if is_result(path):
+        if args.unit not in (None, RESULT_UNIT):
+            raise ValueError(f"--unit {args.unit}: {path} is a simulation result, in "
+                             f"{RESULT_UNIT} (allowed: --unit {RESULT_UNIT}, or leave it out)")
+        return RESULT_UNIT
+    return args.unit
+
+
+def unit_words(unit: str | None) -> str:
+    """What amplitudes are in, for a heading: the unit, or "the signal's unit"."""
+    return "the signal's unit" if unit is None else unit
+
+
+def load(path, args):
+    """Channels (DataFrame), fs (Hz), the feature table (with ``--revs-per-bin``: the
+    table across speed, :func:`rubdiag.signal.features_by_revolution`) and the unit
+    (:func:`unit_of`) of one signal file."""
+    frame, fs, table = _load(path, args)
+    return frame, fs, table, unit_of(path, args)
+
+
 def _load(path, args):
-    """Channels (DataFrame), fs (Hz) and the feature table of one signal file (with
-    ``--revs-per-bin``: the table across speed, :func:`rubdiag.signal.features_by_revolution`)."""
+    """Channels (DataFrame), fs (Hz) and the feature table of one signal file."""
     from rubdiag.runs import is_result, run_signals
     from rubdiag.signal import features, features_by_revolution, read_signals
 
@@ -127,7 +174,7 @@ def _load(path, args):
     return frame, fs, table
 
 
-def _check_across_speed(args) -> None:
+def check_across_speed(args) -> None:
     """The options of features across speed go together (one line each when not)."""
     if args.revs_per_bin is None:
         if args.angle is not None:
@@ -145,7 +192,8 @@ def _features(args) -> int:
     from rubdiag.cli._paths import load_result, output_file
     from rubdiag.runs import is_result, run_features
 
-    _check_across_speed(args)
+    check_across_speed(args)
+    unit = unit_of(args.input, args)
     if args.csv:
         output_file(args.csv, "--csv")
     if is_result(args.input) and args.revs_per_bin is None:
@@ -166,42 +214,44 @@ def _features(args) -> int:
         table.to_csv(args.csv, index=False)
         print(f"wrote {len(table)} row(s) to {args.csv}")
     elif args.revs_per_bin is not None:
-        print("\n".join(across_speed_lines(table, args.revs_per_bin, args.summary)))
+        print("\n".join(across_speed_lines(table, args.revs_per_bin, args.summary, unit)))
     else:
         print("\n".join(summary_lines(table)))
         if not args.summary:
             what = "run" if "source" in table.columns else "channel"
-            print(f"\nall {table.shape[1] - 1} features per {what} (amplitudes in the "
-                  "signal's unit, frequencies in Hz, phases in degrees; absent line: amplitude "
-                  "0; NaN: not measurable):")
-            with _pandas_display():
+            print(f"\nall {table.shape[1] - 1} features per {what} (amplitudes in "
+                  f"{unit_words(unit)}, frequencies in Hz, phases in degrees; absent line: "
+                  "amplitude 0; NaN: not measurable):")
+            with pandas_display():
                 print(table.set_index(table.columns[0]).T.to_string())   # channel or source
     return 0
 
 
 #: Order amplitudes that the printed tables across speed show.
-_ACROSS_SPEED_ORDERS = ("0p5x", "1x", "1p5x", "2x", "4x")
+ACROSS_SPEED_ORDERS = ("0p5x", "1x", "1p5x", "2x", "4x")
 
 
-def across_speed_lines(table, revs_per_bin: int, summary_only: bool = False) -> list[str]:
+def across_speed_lines(table, revs_per_bin: int, summary_only: bool = False,
+                       unit: str | None = None) -> list[str]:
     """Per channel of a table across speed: one line (bins, speeds, 1× range), then the
-    main order amplitudes bin by bin unless ``summary_only``."""
+    main order amplitudes bin by bin unless ``summary_only``; ``unit`` of the amplitudes
+    (None: unknown)."""
     from rubdiag.signal import REVOLUTION_FEATURE_NAMES
 
     lines = []
-    shown = ["rev_start", "t_s", "rpm", "rms", *(f"amp_{k}" for k in _ACROSS_SPEED_ORDERS),
+    shown = ["rev_start", "t_s", "rpm", "rms", *(f"amp_{k}" for k in ACROSS_SPEED_ORDERS),
              "n_half_orders", "n_third_orders"]
     for channel, rows in table.groupby("channel", sort=False):
         lines.append(f"{channel}: {len(rows)} bins of {revs_per_bin} revolutions, "
                      f"{rows.rpm.min():.0f} to {rows.rpm.max():.0f} rpm, 1× "
                      f"{rows.amp_1x.min():.4g} to {rows.amp_1x.max():.4g}")
         if not summary_only:
-            with _pandas_display():
+            with pandas_display():
                 lines.extend(rows[["bin", *shown]].to_string(index=False).splitlines())
             lines.append("")
     if not summary_only:
         lines.append(f"all {len(REVOLUTION_FEATURE_NAMES)} features per bin with --csv or --json "
-                     "(amplitudes in the signal's unit, frequencies in orders, phases in "
+                     f"(amplitudes in {unit_words(unit)}, frequencies in orders, phases in "
                      "degrees against the shaft angle)")
     return lines
 
@@ -255,91 +305,6 @@ def _amplitude(row, prefix: str, scale: float = 1.0, unit: str = "") -> str:
     return f"{row[key] * scale:.4g}{unit}" if row.get(key, 0) > 0 else "absent"
 
 
-def _compare(args) -> int:
-    import numpy as np
-    import pandas as pd
-
-    from rubdiag.cli._paths import output_file
-    from rubdiag.signal import amplitude_spectrum
-
-    _check_across_speed(args)
-    if args.out:
-        output_file(args.out)
-    loaded = {"A": _load(args.a, args), "B": _load(args.b, args)}
-    ta, tb = loaded["A"][2], loaded["B"][2]
-    common = [c for c in ta["channel"] if c in set(tb["channel"])]
-    if not common:
-        raise ValueError(f"{args.a} and {args.b} have no channel in common")
-    channel = common[0]
-    if args.revs_per_bin is not None:
-        return _compare_across_speed(args, channel, ta[ta.channel == channel],
-                                     tb[tb.channel == channel])
-    ra = ta.set_index("channel").loc[channel]
-    rb = tb.set_index("channel").loc[channel]
-    diff = pd.DataFrame({"A": ra, "B": rb, "B - A": rb - ra})
-    diff = diff[~(diff["A"].isna() & diff["B"].isna()) & ~((diff["A"] == 0) & (diff["B"] == 0))]
-    print(f"channel {channel!r}: A = {args.a}, B = {args.b}")
-    with _pandas_display():
-        print(diff.to_string())
-    if args.out:
-        from rubdiag.plotting.spectra import plot_order_spectra
-
-        curves = []
-        for (label, (frame, fs, _)), path, row in zip(
-            loaded.items(), (args.a, args.b), (ra, rb), strict=True
-        ):
-            f, amp = amplitude_spectrum(frame[channel].to_numpy(dtype=np.float64), fs)
-            curves.append((f"{label}: {path}", f, amp, row))
-        fig = plot_order_spectra(curves, title=f"channel {channel}")
-        fig.savefig(args.out, dpi=120)
-        print(f"wrote {args.out}")
-    return 0
-
-
-def _compare_across_speed(args, channel, ta, tb) -> int:
-    """Print A's main order amplitudes per bin and B - A at the same speeds (B's bins
-    interpolated linearly in rpm) over the speeds both cover; plot them with ``--out``."""
-    import numpy as np
-    import pandas as pd
-
-    lo, hi = max(ta.rpm.min(), tb.rpm.min()), min(ta.rpm.max(), tb.rpm.max())
-    a = ta[(ta.rpm >= lo) & (ta.rpm <= hi)]
-    if a.empty:
-        raise ValueError(
-            f"{args.a} ({ta.rpm.min():.0f} to {ta.rpm.max():.0f} rpm) and {args.b} "
-            f"({tb.rpm.min():.0f} to {tb.rpm.max():.0f} rpm) share no speed range")
-    b = tb.sort_values("rpm")
-    columns = {("", "rpm"): a.rpm.to_numpy()}
-    for k in _ACROSS_SPEED_ORDERS:
-        amp_a = a[f"amp_{k}"].to_numpy()
-        amp_b = np.interp(a.rpm, b.rpm, b[f"amp_{k}"])
-        columns[(f"amp_{k}", "A")] = amp_a
-        columns[(f"amp_{k}", "B - A")] = amp_b - amp_a
-    diff = pd.DataFrame(columns)
-    print(f"channel {channel!r}: A = {args.a}, B = {args.b}; bins of {args.revs_per_bin} "
-          f"revolutions, B at the speeds of A's bins, {lo:.0f} to {hi:.0f} rpm")
-    with _pandas_display():
-        print(diff.to_string(index=False))
-    if args.out:
-        from matplotlib.figure import Figure
-
-        fig = Figure(figsize=(9.0, 6.0), layout="constrained")
-        axes = fig.subplots(2, 2, sharex=True).ravel()
-        for ax, k in zip(axes, _ACROSS_SPEED_ORDERS[:4], strict=True):
-            for label, path, rows in (("A", args.a, ta), ("B", args.b, tb)):
-                ax.plot(rows.rpm, rows[f"amp_{k}"], "o-", ms=3, label=f"{label}: {path}")
-            ax.set_title(k.replace("p", ".").replace("x", "×"))
-            ax.set_ylabel("amplitude (signal unit)")
-            ax.set_ylim(bottom=0.0, top=1.15 * max(ax.get_ylim()[1], 1e-300))
-        for ax in axes[2:]:
-            ax.set_xlabel("speed (rpm)")
-        axes[0].legend(fontsize="small")
-        fig.suptitle(f"channel {channel}: order amplitudes across speed")
-        fig.savefig(args.out, dpi=120)
-        print(f"wrote {args.out}")
-    return 0
-
-
 def _plain(value):
     try:
         return value.item()
@@ -347,7 +312,7 @@ def _plain(value):
         return str(value)
 
 
-def _pandas_display():
+def pandas_display():
     import pandas as pd
 
     return pd.option_context("display.max_rows", None, "display.float_format", "{:.6g}".format)

@@ -41,7 +41,7 @@ class probability between a run and its record resampled to 5 kHz fell from 0.07
 (``tests/learn/test_predict.py``).
 
 The broadband around n× (``bb_<n>x_rms``) is divided by the channel's floor — its
-quietest band, the smallest positive ``bb_<n>x_rms`` over the harmonics — and not by the
+quietest band, the smallest ``bb_<n>x_rms`` over the harmonics — and not by the
 level. Without rub every band holds only measurement noise, so all of them are ≈ 1 however
 loud the machine or its sensor noise; rub lifts the bands near the low harmonics above the
 others. Over the level, the same noise reads as (noise / response): a run far from the
@@ -50,6 +50,10 @@ on the classifier dataset of the README (rf, grouped split, trained at the datas
 tested with noise added 40 dB below the rubbing runs' power): rub/no-rub macro-F1 fell
 from 0.98 to 0.40 with the bands over the level, from 0.99 to 0.98 over the floor
 (``noise_curve(..., train_on="stored")``; README "Classifiers").
+A record without noise (a simulation's raw output) has no floor: its quietest band is
+round-off, and every band over it would read 1e4 and more. The floor is therefore taken no
+lower than 1e-4 of the level, and a band reads no lower than the floor
+(:mod:`rubdiag.signal.bandfloor`: the rule and why that value).
 
 Missing values, explicitly: a feature table writes an absent line as amplitude 0 and
 location NaN, and an unmeasurable one (above Nyquist, a record too short) as all NaN. Here
@@ -70,6 +74,7 @@ from sklearn.utils.validation import check_is_fitted
 
 from rubdiag.dataset.schema import SEPARATOR
 from rubdiag.learn.columns import channels_of
+from rubdiag.signal.bandfloor import channel_floor, over_floor
 from rubdiag.signal.orders import HALF_ORDERS, HARMONICS, THIRD_ORDERS, order_label
 
 __all__ = ["DEFAULT_FAMILIES", "FAMILIES", "OrderFeatures", "SelectColumns"]
@@ -130,14 +135,11 @@ def _level(X: pd.DataFrame, channel: str) -> np.ndarray:
 
 
 def _floor(X: pd.DataFrame, channel: str) -> np.ndarray:
-    """The channel's noise floor: its smallest positive broadband RMS around a harmonic
-    (module docstring); NaN where no band is positive (then nothing is over the floor)."""
+    """The channel's noise floor: its smallest broadband RMS around a harmonic, no lower
+    than a fraction of its level (:func:`rubdiag.signal.bandfloor.channel_floor`); NaN
+    for a still channel (then nothing is over the floor)."""
     v = X[[f"{channel}{SEPARATOR}bb_{n}x_rms" for n in HARMONICS]].to_numpy(np.float64)
-    positive = np.where(v > 0.0, v, np.nan)
-    out = np.full(len(v), np.nan)
-    some = ~np.isnan(positive).all(axis=1)
-    out[some] = np.nanmin(positive[some], axis=1)
-    return out
+    return channel_floor(v, _level(X, channel))
 
 
 def _check_families(families) -> tuple[str, ...]:
@@ -229,8 +231,7 @@ class OrderFeatures(TransformerMixin, BaseEstimator):
             elif how == "floor":
                 if channel not in floors:
                     floors[channel] = _floor(X, channel)
-                floor = floors[channel]
-                v = np.where(np.isnan(floor), 0.0 * v, v / np.where(np.isnan(floor), 1.0, floor))
+                v = over_floor(v, floors[channel])
             elif how == "order":
                 v = v / f1
             elif how.startswith("dev:"):

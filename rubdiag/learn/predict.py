@@ -31,16 +31,10 @@ from rubdiag.dataset.schema import SEPARATOR
 from rubdiag.learn.columns import channels_of, read_dataset
 from rubdiag.learn.persist import Model, load_model
 from rubdiag.learn.train import required_fs
-from rubdiag.signal.analysis import FLOOR_WIDTH_ORDERS
 from rubdiag.signal.io import read_signals
-from rubdiag.signal.lines import block_bins, noise_floor
-from rubdiag.signal.spectrum import amplitude_spectrum
-from rubdiag.signal.speed import (
-    MIN_SPEED_CONFIDENCE,
-    dominant_speed,
-    speed_confidence,
-    tacho_speed,
-)
+from rubdiag.signal.options import Options
+from rubdiag.signal.speed import tacho_speed
+from rubdiag.signal.speedvote import SpeedNotFound, voted_speed
 from rubdiag.signal.table import prefixed_features
 
 __all__ = ["RANGE_TOLERANCE", "UNITS", "predict", "predict_rows", "unit_factor"]
@@ -307,41 +301,15 @@ def _options(model: Model) -> dict:
 
 
 def _dominant_speed(X: np.ndarray, fs: float, channels, options: dict, where: str) -> float:
-    """The running speed of a window from the dominant lines of its channels.
-
-    Each moving channel's strongest line is a guess of 1×, weighed by its confidence (its
-    amplitude over the local noise floor, as :mod:`rubdiag.signal.speed` defines it). The
-    guesses that agree within the order search band with the best-supported one are
-    kept, and the speed is their confidence-weighted median. A plain median over channels
-    fails on a plant's own layout: probes at stiff bearings see mostly noise, and their
-    strongest "lines" fall anywhere. The kept guesses' confidences must add up to
-    :data:`~rubdiag.signal.speed.MIN_SPEED_CONFIDENCE` (one clear line, or several weaker
-    ones at the same frequency), else the speed must be given.
-    """
-    rpm = np.atleast_1d(dominant_speed(X, fs, window=options["window"],
-                                       nperseg=options["nperseg"],
-                                       detrend=options["detrend"]))
-    moving = np.isfinite(rpm)
-    confidence = np.zeros_like(rpm)
-    if moving.any():
-        f, amp = amplitude_spectrum(X[moving], fs, window=options["window"],
-                                    nperseg=options["nperseg"], detrend=options["detrend"])
-        amp = np.atleast_2d(amp)
-        line = 2 + np.argmax(amp[:, 2:-2], axis=1)       # the dominant line's bin
-        floor = noise_floor(amp, block_bins(FLOOR_WIDTH_ORDERS * rpm[moving] / 60.0,
-                                            f[1] - f[0]))
-        confidence[moving] = speed_confidence(amp, floor, line)
-    guesses = np.flatnonzero(moving)
-    agree = np.abs(rpm[guesses][:, None] / rpm[guesses][None, :] - 1.0) <= options["band"]
-    support = (agree * confidence[guesses][None, :]).sum(axis=1)
-    if not guesses.size or support.max() < MIN_SPEED_CONFIDENCE:
+    """The running speed of a window from the dominant lines of its channels: their vote
+    (:func:`rubdiag.signal.speedvote.voted_speed`, the estimator of ``rubdiag features``
+    too)."""
+    try:
+        return voted_speed(X, fs, Options(**options), list(channels)).rpm
+    except SpeedNotFound:
         raise ValueError(f"{where}: the speed cannot be estimated (no line of "
                          f"{', '.join(channels)} stands out of the noise as 1x); give "
-                         "speed_rpm (--speed-rpm) or a tacho (--tacho)")
-    kept = guesses[agree[np.argmax(support)]]
-    order = kept[np.argsort(rpm[kept])]
-    weight = np.cumsum(confidence[order])
-    return float(rpm[order][np.searchsorted(weight, 0.5 * weight[-1])])
+                         "speed_rpm (--speed-rpm) or a tacho (--tacho)") from None
 
 
 def _check_fs(model: Model, fs: float, speed: float, where: str) -> None:

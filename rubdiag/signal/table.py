@@ -6,11 +6,14 @@ Columns (``<k>`` is an order label such as ``1x``, ``1p5x``, ``0p33x``; ``<n>`` 
     Running speed used (given, from the tacho, or from the dominant line), rpm.
 ``speed_confidence``
     How far the line taken as 1× stands above the noise when the speed was guessed from the
-    dominant line: its amplitude over the local noise floor at its frequency (the local
-    median level lines are judged against; at most 1e6, the round-off level). Noise alone
-    reaches about 5; a guess below :data:`~rubdiag.signal.speed.MIN_SPEED_CONFIDENCE` (10)
-    is refused with a ValueError. NaN when the speed was given (``speed_rpm``, a tacho) or
-    the channel is still: nothing was guessed.
+    dominant lines: a line's amplitude over the local noise floor at its frequency (the
+    local median level lines are judged against; at most 1e6, the round-off level), summed
+    over the channels whose strongest lines agree on the speed
+    (:mod:`rubdiag.signal.speedvote`; :func:`features` gives every moving channel of a
+    record the record's speed and this value; the batch path guesses each row alone). Noise
+    alone reaches about 5; a guess below :data:`~rubdiag.signal.speed.MIN_SPEED_CONFIDENCE`
+    (10) is refused with a ValueError. NaN when the speed was given (``speed_rpm``, a tacho)
+    or the channel is still: nothing was guessed from it.
 ``rms``
     RMS of the (detrended) signal, unit of the signal.
 ``amp_<k>``, ``freq_<k>_hz``, ``phase_<k>_deg`` for k = 0.5, 1, 1.5, …, 8
@@ -46,8 +49,9 @@ Still channels
 --------------
 A channel whose samples are all equal (a dead sensor, a casing no blade touched) is valid
 input with no line at all: every line is absent (:func:`still_features`: amplitudes, ``rms``
-and levels 0, locations NaN), ``speed_rpm`` is the given speed (NaN when it was to be
-guessed: there is nothing to guess from) and ``speed_confidence`` NaN. The rule is the same
+and levels 0, locations NaN), ``speed_rpm`` is the record's speed, given or guessed from
+the other channels (NaN in the batch path, or when every channel is still: nothing to guess
+from) and ``speed_confidence`` NaN. The rule is the same
 for :func:`features`, :func:`prefixed_features`, :func:`feature_matrix` and
 :class:`~rubdiag.signal.RubFeatures`; the other rows of a batch are analysed as usual, and an
 input whose every channel is still gives every row absent, without an exception.
@@ -84,6 +88,7 @@ from rubdiag.signal.records import (
     transposed_hint,
 )
 from rubdiag.signal.speed import tacho_speed_range
+from rubdiag.signal.speedvote import voted_speed
 
 # Rows analysed together: bounds the memory of the batch path.
 _ROWS_PER_CHUNK = 128
@@ -173,11 +178,14 @@ def _feature_matrix(X, fs, speed_rpm, options, labels, layout) -> np.ndarray:
         X, still = check_signals(X, "signal" if layout is None else layout[0], labels)
         return _fill_rows(X, still, fs, speed_rpm, opts, labels)
     except RecordTooShort as exc:   # X converted: a transposed array reads as a short record
-        shape = np.shape(X)
-        hint = layout is not None and len(shape) == 2 and transposed_hint(shape, *layout)
-        if hint:
-            raise RecordTooShort(f"{hint} (as passed, {exc})") from None
-        raise
+        raise _with_hint(exc, X, layout) from None
+
+
+def _with_hint(exc: RecordTooShort, X, layout) -> RecordTooShort:
+    """``exc``, saying that ``X`` was probably passed transposed where its shape says so."""
+    shape = np.shape(X)
+    hint = layout is not None and len(shape) == 2 and transposed_hint(shape, *layout)
+    return RecordTooShort(f"{hint} (as passed, {exc})") if hint else exc
 
 
 def _fill_rows(X, still, fs, speed_rpm, opts: Options, labels) -> np.ndarray:
@@ -238,9 +246,11 @@ def features(
         Sampling frequency in Hz; for files it may come from a time column instead.
     speed_rpm : float, optional
         Running speed in rpm. When None: from ``tacho``, else from a channel named
-        ``tacho`` if there is one, else each channel's strongest line is taken as 1×: the
-        ``speed_confidence`` column says how far it stands above the noise, and a line
-        that does not stand out (below ``MIN_SPEED_CONFIDENCE``) raises a ValueError.
+        ``tacho`` if there is one, else the channels' strongest lines vote on 1×
+        (:func:`~rubdiag.signal.speedvote.voted_speed`: a noise-only channel does not
+        spoil it) and every channel is analysed at that speed: the ``speed_confidence``
+        column says how far the agreeing lines stand above the noise, and a speed that
+        does not stand out (below ``MIN_SPEED_CONFIDENCE``) raises a ValueError.
     tacho : str or array_like, optional
         Name of the once-per-revolution channel, or the pulse train itself (same ``fs``).
         The tacho channel (and a channel named ``tacho``) is never analysed. Its mean speed
@@ -293,7 +303,17 @@ def features(
     X, labels = channel_rows(frame)
     array = not isinstance(signal, str | os.PathLike | pd.DataFrame | pd.Series)
     layout = ("signal", "channel") if array and np.ndim(signal) == 2 else None
+    vote = None
+    if speed_rpm is None:
+        try:
+            moving = ~check_signals(X, "signal", labels)[1]
+            vote = voted_speed(X, fs, opts, labels) if moving.any() else None
+        except RecordTooShort as exc:
+            raise _with_hint(exc, X, layout) from None
+        speed_rpm = None if vote is None else vote.rpm
     values = _feature_matrix(X, fs, speed_rpm, opts, labels, layout)
+    if vote is not None:        # the record's guessed speed, on the channels that move
+        values[moving, 1] = vote.confidence
     table = pd.DataFrame(values, columns=list(FEATURE_NAMES))
     table.insert(0, "channel", list(frame.columns))
     return table

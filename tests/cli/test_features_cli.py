@@ -71,11 +71,17 @@ def test_csv_and_json_are_the_feature_table_only(signals, tmp_path, capsys):
     assert list(rows[0]) == list(expected.columns)
 
 
-def test_summary_of_a_simulation_result(tmp_path, capsys):
+@pytest.fixture(scope="module")
+def simulated(tmp_path_factory):
+    """A rubbing case-2 run (shaft, blade and casing move) and its saved result file."""
     from rubdiag.simulate import Run, simulate
 
     result = simulate(Run.paper_case(2, 1.9, speed_rpm=5700, duration_s=0.5, discard_s=0.2))
-    path = result.save(tmp_path / "c2.npz")
+    return result, result.save(tmp_path_factory.mktemp("simulated") / "c2.npz")
+
+
+def test_summary_of_a_simulation_result(simulated, capsys):
+    result, path = simulated
     row = rubdiag.features(result).iloc[0]
     summary = result.summary()
     assert main(["features", str(path), "--summary"]) == 0
@@ -187,3 +193,90 @@ def test_features_across_speed_bad_input(run_ups, capsys, args, message):
     assert out.out == ""
     assert out.err.startswith(f"rubdiag features: error: {message}")
     assert out.err.count("\n") == 1
+
+
+# --- one speed estimator, units, every channel compared (issue 24, part 6) ------------------
+
+RPM = 1500.0
+
+
+def _probe_then_shaft(path, extra=(), seed=5):
+    """A bearing probe that sees only its noise (1 µm), first in the file, then the
+    mid-span shaft: 1× of 50 µm at 1500 rpm and 1.5× of 5 µm, plus ``extra`` (order, m)."""
+    t = np.arange(int(2 * FS)) / FS
+    noise = np.random.default_rng(seed).standard_normal((2, t.size)) * 1e-6
+    lines = [(1.0, 50e-6), (1.5, 5e-6), *extra]
+    shaft = sum(a * np.cos(2 * np.pi * k * RPM / 60 * t + k) for k, a in lines)
+    pd.DataFrame({"time": t, "probe": noise[0], "shaft": shaft + noise[1]}).to_csv(
+        path, index=False)
+    return str(path)
+
+
+def test_a_noise_only_first_channel_does_not_stop_features(tmp_path, capsys):
+    path = _probe_then_shaft(tmp_path / "a.csv")
+    assert main(["features", path, "--json"]) == 0
+    rows = json.loads(capsys.readouterr().out)
+    assert [r["channel"] for r in rows] == ["probe", "shaft"]
+    for r in rows:                            # the record's speed, the shaft's line
+        assert r["speed_rpm"] == pytest.approx(RPM, rel=1e-5)
+    assert rows[1]["amp_1p5x"] == pytest.approx(5e-6, rel=0.01)
+    assert rows[0]["amp_1x"] == 0.0           # the probe: noise, analysed at that speed
+
+
+def test_a_noise_only_first_channel_does_not_stop_compare(tmp_path, capsys):
+    a = _probe_then_shaft(tmp_path / "a.csv")
+    b = _probe_then_shaft(tmp_path / "b.csv", extra=[(0.5, 4e-6)], seed=6)
+    assert main(["compare", a, b, "--unit", "m"]) == 0
+    blocks = _blocks(capsys.readouterr().out)
+    assert list(blocks) == ["probe", "shaft"]
+    shaft = blocks["shaft"]
+    assert shaft["speed_rpm"][:2] == pytest.approx([RPM, RPM], rel=1e-5)
+    assert shaft["amp_0p5x"][2] == pytest.approx(4e-6, rel=0.02)     # B - A
+
+
+def _blocks(out: str) -> dict[str, dict[str, list[float]]]:
+    """compare's printed blocks: channel -> feature -> [A, B, B - A]."""
+    blocks, channel = {}, None
+    for line in out.splitlines():
+        if line.startswith("channel "):
+            channel = line.split("'")[1]
+            blocks[channel] = {"header": line}
+        elif channel and line.strip() and not line.startswith((" ", "wrote ")):
+            name, *values = line.split()
+            blocks[channel][name] = [float(v) for v in values]
+    return blocks
+
+
+def test_compare_covers_every_channel_of_two_results(simulated, tmp_path, capsys):
+    """Simulation results: shaft, blade and casing, as the help says; amplitudes in m."""
+    result, path = simulated
+    fig = tmp_path / "cmp.png"
+    assert main(["compare", str(path), str(path), "--out", str(fig)]) == 0
+    out = capsys.readouterr().out
+    blocks = _blocks(out)
+    assert list(blocks) == ["shaft", "blade", "casing"]
+    row = rubdiag.features(result).iloc[0]
+    for channel, block in blocks.items():
+        assert block["header"].endswith("(amplitudes in m, frequencies in Hz)")
+        assert block["amp_1x"][0] == pytest.approx(row[f"{channel}_amp_1x"], rel=1e-5)
+        assert block["amp_1x"][2] == 0.0                                  # B - A of A itself
+    from matplotlib.image import imread
+
+    assert imread(fig).shape[0] == round(3 * 4.2 * 120)                 # a panel each
+    assert out.splitlines()[-1] == f"wrote {fig}"
+
+
+def test_units_are_labelled_from_the_file_or_unit(simulated, tmp_path, capsys):
+    _, path = simulated
+    assert main(["features", str(path)]) == 0
+    assert "features per run (amplitudes in m, frequencies in Hz" in capsys.readouterr().out
+    csv = _probe_then_shaft(tmp_path / "a.csv")
+    for args, words in (([], "the signal's unit"), (["--unit", "um"], "um")):
+        assert main(["features", csv, "--speed-rpm", "1500", *args]) == 0
+        assert f"features per channel (amplitudes in {words}, " in capsys.readouterr().out
+    assert main(["compare", csv, csv, "--unit", "mm", "--column", "shaft"]) == 0
+    assert "(amplitudes in mm, frequencies in Hz)" in capsys.readouterr().out
+    # a result is in m: another --unit is refused in one line
+    assert main(["compare", str(path), str(path), "--unit", "mm"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "is a simulation result, in m (allowed: --unit m" in err

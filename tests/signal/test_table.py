@@ -239,8 +239,9 @@ class TestStillChannels:
     def test_a_still_channel_with_the_speed_to_guess(self, channels):
         frame = channels[["shaft"]].assign(dead=-2.0)
         table = features(frame, FS)
-        self._assert_still(table.iloc[1])               # nothing to guess the speed from
         assert table["speed_rpm"].iloc[0] == pytest.approx(RPM, rel=1e-4)
+        # the record's speed, guessed from the shaft: nothing was guessed from the dead one
+        self._assert_still(table.iloc[1], table["speed_rpm"].iloc[0])
 
     @pytest.mark.parametrize("speed", [RPM, None])
     def test_every_channel_still(self, speed):
@@ -287,11 +288,27 @@ class TestGuessedSpeed:
         with pytest.raises(ValueError, match="speed_confidence"):
             features(np.random.default_rng(3).random((2, 5000)), fs=5000)
 
-    def test_the_noisy_channel_is_named(self, synth):
+    def test_a_noise_only_first_channel_takes_the_speed_of_the_others(self, synth):
+        """The channels vote (rubdiag.signal.speedvote): a probe that sees only noise,
+        first in the file, gets the record's speed from the channel with the 1× line."""
         good = synth([(F1, 1.0), (2 * F1, 0.3)], FS, 2.0, noise=1e-3)
         noise = np.random.default_rng(4).standard_normal(4000)
-        frame = pd.DataFrame({"shaft": good, "noise": noise})
-        with pytest.raises(ValueError, match="line of channel 'noise'"):
+        table = features(pd.DataFrame({"noise": noise, "shaft": good}), FS)
+        alone = features(good, FS).iloc[0]
+        assert table["speed_rpm"].tolist() == [alone["speed_rpm"]] * 2
+        assert alone["speed_rpm"] == pytest.approx(RPM, rel=1e-4)
+        # the vote's confidence: the shaft's line (the noise's strongest line lies elsewhere)
+        assert table["speed_confidence"].tolist() == [alone["speed_confidence"]] * 2
+        # otherwise the table of that speed given
+        given = features(pd.DataFrame({"noise": noise, "shaft": good}), FS, alone["speed_rpm"])
+        pd.testing.assert_frame_equal(table.drop(columns="speed_confidence"),
+                                      given.drop(columns="speed_confidence"))
+
+    def test_noise_on_every_channel_is_refused_naming_the_best_line(self):
+        noise = np.random.default_rng(4).standard_normal((2, 4000))
+        frame = pd.DataFrame({"a": noise[0], "b": noise[1]})
+        with pytest.raises(ValueError, match=r"strongest line of channel '[ab]' .* "
+                                             r"speed_confidence = [0-9.]+ times above"):
             features(frame, FS)
 
     def test_clean_harmonics_pass_with_high_confidence(self, synth):

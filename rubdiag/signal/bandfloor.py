@@ -1,0 +1,64 @@
+"""A channel's noise floor from its broadband levels, and its bands over that floor.
+
+The broadband RMS around each harmonic (``bb_<n>x_rms``: n× ± 0.25× without the n× line,
+:mod:`rubdiag.signal.sidebands`) holds only measurement noise where nothing else reaches,
+so a channel's quietest band is its *noise floor*, and a band over the floor says how far it
+stands out of the noise: ≈ 1 for noise alone, however loud the machine or its sensor.
+
+A record without noise has no such floor — a simulation's raw output, a record of high
+resolution: its quietest band holds round-off, window leakage and float32 storage, 1e-8 to
+1e-6 of the channel's level, or exactly 0. Every band over that reads 1e4 to 1e8, which a
+model trained on sensor noise takes for rub. So the floor is taken no lower than
+:data:`MIN_FLOOR_OF_LEVEL` of the channel's *level* (its RMS within the searched orders,
+computed by the caller), and a band reads no lower than the floor: a band below it is "at
+the floor" (1), as it would be under a sensor's noise.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: The least noise floor of a channel, as a fraction of its level: 1e-4 (-80 dB), in a
+#: band 0.5× wide. Why this value (``benchmarks/bench_noise_free.py``, README "Classifiers"):
+#: it is about the floor a plant's sensor noise gives — the paper rig's mid-span probe
+#: under the default 1 µm noise sits at 1.4e-4 of its level (median of 60 runs; 10–90 %:
+#: 6e-5 to 6e-4), so a noise-free record reads about as its noisy twin; rub lifts the
+#: bands (2× … 8×) to 6e-4 of the level or more in 9 of 10 rubbing runs (median 7e-3),
+#: well above it; and a noise-free record's quiet bands (1e-8 to 1e-6) fall far below it.
+MIN_FLOOR_OF_LEVEL = 1e-4
+
+
+def channel_floor(bands, level) -> np.ndarray:
+    """The noise floor of each row: its smallest band RMS, but no lower than
+    :data:`MIN_FLOOR_OF_LEVEL` × ``level``. A band of exactly 0 (a noise-free record whose
+    band holds nothing) counts: the floor is then the rule's.
+
+    Parameters
+    ----------
+    bands : array_like, (n_rows, n_bands)
+        Broadband RMS values of each row (unit of the signal; NaN where not measured).
+    level : array_like, (n_rows,)
+        The channel's level in the same unit.
+
+    Returns
+    -------
+    ndarray, (n_rows,)
+        The floor (unit of the signal); NaN where the level is not positive (a still
+        channel: nothing stands over a floor there).
+    """
+    v = np.atleast_2d(np.asarray(bands, dtype=np.float64))
+    level = np.asarray(level, dtype=np.float64)
+    quietest = np.min(np.where(np.isnan(v), np.inf, v), axis=1)     # not measured: no floor
+    quietest = np.where(np.isfinite(quietest), quietest, 0.0)
+    floor = np.maximum(quietest, MIN_FLOOR_OF_LEVEL * level)
+    return np.where(level > 0.0, floor, np.nan)
+
+
+def over_floor(band, floor) -> np.ndarray:
+    """``band`` over ``floor``, no lower than 1 (a band is never below the floor); NaN
+    where the band was not measured, 0 where there is no floor (a still channel)."""
+    band = np.asarray(band, dtype=np.float64)
+    floor = np.asarray(floor, dtype=np.float64)
+    none = np.isnan(floor)
+    ratio = np.maximum(band, floor) / np.where(none, 1.0, floor)    # NaN band stays NaN
+    return np.where(none, 0.0 * band, ratio)
