@@ -368,8 +368,7 @@ def load(root: str | Path) -> pd.DataFrame:
     if not (folder.root / "design.toml").is_file():
         raise ValueError(f"{folder.root}: not a rubdiag dataset folder (no design.toml)")
     try:
-        tables = [read_chunk(p) for p in folder.chunk_paths()]
-        journal = [read_journal_row(p) for p in folder.journal_paths()]
+        journal, tables = _read_rows(folder)
     except UnreadableFile as exc:
         raise UnreadableFile(exc.path, exc.reason, advice=(
             f"`rubdiag dataset {folder.root / 'design.toml'} --out {folder.root}` moves it "
@@ -385,6 +384,24 @@ def load(root: str | Path) -> pd.DataFrame:
         at = rows.columns.get_loc("speed_rpm") + 1 if "speed_rpm" in rows else len(rows.columns)
         rows.insert(at, MODEL_COLUMN, "full")
     return rows
+
+
+def _read_rows(folder: DatasetFolder, attempts: int = 5) -> tuple[list[dict], list[pa.Table]]:
+    """The journal's rows and the chunks' tables, read beside a job that may be writing:
+    the journal first — a compaction writes its chunk before it removes the journal rows,
+    so a row that leaves the journal after it was listed is then in a chunk listed later;
+    a file removed between listing and reading (moved into a chunk, or rewritten without a
+    retried run's old row) means reading again."""
+    def once():
+        journal = [read_journal_row(p) for p in folder.journal_paths()]
+        return journal, [read_chunk(p) for p in folder.chunk_paths()]
+
+    for _ in range(attempts - 1):
+        try:
+            return once()
+        except FileNotFoundError:
+            pass
+    return once()
 
 
 def _existing_parent(path: Path) -> Path:

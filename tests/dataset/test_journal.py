@@ -2,8 +2,9 @@
 is moved into a Parquet chunk later. Killed at any file operation of that move — or of a
 retried run's replacing its old row — the folder reads every run once with its newest
 row, ``pandas.read_parquet`` never sees a run twice where it was once, and the next job's
-compaction leaves every run in exactly one chunk. The progress line counts a run only once
-its row is stored, a line per run in a log.
+compaction leaves every run in exactly one chunk; ``load`` beside a job that compacts while
+it reads still sees every run once. The progress line counts a run only once its row is
+stored, a line per run in a log.
 
 The rows here are made up (no simulation): a run id, a status and a value."""
 
@@ -202,3 +203,44 @@ def test_the_progress_prints_a_line_per_run_in_a_log():
         "1/3 done, 0 failed, 2 remaining, ETA 0:20",
         "2/3 done, 1 failed, 1 remaining, ETA 0:10",
         "3/3 done, 1 failed, 0 remaining, ETA 0:00"]
+
+
+@pytest.mark.parametrize("moment", ["while a journal row is read", "after the first listing"])
+def test_load_beside_a_compaction_sees_every_row(tmp_path, monkeypatch, moment):
+    """A reader beside a running job: the job moves the journal into a chunk while load
+    reads a journal row, or between load's listing of one kind of file and of the other
+    (whichever it lists first); load still returns every run once."""
+    import rubdiag.dataset.store as store
+
+    folder = new_folder(tmp_path / "d")
+    folder.write_chunk([row("a", 1.0)], row_schema(row("a", 0.0)))
+    for run_id, value in (("b", 2.0), ("c", 3.0)):
+        folder.journal(row(run_id, value))
+    job = DatasetFolder(folder.root)
+    moved = []
+
+    def compact_once():
+        if not moved:                         # once, and not from inside the compaction
+            moved.append(None)
+            moved[0] = job.compact()
+
+    if moment == "while a journal row is read":
+        real = store.read_journal_row
+
+        def read_journal_row(path):
+            compact_once()
+            return real(path)
+
+        monkeypatch.setattr(store, "read_journal_row", read_journal_row)
+    else:
+        def after(real):
+            def listing(self):
+                found = real(self)
+                compact_once()
+                return found
+            return listing
+
+        for name in ("chunk_paths", "journal_paths"):
+            monkeypatch.setattr(DatasetFolder, name, after(getattr(DatasetFolder, name)))
+    assert values(folder.root) == {"a": 1.0, "b": 2.0, "c": 3.0}
+    assert moved and moved[0] is not None and folder.journal_paths() == []
