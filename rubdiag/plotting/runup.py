@@ -34,6 +34,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib import patheffects
 from matplotlib.colors import LogNorm
+from matplotlib.lines import Line2D
 from matplotlib.ticker import (
     FuncFormatter,
     LogLocator,
@@ -43,6 +44,7 @@ from matplotlib.ticker import (
 )
 
 from rubdiag.plotting.run import DPI, PNG_OPTIONS
+from rubdiag.signal.leakage import tracking_leakage
 from rubdiag.signal.orders import order_label
 
 __all__ = ["COLOURS", "ORDERS", "RUB_ORDERS", "bode_figure", "order_map_figure", "polar_figure",
@@ -54,6 +56,7 @@ RUB_ORDERS = (0.5, 1.5, 2, 3)       # the panels of rub_orders_figure
 CMAP = "magma"
 _LINEAR = dict(color="0.2", ls="--", lw=1.3)
 _CRITICAL = dict(color="0.35", ls=":", lw=1.0)
+_LEAKAGE = dict(ls="--", lw=0.9, alpha=0.85)
 _PLAIN = FuncFormatter(lambda v, _pos=None: f"{v:g}")
 _OUTLINE = [patheffects.withStroke(linewidth=2.5, foreground="k")]
 _BOX = dict(boxstyle="round,pad=0.15", fc="w", ec="none", alpha=0.8)
@@ -441,18 +444,29 @@ def polar_figure(tracks: dict, linear=None, critical_rpm=None, order: float = 1,
 
 
 def rub_orders_figure(tracks: dict, orders=RUB_ORDERS, critical_rpm=None, contact_rpm=None,
-                      unit: str = "µm", scale: float = 1e6, title: str = "Rub orders"):
+                      unit: str = "µm", scale: float = 1e6, title: str = "Rub orders",
+                      revs_per_bin: int | None = None):
     """Amplitudes of the orders a rub excites against speed, one panel per order, tracks
     overlaid: a rub begins where they rise from their floor.
+
+    Where a track's 1× changes within a bin (near a critical speed), the order tracking
+    itself spreads it onto the orders beside it — about 1 % of 1× at 0.5× and 1.5× with
+    4-revolution bins on a 300 rpm/s run-up, without any contact. Each track's leakage
+    level (:func:`~rubdiag.signal.leakage.tracking_leakage`) is drawn dashed in its colour
+    (gid ``"leakage <label>"``): an order on its dashed line is leakage, not rub.
 
     Parameters
     ----------
     tracks : dict
-        Label -> :func:`~rubdiag.signal.order_track` DataFrame holding every order.
+        Label -> :func:`~rubdiag.signal.order_track` DataFrame holding every order (and 1×
+        for the leakage level).
     orders : sequence of float
         One panel each, top to bottom; log amplitude axes shared by all panels.
     critical_rpm, contact_rpm, unit, scale, title
         As for :func:`bode_figure` (the contact bars along the top panel).
+    revs_per_bin : int, optional
+        The tracks' bin length in revolutions (default: each track's ``attrs``, as
+        :func:`~rubdiag.signal.order_track` sets them; unknown: no leakage level).
 
     Returns
     -------
@@ -462,12 +476,17 @@ def rub_orders_figure(tracks: dict, orders=RUB_ORDERS, critical_rpm=None, contac
     fig, axes = _figure((8.5, 1.7 * n + 1.6), 0.9, 0.25, 0.6, 1.0, nrows=n, sharex=True,
                         sharey=True, squeeze=False, gridspec_kw=dict(hspace=0.08))
     axes = axes[:, 0]
+    leaks = {name: _leakage(df, orders, revs_per_bin) for name, df in tracks.items()}
     for ax, k in zip(axes, orders, strict=True):
         for i, (name, df) in enumerate(tracks.items()):
             rpm, z = _vector(df, k, name)
             amp = np.abs(z) * scale
             ax.semilogy(rpm, np.where(amp > 0, amp, np.nan), label=name,
                         gid=f"track {name}", **_sweep(rpm, i))
+            if leaks[name] is not None:
+                leak = leaks[name][f"amp_{order_label(k)}"].to_numpy() * scale
+                ax.semilogy(rpm, np.where(leak > 0, leak, np.nan), gid=f"leakage {name}",
+                            color=COLOURS[i % len(COLOURS)], **_LEAKAGE)
         ax.set_ylabel(f"{k:g}× ({unit})")
         ax.grid(alpha=0.3)
         _log_labels(ax.yaxis)
@@ -476,9 +495,28 @@ def rub_orders_figure(tracks: dict, orders=RUB_ORDERS, critical_rpm=None, contac
     axes[-1].set_xlabel("speed (rpm)")
     _ticks(axes[-1], 8, None)
     axes[0].set_title(title, pad=26)
-    axes[0].legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncols=5, fontsize="small",
-                   frameon=False)
+    handles, labels = axes[0].get_legend_handles_labels()
+    bins = {int(leak.attrs["revs_per_bin"]) for leak in leaks.values() if leak is not None}
+    if bins:
+        handles.append(Line2D([], [], color="0.3", **_LEAKAGE))
+        labels.append(f"1× leakage of the tracking ({'/'.join(map(str, sorted(bins)))}-rev "
+                      "bins): not rub")
+    axes[0].legend(handles, labels, loc="lower center", bbox_to_anchor=(0.5, 1.0), ncols=5,
+                   fontsize="small", frameon=False)
     return fig
+
+
+def _leakage(df, orders, revs_per_bin):
+    """The track's leakage at ``orders`` (:func:`tracking_leakage`), or None where its bin
+    length or 1× is not known."""
+    n_rev = revs_per_bin if revs_per_bin is not None else df.attrs.get("revs_per_bin")
+    if n_rev is None or not {"amp_1x", "phase_1x_deg"} <= set(df.columns):
+        return None
+    leak = tracking_leakage(df, int(n_rev), orders,
+                            samples_per_rev=df.attrs.get("samples_per_rev", 64),
+                            window=df.attrs.get("window", "hann"))
+    leak.attrs["revs_per_bin"] = int(n_rev)
+    return leak
 
 
 # --- a run's figures ---------------------------------------------------------------------

@@ -4,14 +4,17 @@ Public API (all frequencies in Hz, speeds in rpm, amplitudes in the signal's uni
 
 * :func:`amplitude_spectrum` ``(x, fs, …) -> (f, amplitude)`` — peak-amplitude spectrum.
 * :func:`spectral_lines` ``(x, fs, …) -> (f, amplitude, phase_deg)`` — exact lines.
-* :func:`tacho_speed`, :func:`dominant_speed` — running speed in rpm.
+* :func:`tacho_speed`, :func:`dominant_speed` — running speed in rpm; :func:`voted_speed` —
+  the speed of a record whose channels' strongest lines vote (what :func:`features` and
+  ``rubdiag predict`` guess).
 * :func:`tacho_angle`, :func:`tacho_rpm`, :func:`angle_from_rpm` — shaft angle (rad) and speed
   (rpm) at every sample, for records at a variable speed.
 * :func:`resample_to_angle` ``(x, fs, angle, …) -> (revolutions, x_angle)`` — computed order
   tracking: equal angle steps, anti-aliased in the angle domain.
 * :func:`order_spectrum` ``(x, fs, angle, …) -> (orders, amplitude)``, :func:`order_track`
   (amplitude and phase of chosen orders against speed, a DataFrame), :func:`rpm_order_map`
-  ``-> (orders, rpm, amplitude)`` — order analysis at a variable speed.
+  ``-> (orders, rpm, amplitude)`` — order analysis at a variable speed;
+  :func:`tracking_leakage` — what a track's changing 1× leaks onto the orders beside it.
 * :func:`waterfall` ``(x, fs, nperseg, …) -> (f, t, rpm, amplitude)`` — short-time spectra.
 * :func:`features` — one DataFrame row of features per channel (the table).
 * :func:`features_by_revolution` — the same features across speed: one row per bin of whole
@@ -32,6 +35,7 @@ from __future__ import annotations
 
 from rubdiag.signal.combinations import CombinationPair, combination_pairs
 from rubdiag.signal.io import read_signals
+from rubdiag.signal.leakage import tracking_leakage
 from rubdiag.signal.lines import spectral_lines
 from rubdiag.signal.orders import order_label
 from rubdiag.signal.ordertrack import (
@@ -43,6 +47,7 @@ from rubdiag.signal.ordertrack import (
 from rubdiag.signal.spectrum import amplitude_spectrum
 from rubdiag.signal.speed import dominant_speed, tacho_speed
 from rubdiag.signal.speedtable import REVOLUTION_FEATURE_NAMES, features_by_revolution
+from rubdiag.signal.speedvote import voted_speed
 from rubdiag.signal.table import (
     FEATURE_NAMES,
     feature_matrix,
@@ -78,5 +83,7 @@ __all__ = [
     "tacho_angle",
     "tacho_rpm",
     "tacho_speed",
+    "tracking_leakage",
+    "voted_speed",
     "waterfall",
 ]

@@ -187,15 +187,17 @@ def order_track(x, fs: float, angle, orders=(0.5, 1.0, 1.5, 2.0, 4.0), revs_per_
         revolutions over duration), and for every order ``k`` (label ``1x``, ``0p5x``,
         ``0p33x`` …, see :func:`order_label`) ``amp_<k>`` (peak amplitude, unit of ``x``)
         and ``phase_<k>_deg``: the phase of ``amp cos(k φ + phase)`` in degrees, within
-        ±180, φ being ``angle``.
+        ±180, φ being ``angle``. ``attrs`` hold ``revs_per_bin``, ``samples_per_rev`` and
+        (a named) ``window``.
 
     Notes
     -----
     Fractional orders are read exactly by making them fall on a bin rather than by
     interpolating between bins: with whole cycles of every order in a bin, the window
-    leaves no leakage from one order onto another. An amplitude that changes within a bin
-    is read as the window-weighted mean over the bin (a resonance passed within a few bins
-    is flattened: shorten the bins).
+    leaves no leakage from one *steady* order onto another. An amplitude that changes within
+    a bin is read as the window-weighted mean over the bin (a resonance passed within a few
+    bins is flattened: shorten the bins), and the change leaks onto the orders beside it
+    (:func:`~rubdiag.signal.leakage.tracking_leakage` gives how much).
     """
     fs = check_fs(fs)
     spr, max_order = _check_grid(samples_per_rev, max_order)
@@ -208,7 +210,12 @@ def order_track(x, fs: float, angle, orders=(0.5, 1.0, 1.5, 2.0, 4.0), revs_per_
     for i, label in enumerate(order_label(ki) for ki in k):
         columns[f"amp_{label}"] = np.abs(line[:, i])
         columns[f"phase_{label}_deg"] = phase[:, i]
-    return pd.DataFrame(columns)
+    table = pd.DataFrame(columns)
+    # how it was tracked, for tracking_leakage (a figure's leakage level)
+    table.attrs.update(revs_per_bin=n_rev, samples_per_rev=spr)
+    if isinstance(window, str):
+        table.attrs["window"] = window
+    return table
 
 
 def rpm_order_map(x, fs: float, angle, revs_per_bin: int = 8, *, revs_step: int | None = None,

@@ -259,6 +259,33 @@ def test_rub_orders_one_log_panel_per_order(sweeps):
         _gid(ax, "critical")
 
 
+def test_rub_orders_draw_the_trackings_leakage(sweeps):
+    """Dashed in each track's colour: what its changing 1× leaks into each order
+    (tracking_leakage, tested against the analytic level in tests/signal/test_leakage.py),
+    named in the legend; only where the bin length is known."""
+    from rubdiag.signal.leakage import tracking_leakage
+
+    fig = rub_orders_figure(sweeps, revs_per_bin=8)
+    for ax, k in zip(fig.axes, RUB_ORDERS, strict=True):
+        for name, df in sweeps.items():
+            (line,) = _gid(ax, f"leakage {name}")
+            (track,) = _gid(ax, f"track {name}")
+            leak = tracking_leakage(df, 8, RUB_ORDERS)[f"amp_{order_label(k)}"] * 1e6
+            np.testing.assert_allclose(line.get_ydata(), leak)
+            assert line.get_linestyle() == "--" and line.get_color() == track.get_color()
+    texts = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    assert texts[-1] == "1× leakage of the tracking (8-rev bins): not rub"
+
+    def leakage_lines(figure):
+        return [ln for ax in figure.axes for ln in ax.lines
+                if str(ln.get_gid()).startswith("leakage")]
+
+    assert not leakage_lines(rub_orders_figure(sweeps))     # a table read back from CSV
+    for df in sweeps.values():                              # order_track's own tables
+        df.attrs["revs_per_bin"] = 8
+    assert len(leakage_lines(rub_orders_figure(sweeps))) == 2 * len(RUB_ORDERS)
+
+
 def test_save_writes_every_figure(tmp_path, sweeps, linear):
     f = np.arange(0.0, 200.0, 1.0)
     rpm = np.linspace(1000.0, 2000.0, 12)
