@@ -13,6 +13,7 @@ from pathlib import Path
 
 _TARGETS = ("rub", "rub_state", "severity")          # rubdiag.learn.TARGETS
 _ESTIMATORS = ("rf", "hgb", "svm", "logreg")         # rubdiag.learn.ESTIMATORS
+_CHANNEL_SETS = ("auto", "shaft", "all")             # rubdiag.learn.channel_choice
 
 
 def register(sub) -> None:
@@ -24,9 +25,11 @@ def register(sub) -> None:
         "audit), fit it on every run and write MODEL_DIR: model.skops and model.json (what "
         "prediction needs), metrics.json, report.md, confusion.png, importances.png and "
         "importances.csv. The default model — target rub, a random forest, split by design "
-        "point, the shaft channels — needs no tuning and does not lean on the casing "
-        "channel, which in this model moves only through contact. See README, "
-        "'Classifiers'.")
+        "point, the shaft channels that carry more than their noise floor — needs no "
+        "tuning and does not lean on the casing channel, which in this model moves only "
+        "through contact. Warnings (a class with too few runs, a class never recognised, "
+        "no margin over the best baseline or chance) are printed and written into the "
+        "report, metrics.json and model.json. See README, 'Classifiers'.")
     p.add_argument("dataset", type=Path, metavar="DATASET_DIR",
                    help="dataset folder (rubdiag dataset)")
     p.add_argument("--out", type=Path, metavar="MODEL_DIR", required=True,
@@ -39,9 +42,10 @@ def register(sub) -> None:
     p.add_argument("--split", default="group",
                    help="evaluation split: group (by design point, default) or a design "
                    "factor held out band by band (speed_ratio, gap_mm, case …)")
-    p.add_argument("--channels", default="shaft", metavar="NAME,…",
-                   help="input channels: shaft (default: every channel not on the casing), "
-                   "all, or comma-separated names")
+    p.add_argument("--channels", default="auto", metavar="NAME,…",
+                   help="input channels: auto (default: the shaft channels whose median "
+                   "power over the rubbing runs is 6 dB or more above their noise floor), "
+                   "shaft (every channel not on the casing), all, or comma-separated names")
     p.add_argument("--families", default=None, metavar="NAME,…",
                    help="feature families, comma-separated (default: orders,sidebands,"
                    "combinations; also levels, absolute)")
@@ -123,7 +127,7 @@ def _train(args) -> int:
     from rubdiag.learn.features import DEFAULT_FAMILIES
     from rubdiag.learn.train import train
 
-    channels = args.channels if args.channels in ("shaft", "all") else _names(
+    channels = args.channels if args.channels in _CHANNEL_SETS else _names(
         args.channels, "--channels")
     families = _names(args.families, "--families") or DEFAULT_FAMILIES
     extras = {"importances": False, "baselines": False, "audit": False} if args.quick else {}
@@ -136,6 +140,15 @@ def _train(args) -> int:
           f"{', '.join(model.channels)}), trained on {meta['dataset']['n_rows']} runs; "
           f"held-out macro-F1 {f1['value']:.3f} [{f1['lo']:.3f}, {f1['hi']:.3f}] on split "
           f"{meta['split']}")
+    left_out = meta.get("channels_left_out") or {}
+    if left_out:
+        from rubdiag.learn.channel_choice import NOISE_MARGIN_DB
+
+        shown = ", ".join(f"{c} {db:+.1f} dB" for c, db in left_out.items())
+        print(f"left out (median power over the rubbing runs within {NOISE_MARGIN_DB:g} dB "
+              f"of the noise floor): {shown}; --channels names the channels to use")
+    for w in meta.get("warnings", []):
+        print(f"warning: {w}")
     print(f"wrote {', '.join(sorted(p.name for p in out.iterdir()))}; the evaluation is in "
           f"{out / 'report.md'}")
     return 0
@@ -147,6 +160,7 @@ def _evaluate(args) -> int:
 
     model = load_model(args.model)
     result = evaluate_model(model, args.dataset)
+    _model_warnings("evaluate", args.model, model.meta)
     for w in result.warnings:
         _warn("evaluate", w)
     if args.json:
@@ -162,6 +176,7 @@ def _predict(args) -> int:
     from rubdiag.learn.predict import predict
 
     model = load_model(args.model)
+    _model_warnings("predict", args.model, model.meta)
     table = predict(model, args.inputs,
                     columns=_pairs(args.column, "--column", "COLUMN=CHANNEL"),
                     units=_pairs(args.unit, "--unit", "CHANNEL=UNIT"), fs=args.fs,
@@ -182,6 +197,12 @@ def _predict(args) -> int:
                            "display.width", 200, "display.float_format", "{:.3f}".format):
         print(shown.to_string(index=False))
     return 0
+
+
+def _model_warnings(command: str, folder, meta: dict) -> None:
+    """What the model's training warned of, once per warning, on stderr."""
+    for w in meta.get("warnings", []):
+        _warn(command, f"model {folder} (from its training, see its report.md): {w}")
 
 
 def _warn(command: str, text: str) -> None:

@@ -6,6 +6,11 @@
   (:mod:`rubdiag.learn.splits`), with intervals, baselines, the shuffled-label control
   and the leakage audit;
 * :func:`read_dataset` — a dataset folder's finished rows;
+* :func:`choose_channels` — the input channels: by default the shaft channels that carry
+  more than their noise floor (:mod:`rubdiag.learn.channel_choice`);
+* :func:`training_warnings` — what says a model learnt little (a class with too few runs
+  or never recognised, no margin over the best baseline or chance;
+  :mod:`rubdiag.learn.caveats`), printed by ``train`` and kept in ``model.json``;
 * :func:`noise_curve` — scores against noise added to the stored waveforms
   (:mod:`rubdiag.learn.robustness`);
 * :func:`confusion_figure`, :func:`importances_figure`, :func:`noise_curve_figure` — PNG
@@ -21,6 +26,8 @@ This layer sits above :mod:`rubdiag.dataset` and reads stored datasets only: not
 imports the simulator.
 """
 
+from rubdiag.learn.caveats import MIN_RUNS_PER_CLASS, training_warnings
+from rubdiag.learn.channel_choice import NOISE_MARGIN_DB, choose_channels
 from rubdiag.learn.columns import (
     TARGETS,
     casing_channels,
@@ -43,6 +50,8 @@ __all__ = [
     "DEFAULT_FAMILIES",
     "ESTIMATORS",
     "FAMILIES",
+    "MIN_RUNS_PER_CLASS",
+    "NOISE_MARGIN_DB",
     "TARGETS",
     "Evaluation",
     "Fold",
@@ -55,6 +64,7 @@ __all__ = [
     "baseline_pipeline",
     "casing_channels",
     "channels_of",
+    "choose_channels",
     "confusion_figure",
     "cross_predict",
     "evaluate",
@@ -71,4 +81,5 @@ __all__ = [
     "save_model",
     "shaft_channels",
     "train",
+    "training_warnings",
 ]

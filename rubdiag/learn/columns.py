@@ -16,6 +16,7 @@ import pandas as pd
 
 from rubdiag.dataset.factors import FACTORS
 from rubdiag.dataset.labels import LABELS
+from rubdiag.dataset.noise import NoiseFloors
 from rubdiag.dataset.schema import SEPARATOR
 from rubdiag.dataset.store import acquisition, load
 from rubdiag.signal.table import FEATURE_NAMES, SPEED_NAMES
@@ -32,7 +33,9 @@ TARGETS = LABELS
 def read_dataset(root: str | Path) -> pd.DataFrame:
     """The rows of a dataset folder that finished (``status == "ok"``), with what learn
     needs to know of it in ``attrs``: ``acquisition`` (``fs_hz``, ``window_s``, sensors
-    with their units and points), ``failed`` (rows left out) and ``source`` (the folder)."""
+    with their units and points), ``noise_floors`` (channel -> standard deviation of the
+    white noise the design added to it, in the channel's SI unit), ``failed`` (rows left
+    out) and ``source`` (the folder)."""
     rows = load(root)           # first: it says when the folder is not a dataset at all
     meta = acquisition(root)
     if rows.empty:
@@ -44,7 +47,10 @@ def read_dataset(root: str | Path) -> pd.DataFrame:
     if data.empty:
         raise ValueError(f"{root}: no run of the dataset finished (status ok)")
     design = tomllib.loads((Path(root) / "design.toml").read_text(encoding="utf-8"))
+    floors = NoiseFloors(**design.get("noise", {}))
     data.attrs.update(acquisition=meta, factors=list(design.get("factors", {})),
+                      noise_floors={s["name"]: floors.floor(s["quantity"])
+                                    for s in meta["sensors"]},
                       failed=int((~ok).sum()), source=str(root))
     return data
 

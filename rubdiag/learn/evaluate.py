@@ -33,14 +33,9 @@ from threadpoolctl import threadpool_limits  # installed with scikit-learn
 
 from rubdiag import _check
 from rubdiag.dataset.schema import SEPARATOR
-from rubdiag.learn.columns import (
-    TARGETS,
-    casing_channels,
-    channels_of,
-    factor_columns,
-    read_dataset,
-    shaft_channels,
-)
+from rubdiag.learn.caveats import training_warnings
+from rubdiag.learn.channel_choice import ChannelChoice, choose_channels
+from rubdiag.learn.columns import TARGETS, casing_channels, factor_columns, read_dataset
 from rubdiag.learn.features import DEFAULT_FAMILIES, FAMILIES, OrderFeatures, _check_families
 from rubdiag.learn.metrics import (
     Score,
@@ -67,22 +62,10 @@ def target_values(data: pd.DataFrame, target: str) -> np.ndarray:
 
 
 def resolve_channels(data: pd.DataFrame, channels) -> list[str]:
-    """``"shaft"`` (every channel not on the casing: the default), ``"all"``, or names."""
-    if channels is None or channels == "shaft":
-        out = shaft_channels(data)
-    elif channels == "all":
-        out = channels_of(data)
-    else:
-        names = [channels] if isinstance(channels, str) else list(channels)
-        have = channels_of(data)
-        missing = [c for c in names if c not in have]
-        if missing:
-            raise ValueError(f"channels: {missing[0]!r} is not a channel of the data (its "
-                             f"channels: {', '.join(have)})")
-        out = names
-    if not out:
-        raise ValueError("no channel left to learn from (channels)")
-    return out
+    """The channel names of ``channels``: ``"auto"`` (the shaft channels that carry more
+    than their noise floor: the default), ``"shaft"`` (every channel not on the casing),
+    ``"all"``, or names (:func:`rubdiag.learn.channel_choice.choose_channels`)."""
+    return choose_channels(data, channels).channels
 
 
 @dataclass
@@ -147,6 +130,8 @@ class Evaluation:
     shuffled: dict | None = None
     audit: pd.DataFrame | None = None
     notes: list = field(default_factory=list)
+    channel_choice: ChannelChoice | None = None   # what the default channels left out
+    warnings: list = field(default_factory=list)  # what says the model learnt little
 
     def to_dict(self) -> dict:
         from rubdiag.learn.report import evaluation_dict
@@ -161,7 +146,7 @@ class Evaluation:
 
 @threadpool_limits.wrap(limits=1)
 def evaluate(data, target: str = "rub", split: str = "group", estimator: str = "rf", *,
-             channels="shaft", families=DEFAULT_FAMILIES, pipeline=None, n_splits: int = 5,
+             channels="auto", families=DEFAULT_FAMILIES, pipeline=None, n_splits: int = 5,
              bands: int = 5, n_bootstrap: int = 1000, n_null: int = 1000,
              importances: bool = True, n_repeats: int = 5, baselines: bool = True,
              audit: bool = True, audit_threshold: float = 0.9, n_shuffles: int = 5,
@@ -178,8 +163,11 @@ def evaluate(data, target: str = "rub", split: str = "group", estimator: str = "
         ``"group"`` (by design point) or a design factor to hold out band by band
         (``"speed_ratio"``, ``"gap_mm"``, ``"mu"``, ``"case"`` …).
     estimator : {"rf", "hgb", "svm", "logreg"}
-    channels : "shaft", "all" or list of str
-        Input channels; ``"shaft"`` leaves the casing out (see
+    channels : "auto", "shaft", "all" or list of str
+        Input channels. ``"auto"`` (default): the shaft channels whose median power over
+        the rubbing runs stands :data:`~rubdiag.learn.channel_choice.NOISE_MARGIN_DB`
+        above their noise floor (:mod:`rubdiag.learn.channel_choice`; what it leaves out
+        is in ``channel_choice``); ``"shaft"``: every channel not on the casing (see
         :func:`~rubdiag.learn.columns.shaft_channels`).
     families : sequence of str
         Feature families (:mod:`rubdiag.learn.features`).
@@ -205,7 +193,8 @@ def evaluate(data, target: str = "rub", split: str = "group", estimator: str = "
     if isinstance(data, str | Path):
         data = read_dataset(data)
     y = target_values(data, target)
-    channels = resolve_channels(data, channels)
+    choice = choose_channels(data, channels)
+    channels = choice.channels
     families = list(_check_families(families))      # one name as a one-family list
     n_bootstrap = _check.integer("n_bootstrap", n_bootstrap, lo=0)
     n_null = _check.integer("n_null", n_null, lo=10)
@@ -234,7 +223,8 @@ def evaluate(data, target: str = "rub", split: str = "group", estimator: str = "
         confusion=pd.DataFrame(cm, index=pd.Index(classes, name="true"),
                                columns=pd.Index(classes, name="predicted")),
         predictions=pd.DataFrame({"run_id": data.get("run_id", pd.Series(range(len(data)))),
-                                  "true": y, "predicted": cp.predicted, "scored": cp.scored}))
+                                  "true": y, "predicted": cp.predicted, "scored": cp.scored}),
+        channel_choice=choice)
     if importances:
         ev.importances, ev.channel_importances = _importances(cp, data, y, classes,
                                                               n_repeats, seed)
@@ -247,6 +237,7 @@ def evaluate(data, target: str = "rub", split: str = "group", estimator: str = "
                             n_null, n_shuffles, seed)
     if audit:
         ev.audit = audit_columns(data, y, splits, classes, audit_threshold, seed)
+    ev.warnings = training_warnings(ev)
     return ev
 
 
@@ -269,7 +260,11 @@ def _per_class(cm: np.ndarray, classes) -> pd.DataFrame:
 
 def _importances(cp: CrossPrediction, data, y, classes, n_repeats, seed):
     """Mean drop of held-out macro-F1 when a feature (in every channel at once) or a
-    channel (all its features) is permuted; mean and spread over folds × repeats."""
+    channel (all its features) is permuted; mean and spread over folds × repeats.
+
+    A fold's permuted copies are predicted together, in one call per
+    :data:`_PERMUTED_CELLS` values: a forest's per-call overhead (its 300 trees) would
+    otherwise cost more than the predictions themselves."""
     rng = np.random.default_rng(seed)
     by_feature: dict[str, list] = {}
     by_channel: dict[str, list] = {}
@@ -284,14 +279,21 @@ def _importances(cp: CrossPrediction, data, y, classes, n_repeats, seed):
         feature_of = np.array([n.split(SEPARATOR, 1)[-1] for n in names])
         channel_of = np.array([n.split(SEPARATOR, 1)[0] if SEPARATOR in n else "(run)"
                                for n in names])
+        permuted, owners = [], []
         for key, out in ((feature_of, by_feature), (channel_of, by_channel)):
             for name in dict.fromkeys(key):
                 cols = np.flatnonzero(key == name)
                 for _ in range(n_repeats):
                     Zp = Z.copy()
                     Zp[:, cols] = Z[rng.permutation(len(Z))][:, cols]
-                    out.setdefault(name, []).append(
-                        base - macro_f1(y[test], rest.predict(Zp), classes))
+                    permuted.append(Zp)
+                    owners.append(out.setdefault(name, []))
+        per_call = max(1, _PERMUTED_CELLS // max(Z.size, 1))
+        for start in range(0, len(permuted), per_call):
+            batch = permuted[start:start + per_call]
+            predicted = rest.predict(np.vstack(batch)).reshape(len(batch), len(Z))
+            for owner, p in zip(owners[start:start + per_call], predicted, strict=True):
+                owner.append(base - macro_f1(y[test], p, classes))
 
     def table(d, index_name):
         if not d:
@@ -301,6 +303,10 @@ def _importances(cp: CrossPrediction, data, y, classes, n_repeats, seed):
         frame.index.name = index_name
         return frame.sort_values("importance", ascending=False)
     return table(by_feature, "feature"), table(by_channel, "channel")
+
+
+#: Feature values per prediction call of the permutation importances (8 MB of float64).
+_PERMUTED_CELLS = 1_000_000
 
 
 def _baselines(data, y, splits, groups, classes, channels, estimator, n_bootstrap, seed):

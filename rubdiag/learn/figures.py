@@ -17,6 +17,7 @@ which this layer may not import (it sits above ``rubdiag.learn``).
 from __future__ import annotations
 
 import math
+import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -26,6 +27,8 @@ from rubdiag import _check
 __all__ = ["DPI", "confusion_figure", "importances_figure", "noise_curve_figure"]
 
 DPI = 110                                  # as rubdiag.plotting.run
+_EMPTY_ROWS = 6                            # height of a figure with no bar at all
+_TEXT_WIDTH = 40                           # characters per line of words in a panel
 _PNG = {"compress_level": 1}               # as rubdiag.plotting.run.PNG_OPTIONS
 _BLUE, _RED, _GREY = "#2471a3", "#c0392b", "0.6"
 
@@ -107,7 +110,9 @@ def importances_figure(evaluation, path, top: int = 20):
     A bar is the mean drop of held-out macro-F1 when that feature (in every channel at
     once) or that channel (all its features) is permuted; the error bar its standard
     deviation over folds × repeats. Largest on top; a bar left of zero means permuting
-    helped (noise).
+    helped (noise). A panel whose importances are all 0 — no permutation changed the
+    score, as for a model that predicts one class whatever its input — says so in words
+    instead of drawing bars of length 0.
 
     Parameters
     ----------
@@ -134,11 +139,21 @@ def importances_figure(evaluation, path, top: int = 20):
     if channels is not None and not channels.empty:
         channels = channels.sort_values("importance", ascending=False, kind="stable")
         panels.append((channels, "channels (all their features at once)"))
-    rows = max(len(p[0]) for p in panels)
+    empty = [_nothing_to_show(frame) for frame, _ in panels]
+    # an empty panel lists no rows: the figure is as tall as its drawn panels need
+    rows = max([len(p[0]) for p, e in zip(panels, empty, strict=True) if not e],
+               default=_EMPTY_ROWS)
     fig = _figure((12.0 if len(panels) == 2 else 7.5, 1.6 + 0.3 * rows))
     grid = fig.add_gridspec(1, len(panels), width_ratios=[1.25, 1.0][:len(panels)])
-    for n, (frame, title) in enumerate(panels):
+    for n, ((frame, title), nothing) in enumerate(zip(panels, empty, strict=True)):
         ax = fig.add_subplot(grid[0, n])
+        ax.set_title(title, fontsize="medium")
+        ax.set_xlabel("drop of held-out macro-F1 when permuted")
+        if nothing:
+            ax.set(xticks=[], yticks=[])
+            ax.text(0.5, 0.5, _why_no_bars(evaluation), transform=ax.transAxes,
+                    ha="center", va="center", fontsize="medium", linespacing=1.4)
+            continue
         y = np.arange(len(frame))
         ax.barh(y, frame["importance"], xerr=frame["std"], color=(_BLUE, _RED)[n],
                 height=0.7, error_kw={"ecolor": "0.25", "elinewidth": 0.9, "capsize": 2})
@@ -146,12 +161,29 @@ def importances_figure(evaluation, path, top: int = 20):
         # largest on top; both panels on the same row pitch, so that bars are as thick
         ax.set_ylim(rows - 0.5, -0.5)
         ax.axvline(0.0, color="0.3", lw=0.8)
-        ax.set_xlabel("drop of held-out macro-F1 when permuted")
-        ax.set_title(title, fontsize="medium")
         ax.grid(axis="x", alpha=0.3)
     fig.suptitle(_headline(evaluation).replace("\n", "; "), fontsize="large")
     _save(fig, path)
     return fig
+
+
+def _nothing_to_show(frame) -> bool:
+    """Every importance and spread exactly 0: no permutation changed the score."""
+    values = frame[["importance", "std"]].to_numpy(dtype=float)
+    return bool(np.all(values == 0.0))
+
+
+def _why_no_bars(evaluation) -> str:
+    """The words an empty importance panel shows instead of bars of length 0."""
+    scored = evaluation.predictions.loc[evaluation.predictions["scored"], "predicted"]
+    classes = sorted(set(map(str, scored)))
+    what = (f"the model predicts {classes[0]} for every held-out run, whatever its "
+            "features." if len(classes) == 1 else
+            "the held-out predictions do not depend on these features.")
+    paragraphs = ["No bars: every importance is 0.",
+                  "No permutation of a feature or a channel changed the held-out macro-F1: "
+                  + what, "The model learnt nothing to rank; see the warnings of its report."]
+    return "\n\n".join(textwrap.fill(p, _TEXT_WIDTH) for p in paragraphs)
 
 
 def noise_curve_figure(curve, path, chance=None):

@@ -9,7 +9,8 @@ rate, and each window's features are computed exactly as a dataset row's
 window's speed: given, from a tacho, or the median over the model's channels of the
 dominant line (assumed 1×). A dataset folder's stored rows are predicted as they are.
 
-Refused (ValueError): a missing channel, an unknown unit, a record shorter than one
+Refused (ValueError): a missing channel (every one named, with the ``rubdiag train
+--channels`` that makes a model without them), an unknown unit, a record shorter than one
 window, a sampling rate too low for the highest order the model's features reach. Told
 (the ``warnings`` column): a speed, or features, outside what the model saw in training —
 the prediction is then an extrapolation.
@@ -37,7 +38,8 @@ from rubdiag.signal.speed import tacho_speed
 from rubdiag.signal.speedvote import SpeedNotFound, voted_speed
 from rubdiag.signal.table import prefixed_features
 
-__all__ = ["RANGE_TOLERANCE", "UNITS", "predict", "predict_rows", "unit_factor"]
+__all__ = ["RANGE_TOLERANCE", "UNITS", "missing_channels", "predict", "predict_rows",
+           "unit_factor"]
 
 #: Units a channel may be given in, per quantity: factor to SI.
 UNITS = {
@@ -101,7 +103,8 @@ def predict(model, inputs, *, columns=None, units=None, fs=None, speed_rpm=None,
         windows a row with ``window`` = ``"all"``: the class most windows have (ties: the
         higher mean probability) and the mean probabilities. A dataset folder gives one
         row per run (``input`` = its ``run_id``, ``window`` 0: the stored analysis
-        window, times from the run's start).
+        window, times from the run's start). ``attrs["model_warnings"]``: what the
+        model's training warned of (:mod:`rubdiag.learn.caveats`; empty if nothing).
     """
     if not isinstance(model, Model):
         model = load_model(model)
@@ -128,7 +131,9 @@ def predict(model, inputs, *, columns=None, units=None, fs=None, speed_rpm=None,
         else:
             table = _predict_file(model, path, columns, factors, fs, speed_rpm, tacho)
             tables += [table, _majority(table, model)]
-    return pd.concat(tables, ignore_index=True)
+    out = pd.concat(tables, ignore_index=True)
+    out.attrs["model_warnings"] = list(model.meta.get("warnings", []))
+    return out
 
 
 def predict_rows(model: Model, data: pd.DataFrame) -> pd.DataFrame:
@@ -138,11 +143,10 @@ def predict_rows(model: Model, data: pd.DataFrame) -> pd.DataFrame:
     have = channels_of(data)
     units = {s["name"]: s["unit"] for s in acq.get("sensors", [])}
     source = data.attrs.get("source", "the dataset")
+    missing = [c for c in model.channels if c not in have]
+    if missing:
+        raise ValueError(missing_channels(f"{source}", missing, model, "the dataset", have))
     for c in model.meta["channels"]:
-        if c["name"] not in have:
-            raise ValueError(f"{source}: channel {c['name']!r} is missing (the model needs "
-                             f"{', '.join(model.channels)}; the dataset has "
-                             f"{', '.join(have) or 'none'})")
         if units.get(c["name"], c["unit"]) != c["unit"]:
             raise ValueError(f"{source}: channel {c['name']!r} is in {units[c['name']]}, "
                              f"the model's in {c['unit']}")
@@ -177,10 +181,8 @@ def _predict_file(model: Model, path: Path, columns: dict, factors: dict, fs, sp
     frame = frame.rename(columns=columns)
     missing = [c for c in model.channels if c not in frame.columns]
     if missing:
-        raise ValueError(f"{name}: channel {missing[0]!r} is missing (the model needs "
-                         f"{', '.join(model.channels)}; the file has "
-                         f"{', '.join(frame.columns)}; map a column to it with "
-                         "columns / --column COLUMN=CHANNEL)")
+        raise ValueError(missing_channels(name, missing, model, "the file",
+                                          list(frame.columns), mappable=True))
     X = np.vstack([frame[c].to_numpy(dtype=np.float64) * factors[c] for c in model.channels])
     window_s = model.meta["window_s"]
     n = round(window_s * fs)
@@ -224,6 +226,23 @@ def _table(model: Model, data: pd.DataFrame, inputs, windows, starts, ends) -> p
     Z = pipeline.named_steps["features"].transform(data)
     table["warnings"] = [_range_warnings(model, s, z) for s, z in zip(speed, Z, strict=True)]
     return table
+
+
+def missing_channels(where: str, missing, model: Model, what: str, have,
+                     mappable: bool = False) -> str:
+    """The one-line refusal of an input that lacks channels of the model: names every
+    missing channel, what the input has, and how to train a model without them."""
+    names = ", ".join(repr(c) for c in missing)
+    subject = f"channel {names} is" if len(missing) == 1 else f"channels {names} are"
+    them = "it" if len(missing) == 1 else "them"
+    rest = [c for c in model.channels if c not in missing]
+    train = (f"rubdiag train DATASET --channels {','.join(rest)}" if rest
+             else "rubdiag train DATASET --channels NAME,… naming channels you have")
+    mapping = (f"map a column to {them} with columns / --column COLUMN=CHANNEL, or "
+               if mappable else "")
+    return (f"{where}: {subject} missing (the model needs {', '.join(model.channels)}; "
+            f"{what} has {', '.join(map(str, have)) or 'none'}); {mapping}train a model "
+            f"without {them}: {train}")
 
 
 def _majority(table: pd.DataFrame, model: Model) -> pd.DataFrame:

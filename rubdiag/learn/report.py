@@ -48,7 +48,21 @@ def evaluation_dict(ev) -> dict:
             else _plain(v) for k, v in ev.shuffled.items()},
         "audit": None if ev.audit is None else ev.audit.to_dict(orient="records"),
         "notes": ev.notes,
+        "channels_left_out": _left_out(ev),
+        "warnings": ev.warnings,
     }
+
+
+def _left_out(ev) -> dict:
+    """What the default channels left out: ``{"channels": {name: dB over the floor},
+    "margin_db", "n_rubbing", "note"}`` (empty channels when nothing was left out)."""
+    from rubdiag.learn.channel_choice import NOISE_MARGIN_DB
+
+    choice = ev.channel_choice
+    if choice is None:
+        return {"channels": {}, "margin_db": NOISE_MARGIN_DB, "n_rubbing": 0, "note": ""}
+    return {"channels": dict(choice.left_out), "margin_db": NOISE_MARGIN_DB,
+            "n_rubbing": choice.n_rubbing, "note": choice.describe()}
 
 
 def _table(frame: pd.DataFrame, floatfmt: str = ".3f") -> str:
@@ -67,6 +81,11 @@ def evaluation_markdown(ev, top: int = 15) -> str:
     out = [f"# {ev.target}: {ev.estimator}, split {ev.split}", "",
            f"{ev.n_rows} runs ({counts}); channels: {', '.join(ev.channels)}; feature "
            f"families: {', '.join(ev.families)}; {len(ev.folds)} folds.", ""]
+    if ev.channel_choice is not None and ev.channel_choice.describe():
+        out += [ev.channel_choice.describe(), ""]
+    if ev.warnings:
+        out += ["## Warnings: the model may have learnt little", ""]
+        out += [f"- {w}" for w in ev.warnings] + [""]
     if ev.unscored:
         out += ["Not scored (class absent from the training fold): "
                 + ", ".join(f"{c} {n}" for c, n in ev.unscored.items()) + ".", ""]

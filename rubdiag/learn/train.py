@@ -16,14 +16,19 @@ an interrupted training leaves no half model. :func:`evaluate_model` scores a sa
 on another dataset.
 
 The default model — target ``rub``, a random forest, split by design point, the shaft
-channels — needs no tuning, does not lean on the casing (in this model the casing moves
-only through contact, so a casing channel gives rub away by itself) and is scored on
-design points it never saw.
+channels that carry more than their noise floor (:mod:`rubdiag.learn.channel_choice`) —
+needs no tuning, does not lean on the casing (in this model the casing moves only through
+contact, so a casing channel gives rub away by itself), needs no probe that sees only
+noise, and is scored on design points it never saw. What says that a model learnt little
+(:mod:`rubdiag.learn.caveats`) is written into its report, ``metrics.json`` and
+``model.json``; ``model.json`` also lists the training runs, so that a later evaluation
+can say whether it is in-sample.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 import json
 import os
 import shutil
@@ -47,7 +52,7 @@ from rubdiag.signal.orders import HALF_ORDERS, HARMONICS, THIRD_ORDERS, order_la
 from rubdiag.signal.sidebands import HALF_WIDTH_ORDERS
 
 __all__ = ["ModelScores", "check_out", "evaluate_model", "model_meta", "order_reach",
-           "required_fs", "train"]
+           "required_fs", "runs_digest", "train", "training_runs"]
 
 #: Bins between the top of a feature's search band and the Nyquist frequency that the
 #: feature table needs (the spectrum's last bins are never searched).
@@ -55,7 +60,7 @@ EDGE_BINS = 3
 
 
 def train(dataset, out, target: str = "rub", estimator: str = "rf", split: str = "group",
-          channels="shaft", seed: int = 0, *, families=DEFAULT_FAMILIES,
+          channels="auto", seed: int = 0, *, families=DEFAULT_FAMILIES,
           overwrite: bool = False, **evaluate_options) -> Model:
     """Evaluate, fit on all rows and save a classifier (module docstring).
 
@@ -68,8 +73,9 @@ def train(dataset, out, target: str = "rub", estimator: str = "rf", split: str =
         The model folder to write: new or empty, or a previous model folder with
         ``overwrite=True``.
     target, estimator, split, channels, families, seed
-        As for :func:`rubdiag.learn.evaluate`; ``channels`` is ``"shaft"`` (default),
-        ``"all"`` or a list of names.
+        As for :func:`rubdiag.learn.evaluate`; ``channels`` is ``"auto"`` (default: the
+        shaft channels with more than their noise floor), ``"shaft"``, ``"all"`` or a
+        list of names.
     overwrite : bool
         Replace the model in ``out``.
     **evaluate_options
@@ -86,10 +92,11 @@ def train(dataset, out, target: str = "rub", estimator: str = "rf", split: str =
     if "acquisition" not in data.attrs:
         raise ValueError("dataset: the rows carry no acquisition (read them with "
                          "rubdiag.learn.read_dataset, or pass the folder)")
-    channels = resolve_channels(data, channels)
+    resolve_channels(data, channels)          # a wrong name fails before the evaluation
     families = list(families)
     evaluation = evaluate(data, target, split, estimator, channels=channels,
                           families=families, seed=seed, **evaluate_options)
+    channels = evaluation.channels
     pipeline = make_pipeline(estimator, channels=channels, families=families,
                              random_state=seed)
     pipeline.fit(data, target_values(data, target))
@@ -169,7 +176,9 @@ def model_meta(pipeline, data: pd.DataFrame, *, target: str, estimator: str, spl
     """The description of a pipeline fitted on ``data`` (all rows) that prediction needs:
     versions, target and classes, channels with their units, feature options, window and
     sampling rate, the speed and feature ranges seen in training, the highest order the
-    kept features reach and the sampling rate it needs, where the model came from."""
+    kept features reach and the sampling rate it needs, where the model came from and the
+    runs it was fitted on (:func:`training_runs`); with ``evaluation``, its scores, its
+    warnings (:mod:`rubdiag.learn.caveats`) and the channels the default set left out."""
     import sklearn
 
     acq = data.attrs["acquisition"]
@@ -209,11 +218,31 @@ def model_meta(pipeline, data: pd.DataFrame, *, target: str, estimator: str, spl
                     if data.attrs.get("source") else None,
                     "n_rows": len(data), "failed_rows": int(data.attrs.get("failed", 0))},
         "split": split,
+        "training_runs": training_runs(data),
     }
-    if evaluation is not None:                # NaN (no bootstrap) as null: strict JSON
+    if evaluation is not None:
+        meta["warnings"] = list(evaluation.warnings)
+        meta["channels_left_out"] = {} if evaluation.channel_choice is None else dict(
+            evaluation.channel_choice.left_out)
+        # NaN (no bootstrap) as null: strict JSON
         meta["scores"] = {k: {n: None if np.isnan(x) else x for n, x in v.to_dict().items()}
                           for k, v in evaluation.scores.items()}
     return meta
+
+
+def training_runs(data: pd.DataFrame) -> dict | None:
+    """The runs a model is fitted on: ``{"n", "sha256", "ids"}`` — the sorted ``run_id``
+    values and the SHA-256 of them joined by newlines (None without a ``run_id``
+    column). Run ids name a run's content, so the same run in another folder matches."""
+    if "run_id" not in data.columns:
+        return None
+    ids = sorted(map(str, data["run_id"]))
+    return {"n": len(ids), "sha256": runs_digest(ids), "ids": ids}
+
+
+def runs_digest(ids) -> str:
+    """SHA-256 (hex) of sorted run ids joined by newlines."""
+    return hashlib.sha256("\n".join(sorted(map(str, ids))).encode()).hexdigest()
 
 
 def _reaches(band: float) -> dict[str, tuple[float, float]]:
@@ -271,6 +300,19 @@ class ModelScores:
     confusion: pd.DataFrame
     predictions: pd.DataFrame
     warnings: list
+    shared_runs: int | None = None  # runs of the data the model was trained on; None: unknown
+    model_warnings: list = dataclasses.field(default_factory=list)   # from its training
+
+    def sample_note(self) -> str:
+        """Whether the scores are in-sample: "in-sample: …", "out of sample: …" or
+        "training runs unknown: …"."""
+        if self.shared_runs is None:
+            return ("training runs unknown: the model does not record them (trained before "
+                    "rubdiag did) or the data has no run ids")
+        if self.shared_runs:
+            return (f"in-sample: {self.shared_runs} of these {self.n_rows} runs were in the "
+                    "model's training set, so these scores flatter it")
+        return "out of sample: no run was in the model's training set"
 
     def to_dict(self) -> dict:
         def plain(v):
@@ -285,11 +327,13 @@ class ModelScores:
             "confusion": {"classes": self.classes,
                           "counts": self.confusion.to_numpy().tolist()},
             "warnings": self.warnings,
+            "shared_runs": self.shared_runs, "sample": self.sample_note(),
+            "model_warnings": self.model_warnings,
         }
 
     def to_text(self) -> str:
         lines = [f"{self.dataset}: {self.n_scored} of {self.n_rows} runs scored, target "
-                 f"{self.target}"]
+                 f"{self.target}; {self.sample_note()}"]
         if self.unknown:
             lines.append("not scored (class unknown to the model): "
                          + ", ".join(f"{c} {n}" for c, n in self.unknown.items()))
@@ -305,7 +349,9 @@ def evaluate_model(model, dataset, n_bootstrap: int = 1000, seed: int = 0) -> Mo
     """Scores of a saved model on another dataset: macro-F1 and balanced accuracy with
     95 % bootstrap intervals over design points, per-class precision and recall, the
     confusion matrix. Rows of a class the model does not know are counted (``unknown``)
-    and left out of every score.
+    and left out of every score. ``shared_runs`` counts the dataset's runs the model was
+    trained on (``model.json``'s ``training_runs``; None for a model that predates that
+    record): the first line of :meth:`ModelScores.to_text` says "in-sample" when any.
 
     Parameters
     ----------
@@ -344,9 +390,14 @@ def evaluate_model(model, dataset, n_bootstrap: int = 1000, seed: int = 0) -> Mo
                                 "predicted": predicted, "scored": known})
     warnings = [f"{i}: {w}" for i, w in zip(table["input"], table["warnings"], strict=True)
                 if w]
+    record = model.meta.get("training_runs")
+    shared = None
+    if record and record.get("ids") is not None and "run_id" in data.columns:
+        shared = int(np.isin(data["run_id"].astype(str).to_numpy(), record["ids"]).sum())
     return ModelScores(
         target=model.meta["target"], dataset=source, classes=classes, n_rows=len(data),
         n_scored=int(known.sum()), unknown=unknown, scores=scores, per_class=per_class,
         confusion=pd.DataFrame(cm, index=pd.Index(classes, name="true"),
                                columns=pd.Index(classes, name="predicted")),
-        predictions=predictions, warnings=warnings)
+        predictions=predictions, warnings=warnings, shared_runs=shared,
+        model_warnings=list(model.meta.get("warnings", [])))

@@ -50,28 +50,41 @@ def csv(small_dataset, small_rows, tmp_path_factory):
     return path
 
 
-def test_the_default_model(trained, small_dataset, small_rows):
+def test_the_default_model(trained, small_dataset, small_rows, power_over_floor_db):
     out, stdout = trained
     meta = json.loads((out / "model.json").read_text())
     sensors = json.loads((small_dataset / "dataset.json").read_text())["acquisition"][
         "sensors"]
     # decided defaults (issue 12, point 6): rub, random forest, split by design point,
-    # the channels not on the casing
+    # the channels not on the casing — and (issue 24) not at their noise floor either
     assert (meta["target"], meta["estimator"], meta["split"]) == ("rub", "rf", "group")
-    assert [c["name"] for c in meta["channels"]] == [
-        s["name"] for s in sensors if not s["point"].startswith("casing")]
+    over = power_over_floor_db(small_dataset)             # from the waveforms themselves
+    shaft = [s["name"] for s in sensors if not s["point"].startswith("casing")]
+    quiet = [c for c in shaft if over[c] < 6.0]
+    assert quiet and len(quiet) < len(shaft)
+    assert [c["name"] for c in meta["channels"]] == [c for c in shaft if c not in quiet]
+    assert list(meta["channels_left_out"]) == quiet
     assert meta["classes"] == ["False", "True"]
     assert sorted(p.name for p in out.iterdir()) == [
         "confusion.png", "metrics.json", "model.json", "model.skops", "report.md"]
-    assert stdout.startswith(f"{out}: rub classifier (rf; channels shaft4_y_disp")
-    assert "held-out macro-F1" in stdout
+    lines = stdout.splitlines()
+    assert lines[0].startswith(f"{out}: rub classifier (rf; channels shaft11_y_disp, "
+                               "shaft11_z_disp)")
+    assert "held-out macro-F1" in lines[0]
+    assert lines[1].startswith("left out (median power over the rubbing runs within 6 dB of "
+                               "the noise floor): ")
+    assert all(f"{c} {meta['channels_left_out'][c]:+.1f} dB" in lines[1] for c in quiet)
+    # 12 runs of each class, well separated: nothing to warn of
+    assert not [ln for ln in lines if ln.startswith("warning:")] and meta["warnings"] == []
 
 
 def test_evaluate_prints_scores(trained, small_dataset, capsys):
     out, _ = trained
     code, text, err = run(["evaluate", out, small_dataset], capsys)
     assert code == 0, err
-    assert text.startswith(f"{small_dataset}: 24 of 24 runs scored, target rub")
+    assert text.splitlines()[0] == (f"{small_dataset}: 24 of 24 runs scored, target rub; "
+                                    "in-sample: 24 of these 24 runs were in the model's "
+                                    "training set, so these scores flatter it")
     code, text, _ = run(["evaluate", out, small_dataset, "--json"], capsys)
     scores = json.loads(text)
     assert scores["n_rows"] == 24 and scores["unknown"] == {}
@@ -156,6 +169,14 @@ def test_predict_does_not_import_the_simulator(trained, csv):
 def test_cli_choices_are_the_library_s():
     from rubdiag.cli import learn as cli
     from rubdiag.learn import ESTIMATORS, TARGETS
+    from rubdiag.learn.channel_choice import CHANNEL_SETS, NOISE_MARGIN_DB
 
     assert cli._TARGETS == tuple(TARGETS)
     assert cli._ESTIMATORS == tuple(ESTIMATORS)
+    assert cli._CHANNEL_SETS == CHANNEL_SETS
+    import argparse
+
+    sub = argparse.ArgumentParser().add_subparsers()
+    cli.register(sub)
+    option = next(a for a in sub.choices["train"]._actions if a.dest == "channels")
+    assert option.default == "auto" and f"{NOISE_MARGIN_DB:g} dB" in option.help

@@ -145,6 +145,26 @@ class TestImportancesFigure:
                 box = t.get_window_extent(renderer)
                 assert box.x0 >= 0 and box.x1 <= width
 
+    def test_a_panel_of_zeros_says_why_instead_of_drawing_nothing(self, evaluation,
+                                                                 tmp_path):
+        from dataclasses import replace
+
+        zero = evaluation.channel_importances.assign(importance=0.0, std=0.0)
+        fig = importances_figure(replace(evaluation, channel_importances=zero),
+                                 tmp_path / "i.png")
+        ax_f, ax_c = fig.axes
+        assert len(ax_f.patches) == 20 and not ax_f.texts       # features: bars as before
+        assert not ax_c.patches
+        (text,) = [" ".join(t.get_text().split()) for t in ax_c.texts]   # lines unwrapped
+        assert text.startswith("No bars: every importance is 0.")
+        # this model's held-out predictions are of several classes
+        assert "do not depend on these features" in text
+        # the words stay inside the figure at its saved size
+        renderer = fig.canvas.get_renderer()
+        box = ax_c.texts[0].get_window_extent(renderer)
+        assert box.x0 >= 0 and box.x1 <= fig.bbox.width
+        assert box.y0 >= 0 and box.y1 <= fig.bbox.height
+
     def test_no_importances_is_a_clear_error(self, evaluation, tmp_path):
         from dataclasses import replace
 

@@ -13,6 +13,7 @@ import pytest
 from sklearn.metrics import balanced_accuracy_score, f1_score
 
 from rubdiag import __version__
+from rubdiag.learn.channel_choice import NOISE_MARGIN_DB
 from rubdiag.learn.persist import META_FILE, MODEL_FILE, load_model
 from rubdiag.learn.train import evaluate_model, order_reach, train
 from rubdiag.signal.table import features
@@ -78,9 +79,13 @@ class TestModelJson:
         assert meta["families"] == ["orders", "sidebands", "combinations"]
         assert meta["feature_options"]["band"] == 0.03
 
-    def test_channels_are_the_shaft_sensors_with_their_units(self, trained, sensors):
-        shaft = [s for s in sensors if not s["point"].startswith("casing")]
-        assert len(shaft) < len(sensors)                     # the casing is left out
+    def test_channels_are_the_default_set_with_their_units(self, trained, sensors,
+                                                           small_dataset,
+                                                           power_over_floor_db):
+        over = power_over_floor_db(small_dataset)            # from the waveforms
+        shaft = [s for s in sensors if not s["point"].startswith("casing")
+                 and over[s["name"]] >= NOISE_MARGIN_DB]
+        assert 0 < len(shaft) < len(sensors) - 1             # the casing, the quiet probes
         assert trained[0].meta["channels"] == [
             {k: s[k] for k in ("name", "unit", "quantity", "point", "direction")}
             for s in shaft]
@@ -243,8 +248,11 @@ class TestEvaluateModel:
         model, _ = trained
         data = small_rows.copy()
         data.attrs = copy.deepcopy(small_rows.attrs)
-        data.attrs["acquisition"]["sensors"][0]["unit"] = "mm"
-        with pytest.raises(ValueError, match="'shaft4_y_disp' is in mm, the model's in m"):
+        sensor = next(s for s in data.attrs["acquisition"]["sensors"]
+                      if s["name"] == model.channels[0])
+        sensor["unit"] = "mm"
+        with pytest.raises(ValueError, match=f"'{model.channels[0]}' is in mm, the model's "
+                           "in m"):
             evaluate_model(model, data)
         dropped = small_rows.drop(columns=[c for c in small_rows.columns
                                            if c.startswith("shaft11_y_disp__")])
