@@ -216,6 +216,8 @@ def main() -> None:
                     help="simulated time of each run (s, default 1.3)")
     ap.add_argument("--conditions", nargs="+", choices=("quiet", "busy"),
                     default=["quiet", "busy"])
+    ap.add_argument("--cache", nargs="+", choices=("cold", "warm"), default=["cold", "warm"],
+                    help="disk-cache states to time (a checkout without the cache: cold)")
     ap.add_argument("--busy", type=int, default=2, help="CPU-bound processes beside the runs "
                     "under 'busy' (default 2)")
     ap.add_argument("--breakdown", action="store_true",
@@ -238,7 +240,7 @@ def main() -> None:
               "| full / reduced | full: simulate() s | reduced: simulate() s |")
         print("|---|---|---:|---:|---:|---:|---:|")
         for condition in args.conditions:
-            for warm in (False, True):
+            for warm in [state == "warm" for state in args.cache]:
                 busy = Busy(args.busy if condition == "busy" else 0)
                 with busy:
                     times = measure(args, scratch, warm)
