@@ -118,9 +118,9 @@ def generate(design: Design, out: str | Path, *, jobs: int | None = None, client
 
 # --- executors ----------------------------------------------------------------------------
 def _start_worker() -> None:
-    from threadpoolctl import threadpool_limits
+    from rubdiag.dataset.workers import start_local_worker
 
-    threadpool_limits(limits=1)
+    start_local_worker()
 
 
 def _task(item, labels, noise, timeout, waveforms) -> tuple[dict, dict | None]:
@@ -161,8 +161,11 @@ def _run_local(todo, jobs, args) -> Iterable[tuple]:
 def _run_dask(todo, client, args) -> Iterable[tuple]:
     from distributed import as_completed as dask_completed
 
+    from rubdiag.dataset.workers import align_dask_workers
+
     if not todo:
         return
+    align_dask_workers(client)      # their rows are this process's bits, or a ValueError
     futures = [client.submit(_task, item, *args, key=f"rubdiag-run-{item.run_id}",
                              pure=False) for item in todo]
     try:

@@ -19,6 +19,7 @@ import sys
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 import pyarrow.parquet as pq
 import pytest
@@ -121,6 +122,16 @@ def assert_same_rows(out: Path, expected: pd.DataFrame) -> None:
     pd.testing.assert_frame_equal(comparable(rows), expected, check_exact=True)
 
 
+def assert_same_bits(out: Path, expected: pd.DataFrame) -> None:
+    """Every float of every row bit for bit: NaN where NaN, -0.0 apart from 0.0 (which
+    assert_frame_equal takes as equal)."""
+    rows = comparable(load(out))
+    floats = [c for c in expected.columns if expected[c].dtype.kind == "f"]
+    assert list(rows.columns) == list(expected.columns) and len(floats) > 100
+    np.testing.assert_array_equal(rows[floats].to_numpy().view(np.uint64),
+                                  expected[floats].to_numpy().view(np.uint64))
+
+
 def chunk_run_ids(out: Path) -> list[str]:
     """Every run id as the chunk files hold them (no deduplication)."""
     ids = []
@@ -182,6 +193,7 @@ def test_two_local_processes_give_the_same_rows(design, reference_rows, tmp_path
     summary = generate(design, out, jobs=2, progress=False, chunk_rows=3)
     assert (summary["run"], summary["ok"], summary["failed"]) == (8, 8, 0)
     assert_same_rows(out, reference_rows)
+    assert_same_bits(out, reference_rows)
     direct = pd.read_parquet(out / "features")
     assert list(direct.columns) == list(load(out).columns)
     pd.testing.assert_frame_equal(comparable(direct), reference_rows, check_exact=True)
@@ -205,6 +217,7 @@ def test_a_dask_cluster_gives_the_same_rows(design, reference_rows, tmp_path):
     assert len(workers) == 2 and os.getpid() not in workers.values()
     assert (summary["run"], summary["ok"], summary["failed"]) == (8, 8, 0)
     assert_same_rows(out, reference_rows)
+    assert_same_bits(out, reference_rows)
     direct = pd.read_parquet(out / "features")
     assert list(direct.columns) == list(load(out).columns)
     pd.testing.assert_frame_equal(comparable(direct), reference_rows, check_exact=True)
