@@ -65,9 +65,11 @@ def folder() -> Path | None:
     return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "rubdiag"
 
 
-#: the packages whose code computes what is cached: their sources are part of every key, so
-#: that an edited checkout (whose version string has not changed) does not read stale entries
-_SOURCES = ("model", "assembly", "modal", "reduce")
+#: the code that computes or stores what is cached (globs under rubdiag/): its sources are
+#: part of every key, so that an edited checkout (whose version string has not changed)
+#: does not read stale entries
+_SOURCES = ("_cache.py", "_blas.py", "model/*.py", "assembly/*.py", "modal/*.py",
+            "reduce/*.py", "simulate/rig_cache.py")
 
 
 @functools.cache
@@ -84,10 +86,10 @@ def environment() -> dict:
 
 def _sources_digest() -> str:
     package = Path(__file__).parent
-    digest = hashlib.sha256(Path(__file__).read_bytes())
-    for name in _SOURCES:
-        for source in sorted((package / name).glob("*.py")):
-            digest.update(f"{name}/{source.name}".encode() + source.read_bytes())
+    digest = hashlib.sha256()
+    for pattern in _SOURCES:
+        for source in sorted(package.glob(pattern)):
+            digest.update(source.relative_to(package).as_posix().encode() + source.read_bytes())
     return digest.hexdigest()
 
 
