@@ -56,10 +56,13 @@ def generate(design: Design, out: str | Path, *, jobs: int | None = None, client
     """Simulate, label and describe every run of ``design`` into the folder ``out``.
 
     ``jobs``: local worker processes (default: all cores); ``client``: a
-    ``dask.distributed.Client`` to send the runs to instead. ``run_timeout_s``: wall-time
-    limit of one run (a run over it becomes a ``timeout`` row). ``retry_failed``: run again
-    the runs stored with a failure. ``waveforms``: also store each run's measured channels
-    (:func:`rubdiag.dataset.load_waveforms`). Resumes: runs already stored are not run again.
+    ``dask.distributed.Client`` to send the runs to instead (its workers are first compared
+    with this process, :mod:`rubdiag.dataset.workers`: those on other BLAS kernels are
+    restarted on this process's; any other difference is a ValueError). ``run_timeout_s``:
+    wall-time limit of one run (a run over it becomes a ``timeout`` row). ``retry_failed``:
+    run again the runs stored with a failure. ``waveforms``: also store each run's measured
+    channels (:func:`rubdiag.dataset.load_waveforms`). Resumes: runs already stored are not
+    run again.
 
     Each row is stored when it arrives, whatever ``chunk_rows`` and ``flush_s``: they say
     how often the stored rows are moved into a Parquet chunk (every ``chunk_rows`` rows or
