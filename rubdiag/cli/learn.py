@@ -142,9 +142,10 @@ def _train(args) -> int:
           f"{meta['split']}")
     left_out = meta.get("channels_left_out") or {}
     if left_out:
-        from rubdiag.learn.channel_choice import NOISE_MARGIN_DB
+        from rubdiag.learn.channel_choice import NOISE_MARGIN_DB, decibels
 
-        shown = ", ".join(f"{c} {db:+.1f} dB" for c, db in left_out.items())
+        shown = ", ".join(f"{c} {decibels(db)}" if db is not None else f"{c} (reads 0)"
+                          for c, db in left_out.items())
         print(f"left out (median power over the rubbing runs within {NOISE_MARGIN_DB:g} dB "
               f"of the noise floor): {shown}; --channels names the channels to use")
     for w in meta.get("warnings", []):

@@ -30,7 +30,7 @@ import pandas as pd
 from rubdiag.dataset.schema import SEPARATOR
 from rubdiag.learn.columns import channels_of, shaft_channels
 
-__all__ = ["CHANNEL_SETS", "NOISE_MARGIN_DB", "ChannelChoice", "choose_channels",
+__all__ = ["CHANNEL_SETS", "NOISE_MARGIN_DB", "ChannelChoice", "choose_channels", "decibels",
            "power_over_floor_db"]
 
 #: A shaft channel whose median power over the rubbing runs is less than this many dB
@@ -50,17 +50,26 @@ class ChannelChoice:
     n_rubbing: int = 0                             # runs the powers were taken over
     note: str = ""                                 # why nothing could be judged, if so
 
+    def left_out_json(self) -> dict:
+        """``left_out`` for strict JSON: a channel that read exactly 0 (−inf dB) as None."""
+        return {c: float(v) if np.isfinite(v) else None for c, v in self.left_out.items()}
+
     def describe(self) -> str:
         """One sentence for a report ("" when nothing was left out or judged)."""
         if self.note:
             return self.note
         if not self.left_out:
             return ""
-        shown = ", ".join(f"{c} ({db:+.1f} dB)" for c, db in self.left_out.items())
+        shown = ", ".join(f"{c} ({decibels(db)})" for c, db in self.left_out.items())
         return (f"Left out of the default channels: {shown} — their median power over the "
                 f"{self.n_rubbing} rubbing runs is within {NOISE_MARGIN_DB:g} dB of their "
                 "noise floor, so they carry almost nothing but noise (name channels with "
                 "--channels to use them).")
+
+
+def decibels(db: float) -> str:
+    """``+0.1 dB``: signed, one decimal, never ``-0.0``."""
+    return f"{round(db, 1) + 0.0:+.1f} dB"
 
 
 def power_over_floor_db(data: pd.DataFrame, channels) -> dict[str, float]:
@@ -119,7 +128,7 @@ def _auto(data: pd.DataFrame) -> ChannelChoice:
     left_out = {c: v for c, v in db.items() if v < NOISE_MARGIN_DB}
     kept = [c for c in shaft if c not in left_out]
     if not kept:
-        shown = ", ".join(f"{c} {v:+.1f} dB" for c, v in left_out.items())
+        shown = ", ".join(f"{c} {decibels(v)}" for c, v in left_out.items())
         raise ValueError(f"channels = 'auto': every shaft channel is within "
                          f"{NOISE_MARGIN_DB:g} dB of its noise floor over the rubbing runs "
                          f"({shown}): nothing to learn from (name channels to use them "

@@ -61,7 +61,7 @@ def _left_out(ev) -> dict:
     choice = ev.channel_choice
     if choice is None:
         return {"channels": {}, "margin_db": NOISE_MARGIN_DB, "n_rubbing": 0, "note": ""}
-    return {"channels": dict(choice.left_out), "margin_db": NOISE_MARGIN_DB,
+    return {"channels": choice.left_out_json(), "margin_db": NOISE_MARGIN_DB,
             "n_rubbing": choice.n_rubbing, "note": choice.describe()}
 
 

@@ -222,8 +222,8 @@ def model_meta(pipeline, data: pd.DataFrame, *, target: str, estimator: str, spl
     }
     if evaluation is not None:
         meta["warnings"] = list(evaluation.warnings)
-        meta["channels_left_out"] = {} if evaluation.channel_choice is None else dict(
-            evaluation.channel_choice.left_out)
+        meta["channels_left_out"] = ({} if evaluation.channel_choice is None
+                                     else evaluation.channel_choice.left_out_json())
         # NaN (no bootstrap) as null: strict JSON
         meta["scores"] = {k: {n: None if np.isnan(x) else x for n, x in v.to_dict().items()}
                           for k, v in evaluation.scores.items()}

@@ -7,7 +7,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from rubdiag.learn.channel_choice import NOISE_MARGIN_DB, choose_channels
+from rubdiag.learn.channel_choice import NOISE_MARGIN_DB, choose_channels, decibels
 from rubdiag.learn.channel_choice import power_over_floor_db as db_of
 from rubdiag.learn.columns import LINE_FEATURES
 from rubdiag.learn.evaluate import resolve_channels
@@ -74,6 +74,19 @@ def test_only_the_rubbing_runs_set_the_bar():
     # the median, not the mean: one loud rubbing run does not lift a quiet channel
     data.loc[0, "pure_noise__rms"] = 1e3 * FLOOR
     assert db_of(data, ["pure_noise"])["pure_noise"] == pytest.approx(0.0, abs=1e-9)
+
+
+def test_a_channel_that_reads_zero_is_left_out_and_stays_strict_json():
+    import json
+
+    data = frame({"dead": 0.0, "alive": 20.0}, [True, True])
+    data["dead__rms"] = 0.0
+    choice = choose_channels(data)
+    assert choice.channels == ["alive"] and choice.left_out == {"dead": -np.inf}
+    assert json.loads(json.dumps(choice.left_out_json(), allow_nan=False)) == {"dead": None}
+    assert "dead (-inf dB)" in choice.describe()
+    assert [decibels(v) for v in (-0.04, 0.05, 5.96, -np.inf)] == [
+        "+0.0 dB", "+0.1 dB", "+6.0 dB", "-inf dB"]
 
 
 def test_a_floor_of_zero_or_unknown_keeps_the_channel():
