@@ -33,7 +33,6 @@ import os
 import platform
 import shutil
 import statistics
-import sys
 import tempfile
 import time
 from pathlib import Path
@@ -74,10 +73,9 @@ def one_row() -> dict:
 
 def time_writer(row: dict, n: int, chunk_rows: int, root: Path) -> tuple[list, float, int]:
     """(seconds of each add, seconds of the final compaction, chunks written)."""
-    import rubdiag.dataset as dataset
-    from rubdiag.dataset.store import DatasetFolder
+    from rubdiag.dataset.generation import _Writer as writer_class
+    from rubdiag.dataset.store import DatasetFolder, load
 
-    writer_class = sys.modules[dataset.generate.__module__]._Writer
     folder = DatasetFolder(root)
     folder.create(DESIGN)
     writer = writer_class(folder, chunk_rows, 30.0, retried=set())
@@ -90,7 +88,7 @@ def time_writer(row: dict, n: int, chunk_rows: int, root: Path) -> tuple[list, f
     start = time.perf_counter()
     writer.compact(final=True)
     final = time.perf_counter() - start
-    if len(dataset.load(root)) != n:
+    if len(load(root)) != n:
         raise SystemExit("the folder does not hold every row")
     return times, final, len(folder.chunk_paths())
 

@@ -56,7 +56,7 @@ def place() -> dict:
 def _local_place() -> dict:
     from concurrent.futures import ProcessPoolExecutor
 
-    from rubdiag.dataset.generate import _start_worker
+    from rubdiag.dataset.generation import _start_worker
 
     with ProcessPoolExecutor(1, initializer=_start_worker) as pool:
         return pool.submit(place).result()

@@ -17,7 +17,7 @@ import importlib
 _WHERE = {
     "Design": "design", "DesignRun": "design",
     "FACTORS": "factors", "Factor": "factors",
-    "generate": "generate", "pending_runs": "generate",
+    "generate": "generation", "pending_runs": "generation",
     "canonical_run": "ids", "point_id": "ids", "run_id": "ids",
     "SCHEMA_VERSION": "schema",
     "LabelRules": "labels", "label_run": "labels", "labels_from_measures": "labels",

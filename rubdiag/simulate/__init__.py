@@ -6,6 +6,9 @@
 models.
 """
 
+import sys
+import types
+
 from rubdiag.simulate.result import EpisodeLog, SimulationDiverged, SystemResult
 from rubdiag.simulate.run import GapRampInWindow, Run, critical_speed_for_case
 from rubdiag.simulate.sensors import Sensor, default_sensors
@@ -31,3 +34,16 @@ __all__ = [
     "simulate",
     "simulate_system",
 ]
+
+
+class _CallablePackage(types.ModuleType):
+    """``rubdiag.simulate`` is two things at the top level: this package, and the function
+    :func:`simulate` (``rubdiag.simulate(run)``). Once any of the package is imported (as
+    ``rubdiag.Run`` does), the import system binds ``rubdiag.simulate`` to the package, so the
+    package runs the function when called."""
+
+    def __call__(self, *args, **kwargs):
+        return simulate(*args, **kwargs)
+
+
+sys.modules[__name__].__class__ = _CallablePackage

@@ -16,11 +16,8 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-# the function first: were its module imported first, rubdiag.dataset.generate (the
-# package's public name) would stay the module for every later importer
-from rubdiag.dataset import generate  # noqa: F401
 from rubdiag.dataset.chunks import row_schema
-from rubdiag.dataset.generate import _Progress, _Writer
+from rubdiag.dataset.generation import _Progress, _Writer
 from rubdiag.dataset.store import DatasetFolder, load
 
 
