@@ -7,13 +7,17 @@ median (and min–max) of ``--repeat`` runs of each model, full and reduced runs
 
 * **quiet** — nothing started beside the runs (the machine's other jobs are not ours to stop:
   the load average before and after is printed);
-* **2 busy** — two CPU-bound processes (``python -c "while True: pass"``) started before and
-  killed after, as on cores that other jobs share;
+* **busy** — two CPU-bound processes (``python -c "while True: pass"``; ``--busy N``)
+  started before and killed after, as on cores that other jobs share;
 
 each with the disk cache of rig-only results (``rubdiag/_cache.py``)
 
 * **cold** — every run gets a new, empty cache folder (a first run of the rig);
 * **warm** — one cache folder, filled by one unmeasured run of each model first.
+
+Besides the wall time, the CPU time of each process (user + system, all its threads; Unix):
+it hardly depends on what else runs, and a CPU time above the wall time would mean threads
+spinning.
 
 The Numba kernels are compiled once per machine (``cache=True``); one unmeasured run makes
 sure they are before anything is timed. ``--breakdown`` adds where the time of one process of
@@ -38,6 +42,7 @@ import argparse
 import json
 import os
 import platform
+import resource
 import shutil
 import statistics
 import subprocess
@@ -120,14 +125,18 @@ def environment(cache: Path | None) -> dict:
     return env
 
 
-def timed_process(command: list[str], env: dict) -> tuple[float, dict]:
-    """Wall time of the process (s) and its JSON summary."""
+def timed_process(command: list[str], env: dict) -> tuple[float, float, dict]:
+    """Wall time and CPU time (user + system, all its threads) of the process (s), and its
+    JSON summary."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
     done = subprocess.run(command, env=env, capture_output=True, text=True)
     wall = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if done.returncode != 0:
         raise SystemExit(f"{' '.join(command)} failed:\n{done.stderr}")
-    return wall, json.loads(done.stdout.splitlines()[-1])
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return wall, cpu, json.loads(done.stdout.splitlines()[-1])
 
 
 class Busy:
@@ -149,9 +158,10 @@ class Busy:
             p.wait()
 
 
-def measure(args, scratch: Path, warm: bool) -> dict[str, list[tuple[float, float]]]:
-    """(process wall, simulate() wall) per run, per model, full and reduced alternating."""
-    times: dict[str, list[tuple[float, float]]] = {"full": [], "reduced": []}
+def measure(args, scratch: Path, warm: bool) -> dict[str, list[tuple[float, float, float]]]:
+    """(process wall, process CPU, simulate() wall) per run, per model, full and reduced
+    alternating."""
+    times: dict[str, list[tuple[float, float, float]]] = {"full": [], "reduced": []}
     shared = scratch / "warm"
     if warm:
         for model in times:      # fills the cache, not timed
@@ -160,9 +170,9 @@ def measure(args, scratch: Path, warm: bool) -> dict[str, list[tuple[float, floa
     for i in range(args.repeat):
         for model in times:
             cache = shared if warm else Path(tempfile.mkdtemp(dir=scratch, prefix=f"cold{i}-"))
-            wall, summary = timed_process(
+            wall, cpu, summary = timed_process(
                 simulate_command(model, args.duration_s, args.checkout), environment(cache))
-            times[model].append((wall, summary["wall_s"]))
+            times[model].append((wall, cpu, summary["wall_s"]))
     return times
 
 
@@ -237,20 +247,20 @@ def main() -> None:
                       environment(scratch / "first"))
         print(f"load average before: {load_average()}\n")
         print("| beside the runs | disk cache | full: process s | reduced: process s "
-              "| full / reduced | full: simulate() s | reduced: simulate() s |")
-        print("|---|---|---:|---:|---:|---:|---:|")
+              "| full / reduced | full: CPU s | reduced: CPU s | full: simulate() s "
+              "| reduced: simulate() s |")
+        print("|---|---|---:|---:|---:|---:|---:|---:|---:|")
         for condition in args.conditions:
             for warm in [state == "warm" for state in args.cache]:
                 busy = Busy(args.busy if condition == "busy" else 0)
                 with busy:
                     times = measure(args, scratch, warm)
-                full = [w for w, _ in times["full"]]
-                red = [w for w, _ in times["reduced"]]
+                full, red = (list(zip(*times[m], strict=True)) for m in ("full", "reduced"))
                 label = "nothing" if condition == "quiet" else f"{args.busy} CPU-bound"
-                print(f"| {label} | {'warm' if warm else 'cold'} | {spread(full)} | "
-                      f"{spread(red)} | {statistics.median(full) / statistics.median(red):.2f}× "
-                      f"| {spread([s for _, s in times['full']])} "
-                      f"| {spread([s for _, s in times['reduced']])} |", flush=True)
+                ratio = statistics.median(full[0]) / statistics.median(red[0])
+                print(f"| {label} | {'warm' if warm else 'cold'} | {spread(full[0])} | "
+                      f"{spread(red[0])} | {ratio:.2f}× | {spread(full[1])} | {spread(red[1])} "
+                      f"| {spread(full[2])} | {spread(red[2])} |", flush=True)
         print(f"\nload average after: {load_average()}")
         if args.breakdown:
             breakdown(args, scratch)
