@@ -119,16 +119,24 @@ RESULT_UNIT = "m"
 
 
 def unit_of(path, args) -> str | None:
-    """The unit of a file's values: ``--unit``, m for a simulation result, else None
-    (unknown). ``--unit`` other than m on a result is refused (one line)."""
+    """The unit of a file's values: ``--unit``; m for a simulation result; a dataset's stored
+    waveforms' own unit when all the analysed channels (``--column``, else all) share one;
+    else None (unknown). ``--unit`` other than the file's own is refused (one line)."""
     from rubdiag.runs import is_result
+    from rubdiag.signal.io import stored_units
 
     if is_result(path):
-        if args.unit not in (None, RESULT_UNIT):
-            raise ValueError(f"--unit {args.unit}: {path} is a simulation result, in "
-                             f"{RESULT_UNIT} (allowed: --unit {RESULT_UNIT}, or leave it out)")
-        return RESULT_UNIT
-    return args.unit
+        own, what = RESULT_UNIT, "a simulation result"
+    else:
+        stored = stored_units(path)
+        units = {stored[c] for c in getattr(args, "column", None) or stored if c in stored}
+        if len(units) != 1:
+            return args.unit
+        own, what = units.pop(), "a dataset's stored waveforms"
+    if args.unit not in (None, own):
+        raise ValueError(f"--unit {args.unit}: {path} is {what}, in {own} (allowed: "
+                         f"--unit {own}, or leave it out)")
+    return own
 
 
 def unit_words(unit: str | None) -> str:

@@ -4,10 +4,18 @@ Every format holds one channel per column (CSV, parquet: a header row names them
 1-D array per key). The sampling frequency is given, or comes from a time column named
 ``t``, ``time``, ``time_s`` or ``t_s`` (seconds, uniformly spaced), or, in an NPZ, from a
 scalar ``fs`` entry (Hz). The time column is removed from the channels.
+
+A run's waveforms stored in a dataset folder (``DIR/waveforms/<run_id>.npz``, made with
+``--waveforms``) are NPZ archives of another layout: a JSON ``meta`` entry (``channels``,
+``units``, ``fs_hz``, ``discard_s``) and one ``channel_<i>`` array per sensor. They read as
+their sensors' channels over the run's analysis window (the first ``discard_s`` seconds, where
+the gap closes, are left out, as the dataset's rows leave them out), with ``attrs["units"]``
+naming each channel's unit.
 """
 
 from __future__ import annotations
 
+import json
 import os
 import zipfile
 import zlib
@@ -85,6 +93,21 @@ def read_signals(path: str | os.PathLike, fs: float | None = None) -> tuple[pd.D
     return frame.astype(np.float64), fs
 
 
+def stored_units(path: str | os.PathLike) -> dict[str, str]:
+    """Channel -> unit, where the file says (a dataset's stored waveforms); else empty."""
+    path = Path(path)
+    if path.suffix.lower() != ".npz" or not zipfile.is_zipfile(path):
+        return {}
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            if "meta" not in data.files:
+                return {}
+            meta = json.loads(str(data["meta"]))
+        return dict(zip(meta["channels"], meta["units"], strict=True))
+    except (ValueError, KeyError, TypeError, OSError, zipfile.BadZipFile, zlib.error, EOFError):
+        return {}
+
+
 def _read_csv(path: Path) -> pd.DataFrame:
     with path.open("rb") as fh:
         head = fh.read(4096)
@@ -113,6 +136,8 @@ def _read_npz(path: Path) -> tuple[pd.DataFrame, float | None]:
         raise ValueError(f"{path.name}: corrupt NPZ archive ({exc})") from None
     except ValueError as exc:   # e.g. an entry holding Python objects (pickles)
         raise ValueError(f"{path.name}: unreadable NPZ entry ({exc})") from None
+    if "meta" in arrays and arrays["meta"].ndim == 0:
+        return _waveform_archive(arrays, path.name)
     fs = None
     if "fs" in arrays:
         if arrays["fs"].size != 1:
@@ -124,6 +149,23 @@ def _read_npz(path: Path) -> tuple[pd.DataFrame, float | None]:
     if len({v.size for v in arrays.values()}) > 1:
         raise ValueError(f"{path.name}: the channels have different lengths")
     return pd.DataFrame(arrays), fs
+
+
+def _waveform_archive(arrays: dict, name: str) -> tuple[pd.DataFrame, float]:
+    """A dataset's stored waveforms (module docstring): the sensors over the analysis
+    window, and the sampling frequency."""
+    try:
+        meta = json.loads(str(arrays["meta"]))
+        channels, units = list(meta["channels"]), list(meta["units"])
+        fs, discard_s = float(meta["fs_hz"]), float(meta["discard_s"])
+        columns = {c: arrays[f"channel_{i}"] for i, c in enumerate(channels)}
+    except (ValueError, KeyError, TypeError) as exc:
+        raise ValueError(f"{name}: the 'meta' entry does not describe a dataset's waveforms "
+                         f"({exc!r})") from None
+    start = round(discard_s * fs)
+    frame = pd.DataFrame({c: np.asarray(v)[start:] for c, v in columns.items()})
+    frame.attrs["units"] = dict(zip(channels, units, strict=True))
+    return frame, fs
 
 
 def _fs_from_time(t: np.ndarray, name: str, column: str) -> float:

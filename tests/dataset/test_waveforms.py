@@ -157,3 +157,33 @@ def test_reading_a_dataset_imports_no_simulator(dataset):
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True)
     assert out.stdout.strip() == "[]"
+
+
+def test_stored_waveforms_are_a_signal_file(dataset, tmp_path):
+    """``read_signals`` (and so ``rubdiag features``/``compare``/``predict``) reads a stored
+    run as its sensors over the analysis window, each channel with its unit, and the CLI
+    labels the amplitudes with it."""
+    import subprocess
+    import sys
+
+    from rubdiag.signal import read_signals
+
+    design, out, rows = dataset
+    row = rows.loc[1.9]
+    path = out / "waveforms" / f"{row['run_id']}.npz"
+    frame, fs = read_signals(path)
+    waves = load_waveforms(out, row["run_id"])
+    window = waves.index >= design.discard_s - 1e-12
+    assert fs == waves.attrs["fs_hz"]
+    assert list(frame.columns) == list(waves.columns)
+    np.testing.assert_array_equal(frame.to_numpy(), waves[window].to_numpy(np.float64))
+    assert frame.attrs["units"] == waves.attrs["units"]
+    done = subprocess.run([sys.executable, "-m", "rubdiag", "features", str(path),
+                           "--column", "shaft11_y_disp"], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert "(amplitudes in m," in done.stdout
+    refused = subprocess.run([sys.executable, "-m", "rubdiag", "features", str(path),
+                              "--column", "shaft11_y_disp", "--unit", "mm"],
+                             capture_output=True, text=True)
+    assert refused.returncode == 2 and refused.stderr.count("\n") == 1
+    assert "dataset's stored waveforms, in m" in refused.stderr
