@@ -59,6 +59,10 @@ def progress_printer(label: str, every_s: float = 2.0):
 def _simulate(args) -> int:
     import dataclasses
 
+    from rubdiag._blas import no_threads_in_this_process
+
+    no_threads_in_this_process()    # one run: OpenBLAS's idle threads would only cost time
+
     from rubdiag.cli._paths import load_rig, output_file
     from rubdiag.simulate import Run, SimulationDiverged, response_points, simulate
 
