@@ -1,9 +1,9 @@
 """Simulate a rig: from a :class:`~rubdiag.simulate.run.Run` to a :class:`SimulationResult`.
 
-``simulate(run)`` assembles the rig, starts from the linear harmonic steady state at the
-running speed (so that the transient is short), ramps the gap down to g0 (a linear orbit
-larger than the gap must not start deep inside the casing) and integrates
-with :func:`~rubdiag.simulate.system.simulate_system`.
+``simulate(run)`` assembles the rig (or finds it assembled: :mod:`rubdiag.simulate.rig_cache`),
+starts from the linear harmonic steady state at the running speed (so that the transient is
+short), ramps the gap down to g0 (a linear orbit larger than the gap must not start deep
+inside the casing) and integrates with :func:`~rubdiag.simulate.system.simulate_system`.
 
 Result files (``result.save(path)``, ``load_result(path)``) are NumPy ``.npz`` archives:
 every array of the result under its field name (``system.<field>``, ``episodes.<field>``)
