@@ -36,7 +36,9 @@ steps at a level the step doubles (when aligned, and not below any closed elemen
 ``lev_req``). In fixed-step mode nothing is rejected: (i) stops the run.
 
 The kernel, part by part. :func:`newmark_contact` is the step controller: the loop, the
-order of the parts, rejections and level changes. A trial step: :func:`_rhs_average` (or
+order of the parts, rejections and level changes. A trial step:
+:func:`~rubdiag.kernels.load.load_factors` (the load's factors at the step's ends, once per
+group of terms by order and law), :func:`_rhs_average` (or
 :func:`_rhs_general`, γ != 1/2), the linear solve (``lu_solve``, or a product with the dense
 inverse), :func:`_contact_inputs` and :func:`~rubdiag.kernels.contact.solve_contact` (the
 contact Newton solve in the Schur complement), :func:`_level_needed` (abrupt closing,
@@ -71,7 +73,6 @@ re-entered: all state lives in the arrays passed in. The rows of the packed arra
 
 from __future__ import annotations
 
-import math
 from collections import namedtuple
 
 import numpy as np
@@ -208,6 +209,7 @@ from rubdiag.kernels.layout import (
     WN_RHS,
     WN_X,
 )
+from rubdiag.kernels.load import load_factors
 from rubdiag.kernels.sparse_lu import csr_matvec, lu_solve
 
 __all__ = [
@@ -251,12 +253,13 @@ Linear = namedtuple("Linear", "m_ptr m_idx m_val c_ptr c_idx c_val mk_ptr mk_idx
 #: (K_eff^-1)ᵀ (L, n, n) instead of the LU factors (a sparse one an empty (L, 0, 0)).
 Factors = namedtuple("Factors", "l_ptr l_idx l_val l_dinv u_ptr u_idx u_val u_dinv "
                      "perm_r perm_c s_mat w_mat inv_t")
-#: The harmonic force f_k(t) = re cos(om t) - im sin(om t) (N, om in rad/s) at DOF ``dof``
-#: (int). With a speed profile, ``rot`` (n_knots, 3) holds the knots (t, Ω, φ) of a speed
-#: piecewise linear in time (constant after the last knot) and every term rotates with it:
-#: f_k(t) = Re((re + i im) (Ω² - i Ω') / Ω(0)² e^{i φ(t)}), the unbalance load of a shaft
-#: whose angle is φ (``om`` is then unused); empty (0, 3) for constant speed.
-Force = namedtuple("Force", "dof re im om rot")
+#: The external load: term j is f_j(t) = Re((re + i im) z_g(t)) (N) at DOF ``dof`` (int),
+#: with the factor z_g of its group g = ``group[j]`` (int). A group's ``law`` row (G, 3) is
+#: (ω, order k, code) and ``table`` (G, n_knots, 2) its (Ω, factor) knots
+#: (:mod:`rubdiag.kernels.load`); ``rot`` (n_knots, 3) the knots (t, Ω, φ) of a speed
+#: profile, one knot (1, 3) for constant speed (z = e^{iωt}); ``zt`` (G, 4) work: each
+#: group's factor at both ends of the step (:func:`~rubdiag.kernels.load.load_factors`).
+Force = namedtuple("Force", "dof re im group law table rot zt")
 #: The contact elements (n_c): ``kind`` (int), ``dof`` (n_c, 4) int (a_y, a_z, b_y, b_z,
 #: -1 = ground), ``basis`` (n_c, 4) rows of the local 2x2 basis, ``g0``, ``gstart`` (m: the
 #: gap, and the gap at t = 0 of a gap ramp), ``kn``, ``kt`` (N/m), ``mu``, ``aug`` (int: 1 =
@@ -298,57 +301,24 @@ Logs = namedtuple("Logs", "ep_f ep_i sg_f sg_i lv_t lv_l tot mx lvl_count")
 Work = namedtuple("Work", "wn wc wcn wm jac iwork ciw prof")
 
 
-@njit(error_model="numpy")
-def _rotation(rot, t):
-    """``(Re z, Im z)`` of the rotating load's factor z = (Ω² - i Ω') / Ω(0)² e^{i φ} at
-    time t, for the speed profile's knots ``rot`` (:data:`Force`)."""
-    k = rot.shape[0] - 1
-    while k > 0 and rot[k, 0] > t:  # the knots are few: a linear search from the end
-        k -= 1
-    tau = t - rot[k, 0]
-    alpha = 0.0
-    if k < rot.shape[0] - 1 and tau > 0.0:
-        alpha = (rot[k + 1, 1] - rot[k, 1]) / (rot[k + 1, 0] - rot[k, 0])
-    w = rot[k, 1] + alpha * tau
-    phi = rot[k, 2] + rot[k, 1] * tau + 0.5 * alpha * tau * tau
-    w0 = rot[0, 1] * rot[0, 1]
-    g_re, g_im = w * w / w0, -alpha / w0
-    c, s = math.cos(phi), math.sin(phi)
-    return g_re * c - g_im * s, g_re * s + g_im * c
-
-
 @njit(error_model="numpy", inline="always")
-def _add_force(f_dof, f_re, f_im, f_om, rotating, zr, zi, t, scale, out):
-    """``out[f_dof] += scale f(t)``, f_k(t) = f_re cos(om t) - f_im sin(om t); cos and sin
-    are evaluated once per run of equal frequencies (a projected load has one per DOF). A
-    load ``rotating`` with a speed profile has cos and sin replaced by ``zr``, ``zi``, the
-    parts of its factor at t (:func:`_rotation`)."""
-    om = math.nan
-    c = zr
-    s = zi
+def _add_force(f_dof, f_re, f_im, f_group, zt, end, scale, out):
+    """``out[f_dof] += scale f(t)`` at the step's start (``end`` 0) or end (2): f_k(t) =
+    f_re Re z - f_im Im z with its group's factor z from ``zt`` (:data:`Force`)."""
     for k in range(f_dof.shape[0]):
-        if not rotating and f_om[k] != om:
-            om = f_om[k]
-            c = math.cos(om * t)
-            s = math.sin(om * t)
-        out[f_dof[k]] += scale * (f_re[k] * c - f_im[k] * s)
+        g = f_group[k]
+        out[f_dof[k]] += scale * (f_re[k] * zt[g, end] - f_im[k] * zt[g, end + 1])
 
 
 @njit(error_model="numpy")
-def _force_work(f_dof, f_re, f_im, f_om, rotating, z, t_n, t_1, dq):
-    """Work of the load over a step, trapezoid: ``Σ dq[f_dof] (f(t_n) + f(t_1)) / 2``; ``z``
-    the rotating factors at t_n and t_1, (zr0, zi0, zr1, zi1) (:func:`_add_force`)."""
-    om = math.nan
-    c0, s0, c1, s1 = z
+def _force_work(f_dof, f_re, f_im, f_group, zt, dq):
+    """Work of the load over a step, trapezoid: ``Σ dq[f_dof] (f(t_n) + f(t_1)) / 2``
+    (:func:`_add_force`)."""
     w = 0.0
     for k in range(f_dof.shape[0]):
-        if not rotating and f_om[k] != om:
-            om = f_om[k]
-            c0 = math.cos(om * t_n)
-            s0 = math.sin(om * t_n)
-            c1 = math.cos(om * t_1)
-            s1 = math.sin(om * t_1)
-        fa = (f_re[k] * c0 - f_im[k] * s0) + (f_re[k] * c1 - f_im[k] * s1)
+        g = f_group[k]
+        fa = ((f_re[k] * zt[g, 0] - f_im[k] * zt[g, 1])
+              + (f_re[k] * zt[g, 2] - f_im[k] * zt[g, 3]))
         w += dq[f_dof[k]] * 0.5 * fa
     return w
 
@@ -457,8 +427,7 @@ def _add_bt_p(c_dof, c_basis, p, scale, out):
 
 
 @njit(error_model="numpy")
-def _rhs_average(h, t_n, t_1, mv, kq, pc, f_dof, f_re, f_im, f_om, rotating, z, c_dof,
-                 c_basis, rhs):
+def _rhs_average(h, mv, kq, pc, f_dof, f_re, f_im, f_group, zt, c_dof, c_basis, rhs):
     """``rhs`` of the increment equation for average acceleration (module docstring):
     ``f_{n+1} + f_n + 2 Bᵀ p_n + 4/h M v_n - 2 K q_n``, no product."""
     # r_n = M (4/h v + 2 a) + 2 C v = 4/h M v + 2 (f_n + B^T p_n - K q)
@@ -466,14 +435,14 @@ def _rhs_average(h, t_n, t_1, mv, kq, pc, f_dof, f_re, f_im, f_om, rotating, z, 
     for i in range(rhs.shape[0]):
         rhs[i] = c4 * mv[i] - 2.0 * kq[i]
     # + Δf + 2 f_n = f_{n+1} + f_n
-    _add_force(f_dof, f_re, f_im, f_om, rotating, z[0], z[1], t_n, 1.0, rhs)
+    _add_force(f_dof, f_re, f_im, f_group, zt, 0, 1.0, rhs)
     _add_bt_p(c_dof, c_basis, pc, 2.0, rhs)
-    _add_force(f_dof, f_re, f_im, f_om, rotating, z[2], z[3], t_1, 1.0, rhs)
+    _add_force(f_dof, f_re, f_im, f_group, zt, 2, 1.0, rhs)
 
 
 @njit(error_model="numpy")
-def _rhs_general(nb, ng, h, t_n, t_1, v, a, f_dof, f_re, f_im, f_om, rotating, z, m_ptr,
-                 m_idx, m_val, c_ptr, c_idx, c_val, x, cx, rhs):
+def _rhs_general(nb, ng, h, v, a, f_dof, f_re, f_im, f_group, zt, m_ptr, m_idx, m_val,
+                 c_ptr, c_idx, c_val, x, cx, rhs):
     """``rhs`` of the increment equation for Newmark β = ``nb``, γ = ``ng``: ``Δf + M (v_n
     / (β h) + a_n / (2β)) + C (γ/β v_n - h (1 - γ/(2β)) a_n)``; ``x``, ``cx`` (n) work."""
     ca2 = 1.0 / (nb * h)
@@ -488,8 +457,8 @@ def _rhs_general(nb, ng, h, t_n, t_1, v, a, f_dof, f_re, f_im, f_om, rotating, z
     csr_matvec(c_ptr, c_idx, c_val, x, cx)
     for i in range(rhs.shape[0]):
         rhs[i] += cx[i]
-    _add_force(f_dof, f_re, f_im, f_om, rotating, z[0], z[1], t_n, -1.0, rhs)
-    _add_force(f_dof, f_re, f_im, f_om, rotating, z[2], z[3], t_1, 1.0, rhs)
+    _add_force(f_dof, f_re, f_im, f_group, zt, 0, -1.0, rhs)
+    _add_force(f_dof, f_re, f_im, f_group, zt, 2, 1.0, rhs)
 
 
 @njit(error_model="numpy")
@@ -607,8 +576,7 @@ def _new_state(nb, ng, h, dq, mdq, kdq, q, v, a, mv, kq):
 
 
 @njit(error_model="numpy")
-def _energy_ledger(h, t_n, t_1, t_ramp, dvisc, dq, f_dof, f_re, f_im, f_om, rotating, z, pc,
-                   p_new,
+def _energy_ledger(h, t_n, t_1, t_ramp, dvisc, dq, f_dof, f_re, f_im, f_group, zt, pc, p_new,
                    st_new, ciw, cf, c_dof, c_basis, c_g0, c_gstart, c_kn, c_kt, c_speed, gap,
                    gap_start, bdq, fstate):
     """The energy ledger of the accepted step (``fstate``): the external work, the viscous
@@ -617,7 +585,7 @@ def _energy_ledger(h, t_n, t_1, t_ramp, dvisc, dq, f_dof, f_re, f_im, f_om, rota
     the algorithmic remainder of the work the contact forces did on the structure, ``B dq ·
     (p_n + p_{n+1}) / 2``. Reads ``cf`` before the commit."""
     fstate[F_D_VISC] += dvisc / h
-    fstate[F_W_EXT] += _force_work(f_dof, f_re, f_im, f_om, rotating, z, t_n, t_1, dq)
+    fstate[F_W_EXT] += _force_work(f_dof, f_re, f_im, f_group, zt, dq)
     _contact_coords(c_dof, c_basis, dq, bdq)
     w_struct = 0.0
     for i in range(bdq.shape[0]):
@@ -894,7 +862,7 @@ def newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs
     m_ptr, m_idx, m_val, c_ptr, c_idx, c_val, mk_ptr, mk_idx, mk_m, mk_k, m_dense, k_dense = linear
     (l_ptr, l_idx, l_val, l_dinv, u_ptr, u_idx, u_val, u_dinv, perm_r, perm_c, s_mat,
      w_mat, inv_t) = factors
-    f_dof, f_re, f_im, f_om, f_rot = force
+    f_dof, f_re, f_im, f_group, f_law, f_table, f_rot, zt = force
     (c_kind, c_dof, c_basis, c_g0, c_gstart, c_kn, c_kt, c_mu, c_aug, c_eps, c_speed,
      lev_req, aug_k) = contacts
     q, v, a, mv, kq, pc, dc, cf, ci, istate, fstate = state
@@ -909,7 +877,6 @@ def newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs
     out_ticks, sen_ticks = ipar[IP_OUT_TICKS], ipar[IP_SEN_TICKS]
     tick_dt = dt0 / (1 << top)
     dense = inv_t.shape[1] > 0
-    rotating = f_rot.shape[0] > 0
     x, rhs, dq, kdq, mdq = wn[WN_X], wn[WN_RHS], wn[WN_DQ], wn[WN_KDQ], wn[WN_MDQ]
     d_lin, d_new, p_new, wv, dp = wc[WC_D_LIN], wc[WC_D_NEW], wc[WC_P_NEW], wc[WC_V], wc[WC_V2]
     gap, lam, drive, gap_start = wcn[WCN_GAP], wcn[WCN_LAM], wcn[WCN_DRIVE], wcn[WCN_GAP_START]
@@ -933,19 +900,14 @@ def newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs
         h = dt0 / (1 << lev)
         t_n = tick * tick_dt
         t_1 = (tick + nt) * tick_dt
-        z = (0.0, 0.0, 0.0, 0.0)
-        if rotating:    # the load's factors at both ends of the step (a speed profile)
-            zr0, zi0 = _rotation(f_rot, t_n)
-            zr1, zi1 = _rotation(f_rot, t_1)
-            z = (zr0, zi0, zr1, zi1)
+        load_factors(f_law, f_table, f_rot, t_n, t_1, zt)   # the load's factors at both ends
 
         # ---- a trial step: the linear predictor, then the contact solve
         if trapezoid:
-            _rhs_average(h, t_n, t_1, mv, kq, pc, f_dof, f_re, f_im, f_om, rotating, z, c_dof,
-                         c_basis, rhs)
+            _rhs_average(h, mv, kq, pc, f_dof, f_re, f_im, f_group, zt, c_dof, c_basis, rhs)
         else:
-            _rhs_general(nb, ng, h, t_n, t_1, v, a, f_dof, f_re, f_im, f_om, rotating, z, m_ptr,
-                         m_idx, m_val, c_ptr, c_idx, c_val, x, mdq, rhs)
+            _rhs_general(nb, ng, h, v, a, f_dof, f_re, f_im, f_group, zt, m_ptr, m_idx, m_val,
+                         c_ptr, c_idx, c_val, x, mdq, rhs)
         c0 = _lap(prof, P_RHS, c0)
         if dense:
             _matvec_t(inv_t[lev], rhs, dq)
@@ -991,8 +953,8 @@ def newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs
             # M v_{n+1} also has a term h (1 - γ/(2β)) M a_n that is not tracked: recompute
             csr_matvec(m_ptr, m_idx, m_val, v, mv)
         c0 = _lap(prof, P_UPDATE, c0)
-        _energy_ledger(h, t_n, t_1, t_ramp, dvisc, dq, f_dof, f_re, f_im, f_om, rotating, z, pc,
-                       p_new, st_new, ciw, cf, c_dof, c_basis, c_g0, c_gstart, c_kn, c_kt, c_speed,
+        _energy_ledger(h, t_n, t_1, t_ramp, dvisc, dq, f_dof, f_re, f_im, f_group, zt, pc, p_new,
+                       st_new, ciw, cf, c_dof, c_basis, c_g0, c_gstart, c_kn, c_kt, c_speed,
                        gap, gap_start, wv, fstate)
         _log_episodes(h, t_n, st_new, ciw, cf, ci, istate, ep_f, ep_i, sg_f, sg_i)
         _commit_contacts(h, c_kind, c_mu, c_dof, c_basis, st_new, ciw, d_new, lam, p_new, q,

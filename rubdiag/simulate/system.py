@@ -43,7 +43,6 @@ from rubdiag.kernels.newmark import (
     STATUS_NONFINITE,
     ContactSet,
     Factors,
-    Force,
     Linear,
     Logs,
     Outputs,
@@ -52,6 +51,7 @@ from rubdiag.kernels.newmark import (
     newmark_contact,
 )
 from rubdiag.kernels.sparse_lu import factorize
+from rubdiag.simulate.loads import HarmonicForce, kernel_force, load_vector
 from rubdiag.simulate.result import EpisodeLog, SimulationDiverged, StatusLog, SystemResult
 from rubdiag.simulate.speed_profile import SpeedProfile
 
@@ -69,56 +69,6 @@ _MAX_LEVELS = 31
 # --------------------------------------------------------------------------------------------
 # inputs
 # --------------------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class HarmonicForce:
-    """A sparse harmonic load ``f(t) = Σ_k Re(F̂_k exp(i ω_k t))`` applied at DOF ``dofs[k]``.
-
-    ``dofs`` (m,) int, ``amplitudes`` (m,) complex (N), ``omega`` (m,) rad/s. A DOF may appear
-    several times (the terms add up).
-    """
-
-    dofs: np.ndarray
-    amplitudes: np.ndarray
-    omega: np.ndarray
-
-    def __post_init__(self):
-        dofs = _check.indices("force.dofs", np.atleast_1d(self.dofs))
-        amp = np.atleast_1d(np.asarray(self.amplitudes, dtype=np.complex128))
-        om = np.broadcast_to(np.asarray(self.omega, dtype=np.float64), dofs.shape).copy()
-        if not (dofs.ndim == amp.ndim == 1 and dofs.shape == amp.shape):
-            raise ValueError(
-                f"force: dofs {dofs.shape} and amplitudes {amp.shape} must be 1-D of equal length"
-            )
-        object.__setattr__(self, "dofs", dofs)
-        object.__setattr__(self, "amplitudes", amp)
-        object.__setattr__(self, "omega", om)
-
-    @classmethod
-    def zero(cls) -> HarmonicForce:
-        """No external load."""
-        return cls(np.zeros(0, np.int64), np.zeros(0, np.complex128), np.zeros(0))
-
-    @classmethod
-    def unbalance(cls, dof_y: int, dof_z: int, unbalance: float, speed: float) -> HarmonicForce:
-        """Rotating unbalance ``u = m e`` (kg m) at speed Ω (rad/s), forward whirl y → z:
-        F̂_y = uΩ², F̂_z = -i uΩ² (f_y = uΩ² cos Ωt, f_z = uΩ² sin Ωt)."""
-        f = unbalance * speed**2
-        return cls([dof_y, dof_z], [f, -1j * f], [speed, speed])
-
-    def __add__(self, other: HarmonicForce) -> HarmonicForce:
-        return HarmonicForce(
-            np.concatenate([self.dofs, other.dofs]),
-            np.concatenate([self.amplitudes, other.amplitudes]),
-            np.concatenate([self.omega, other.omega]),
-        )
-
-    def evaluate(self, t: float, n: int) -> np.ndarray:
-        """Dense load vector f(t) (length n)."""
-        f = np.zeros(n)
-        np.add.at(f, self.dofs, (self.amplitudes * np.exp(1j * self.omega * t)).real)
-        return f
-
-
 @dataclass(frozen=True)
 class Contacts:
     """Contact elements, as arrays over n_c elements (use :meth:`point` / :meth:`annular`).
@@ -671,24 +621,6 @@ def _coupled(M: np.ndarray, K: np.ndarray) -> int:
     return n - tail
 
 
-def _kernel_force(force: HarmonicForce, rot: np.ndarray) -> Force:
-    return Force(np.ascontiguousarray(force.dofs), np.ascontiguousarray(force.amplitudes.real),
-                 np.ascontiguousarray(force.amplitudes.imag), np.ascontiguousarray(force.omega),
-                 rot)
-
-
-def _load(force: HarmonicForce, profile: SpeedProfile | None, t: float, n: int) -> np.ndarray:
-    """The load vector f(t): harmonic, or rotating with the speed ``profile``
-    (:data:`rubdiag.kernels.newmark.Force`)."""
-    if profile is None:
-        return force.evaluate(t, n)
-    w, alpha = float(profile.speed(t)), float(profile.acceleration(t))
-    gain = (w * w - 1j * alpha) / profile.start_rad_s**2 * np.exp(1j * float(profile.angle(t)))
-    f = np.zeros(n)
-    np.add.at(f, force.dofs, (force.amplitudes * gain).real)
-    return f
-
-
 def _checked_profile(profile, tolerance, G, force: HarmonicForce, n: int, grid: _TimeGrid):
     """``(rot, stretches, G)`` of a speed profile (:func:`simulate_system`); for constant
     speed ``(empty (0, 3), [], None)``. ``tolerance`` 0 gives one stretch per largest step,
@@ -889,7 +821,8 @@ def simulate_system(
         M must be nonsingular. The energy ledger assumes M and K symmetric (C may carry a
         skew gyroscopic part, which does no work).
     force : HarmonicForce or None
-        External harmonic load (N).
+        External load (N): harmonic terms by shaft order and amplitude law
+        (:mod:`rubdiag.simulate.loads`).
     contacts : Contacts or None
         Contact elements.
     q0, v0 : (n,)
@@ -1034,7 +967,7 @@ def simulate_system(
     d0 = B @ q0
     p0, cf, ci, e_c0 = _initial_contact_state(contacts, d0,
                                               g_start if t_ramp > 0 else contacts.gap)
-    a0 = _initial_acceleration(M, C, K, _load(force, speed_profile, 0.0, n), B, p0, q0, v0,
+    a0 = _initial_acceleration(M, C, K, load_vector(force, speed_profile, 0.0, n), B, p0, q0, v0,
                                a0)
     factors, s_mat, w_mat, lev_req, aug_k, lu, inv_t = _level_operators(
         M, C, K, B, contacts, grid.dt, grid.n_lev, settings.gamma, settings.beta,
@@ -1044,7 +977,7 @@ def simulate_system(
     fpar, ipar = _parameters(grid, settings, t_ramp, fixed_step)
     linear = _linear(M, C, K, dense)
     ipar[layout.IP_COUPLED] = _coupled(linear.m_dense, linear.k_dense)
-    arrays = (linear, Factors(*lu, s_mat, w_mat, inv_t), _kernel_force(force, rot),
+    arrays = (linear, Factors(*lu, s_mat, w_mat, inv_t), kernel_force(force, rot),
               _contact_set(contacts, g_start, settings.omega, lev_req, aug_k), fpar, ipar,
               state, outputs)
     logs = _logs(nc, grid.n_lev, settings.episode_capacity)

@@ -37,13 +37,13 @@ class TestSystem:
 
 
 def linear_response(M, C, K, force: HarmonicForce) -> np.ndarray:
-    """Complex steady harmonic response (all force terms must share one frequency)."""
-    om = np.unique(force.omega)
+    """Complex steady harmonic response (all force terms must share one frequency kΩ)."""
+    om = np.unique(force.frequencies)
     if om.size != 1:
         raise ValueError("linear_response needs a single frequency")
     w = float(om[0])
     F = np.zeros(M.shape[0], complex)
-    np.add.at(F, force.dofs, force.amplitudes)
+    np.add.at(F, force.dofs, force.steady_amplitudes())
     A = (K - w**2 * M + 1j * w * C).toarray()
     return np.linalg.solve(A, F)
 

@@ -29,13 +29,14 @@ PER_STEP = ("_rhs_average", "_rhs_general", "_contact_inputs", "_level_needed",
             "_mk_products", "_mk_dense", "_matvec_t", "_dissipation", "_energy_ledger",
             "_log_episodes", "_commit_contacts", "_advance", "_count_iterations",
             "_add_bt_p", "_contact_coords", "_lap", "_logs_full",
-            "_change_level", "_force_work", "_rotation", "csr_matvec", "lu_solve")
+            "_change_level", "_force_work", "load_factors", "csr_matvec", "lu_solve")
 #: the CPU the guard compiles for (NUMBA_CPU_NAME): one whose inliner lets Numba prune
 #: every count in the per-step parts, as on the Intel machines the kernel was tuned on
 TARGET_CPU = "haswell"
 #: the controller unpacks its bundles once per call (2026-11-24: 171 increfs in its IR, one
-#: more with the speed profile's knots)
-CONTROLLER_MAX = 171
+#: more with the speed profile's knots; 174 since the load's terms come in groups by order
+#: and law, three more arrays in the load's bundle)
+CONTROLLER_MAX = 174
 
 COUNT = """
 import json
