@@ -850,8 +850,8 @@ def simulate_system(
         the raw stream sensors are filtered and decimated from (default: none).
     gap_ramp : (t_ramp, g_start), optional
         Ramp every element's gap linearly from ``g_start`` (m; scalar or (n_c,), >= g0) at
-        t = 0 down to its g0 at ``t_ramp`` (s), so that a linear orbit larger than the gap does not start deep inside the
-        casing. Default: no ramp.
+        t = 0 down to its g0 at ``t_ramp`` (s), so that a linear orbit larger than the gap
+        does not start deep inside the casing. Default: no ramp.
     omega : float
         Shaft speed Ω (rad/s): the surface speed Ω R of kind-2 elements.
     gamma : float
