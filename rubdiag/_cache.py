@@ -40,7 +40,7 @@ import numpy as np
 
 from rubdiag._version import __version__
 
-__all__ = ["ENV", "cached", "clear", "entries", "folder", "load", "store"]
+__all__ = ["ENV", "cached", "clear", "entries", "folder", "load", "sources_digest", "store"]
 
 #: The environment variable naming the cache folder (empty: no disk cache)
 ENV = "RUBDIAG_CACHE_DIR"
@@ -79,15 +79,17 @@ def environment() -> dict:
 
     from rubdiag._blas import blas_signature
 
-    return {"rubdiag": __version__, "sources": _sources_digest(), "numpy": np.__version__,
+    return {"rubdiag": __version__, "sources": sources_digest(), "numpy": np.__version__,
             "scipy": scipy.__version__, "machine": platform.machine(),
             "blas": blas_signature()}
 
 
-def _sources_digest() -> str:
+def sources_digest(patterns: tuple[str, ...] = _SOURCES) -> str:
+    """SHA-256 of the package's source files matching ``patterns`` (globs relative to the
+    package folder), names and contents, as they are on disk now."""
     package = Path(__file__).parent
     digest = hashlib.sha256()
-    for pattern in _SOURCES:
+    for pattern in patterns:
         for source in sorted(package.glob(pattern)):
             digest.update(source.relative_to(package).as_posix().encode() + source.read_bytes())
     return digest.hexdigest()

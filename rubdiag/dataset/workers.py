@@ -23,10 +23,8 @@ anything that still differs is a ``ValueError`` naming the worker and the differ
 
 from __future__ import annotations
 
-import hashlib
 import os
 from importlib import metadata
-from pathlib import Path
 
 __all__ = ["THREAD_ENVIRON", "align_dask_workers", "differences", "pin_kernels_plugin",
            "signature", "start_local_worker"]
@@ -54,17 +52,10 @@ def signature() -> dict:
     the package's sources as they are now, "numpy": version, … "blas": [[library, version,
     kernels], …]}``."""
     from rubdiag._blas import blas_signature
+    from rubdiag._cache import sources_digest
 
-    return {"rubdiag": _sources_digest(), **{name: metadata.version(name) for name in _VERSIONS},
-            "blas": blas_signature()}
-
-
-def _sources_digest() -> str:
-    package = Path(__file__).resolve().parents[1]
-    digest = hashlib.sha256()
-    for source in sorted(package.rglob("*.py")):
-        digest.update(source.relative_to(package).as_posix().encode() + source.read_bytes())
-    return digest.hexdigest()[:16]
+    return {"rubdiag": sources_digest(("**/*.py",))[:16],
+            **{name: metadata.version(name) for name in _VERSIONS}, "blas": blas_signature()}
 
 
 def differences(here: dict, there: dict) -> list[str]:
