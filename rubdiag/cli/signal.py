@@ -130,6 +130,10 @@ def unit_of(path, args) -> str | None:
     else:
         stored = stored_units(path)
         units = {stored[c] for c in getattr(args, "column", None) or stored if c in stored}
+        if len(units) > 1 and args.unit is not None:     # no one unit names them all
+            raise ValueError(f"--unit {args.unit}: {path} is a dataset's stored waveforms, "
+                             f"in {' and '.join(sorted(units))} (allowed: --column to choose "
+                             "channels of one unit, or leave --unit out)")
         if len(units) != 1:
             return args.unit
         own, what = units.pop(), "a dataset's stored waveforms"

@@ -187,3 +187,19 @@ def test_stored_waveforms_are_a_signal_file(dataset, tmp_path):
                              capture_output=True, text=True)
     assert refused.returncode == 2 and refused.stderr.count("\n") == 1
     assert "dataset's stored waveforms, in m" in refused.stderr
+
+
+def test_no_unit_names_stored_channels_of_several_units(dataset, capsys):
+    """A stored run holds displacements (m) and an acceleration (m/s^2): no ``--unit``
+    names them all, so one is refused in one line, and the heading does not claim one."""
+    from rubdiag.cli import main
+
+    _, out, rows = dataset
+    path = out / "waveforms" / f"{rows.loc[1.9]['run_id']}.npz"
+    units = {sensor["unit"] for sensor in acquisition(out)["sensors"]}
+    assert units == {"m", "m/s^2"}                              # the premise: mixed units
+    for command in (["features", str(path)], ["compare", str(path), str(path)]):
+        assert main([*command, "--unit", "um"]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "--unit um" in err
+        assert "m/s^2" in err and "--column" in err
