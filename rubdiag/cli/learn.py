@@ -177,11 +177,11 @@ def _predict(args) -> int:
     from rubdiag.learn.predict import predict
 
     model = load_model(args.model)
-    _model_warnings("predict", args.model, model.meta)
     table = predict(model, args.inputs,
                     columns=_pairs(args.column, "--column", "COLUMN=CHANNEL"),
                     units=_pairs(args.unit, "--unit", "CHANNEL=UNIT"), fs=args.fs,
                     speed_rpm=args.speed_rpm, tacho=args.tacho)
+    _model_warnings("predict", args.model, model.meta)  # with a prediction: a bad input is one line
     for row in table.itertuples():
         if row.warnings and row.window != "all":
             _warn("predict", f"{row.input}, window {row.window}: {row.warnings}")

@@ -229,6 +229,18 @@ def test_predict_and_evaluate_repeat_the_warnings(degenerate, few, small_dataset
     assert "in-sample: 15 of these 24 runs were in the model's training set" in first
 
 
+def test_a_bad_input_to_predict_is_one_line_despite_the_warnings(degenerate, tmp_path,
+                                                                  capsys):
+    """The model's warnings go with a prediction: an input that cannot be predicted is the
+    error's line alone (exit 2)."""
+    model, out, _ = degenerate
+    assert len(model.meta["warnings"]) >= 2                     # the premise: it warns
+    for args in ([tmp_path / "missing.csv"], [tmp_path / "x.csv", "--unit", "shaft11_y_disp"]):
+        code, text, err = run(["predict", out, *args], capsys)
+        assert code == 2 and text == ""
+        assert err.count("\n") == 1 and err.startswith("rubdiag predict: error: ")
+
+
 # --- the training runs and the in-sample note --------------------------------------------
 
 
