@@ -146,7 +146,12 @@ class DatasetFolder:
     # --- format ----------------------------------------------------------------------------
     def meta(self) -> dict:
         path = self.root / "dataset.json"
-        return json.loads(path.read_text(encoding="utf-8")) if path.is_file() else {}
+        if not path.is_file():
+            return {}
+        try:
+            return json.loads(path.read_text(encoding="utf-8"))
+        except ValueError as exc:               # JSONDecodeError, UnicodeDecodeError
+            raise ValueError(f"{path}: unreadable ({exc})") from None
 
     def write_meta(self, meta: dict) -> None:
         atomic_write_text(self.root / "dataset.json", json.dumps(meta, indent=1) + "\n")

@@ -202,3 +202,18 @@ def test_evaluate_and_predict_name_the_file_too(tmp_path, capsys):
     assert "16 runs, 12 already stored, 4 ok" in capsys.readouterr().out
     for command in ("evaluate", "predict"):
         assert main([command, str(model), str(out)]) == 0
+
+
+def test_a_damaged_dataset_json_is_named(pristine, tmp_path, capsys):
+    """dataset.json (the format, the columns, how the channels were measured) garbled:
+    train and dataset name it in one line (they said only "Expecting value: line 1 …")."""
+    out = tmp_path / "dataset"
+    shutil.copytree(pristine, out)
+    (out / "dataset.json").write_bytes(b"\x00garbage")
+    for argv in (["train", str(out), "--out", str(tmp_path / "model")],
+                 ["dataset", str(out / "design.toml"), "--out", str(out), "--jobs", "1"]):
+        assert main(argv) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1
+        assert f"error: {out / 'dataset.json'}: unreadable (" in err
+    assert (out / "dataset.json").read_bytes() == b"\x00garbage"     # left as it was
