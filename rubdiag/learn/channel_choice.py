@@ -110,6 +110,9 @@ def choose_channels(data: pd.DataFrame, channels="auto") -> ChannelChoice:
     if missing:
         raise ValueError(f"channels: {missing[0]!r} is not a channel of the data (its "
                          f"channels: {', '.join(have)}; or one of {', '.join(CHANNEL_SETS)})")
+    twice = [c for i, c in enumerate(names) if c in names[:i]]
+    if twice:
+        raise ValueError(f"channels: {twice[0]!r} is named twice (allowed: each channel once)")
     return _checked(ChannelChoice(names))
 
 

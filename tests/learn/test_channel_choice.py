@@ -139,3 +139,12 @@ def test_train_and_evaluate_say_what_was_left_out(tiny_dataset, tmp_path,
     report = (tmp_path / "m" / "report.md").read_text()
     line = next(ln for ln in report.splitlines() if ln.startswith("Left out of the default"))
     assert all(c in line for c in expected)
+
+
+def test_a_channel_named_twice_is_refused():
+    """``--channels a,a`` made a model whose every feature of ``a`` came twice."""
+    data = frame({"a": 30.0, "b": 30.0}, [True, False])
+    with pytest.raises(ValueError, match=r"channels: 'a' is named twice \(allowed: each "
+                       r"channel once\)"):
+        choose_channels(data, ["a", "b", "a"])
+    assert choose_channels(data, ["b", "a"]).channels == ["b", "a"]      # order kept
