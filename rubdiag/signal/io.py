@@ -151,9 +151,18 @@ def _read_npz(path: Path) -> tuple[pd.DataFrame, float | None]:
     return pd.DataFrame(arrays), fs
 
 
+#: the format a simulation result's ``meta`` names (rubdiag.simulate writes it; this layer
+#: does not import the simulator, so it recognises the result by this text only)
+_RESULT_FORMAT = "rubdiag.simulation-result"
+
+
 def _waveform_archive(arrays: dict, name: str) -> tuple[pd.DataFrame, float]:
     """A dataset's stored waveforms (module docstring): the sensors over the analysis
     window, and the sampling frequency."""
+    if _RESULT_FORMAT in str(arrays["meta"]):
+        raise ValueError(f"{name}: a simulation result (rubdiag simulate --out), not a record "
+                         "of sensors: `rubdiag features` and `compare` read it; a model "
+                         "predicts a sensor record or a dataset's stored waveforms")
     try:
         meta = json.loads(str(arrays["meta"]))
         channels, units = list(meta["channels"]), list(meta["units"])

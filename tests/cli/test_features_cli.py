@@ -280,3 +280,17 @@ def test_units_are_labelled_from_the_file_or_unit(simulated, tmp_path, capsys):
     assert main(["compare", str(path), str(path), "--unit", "mm"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "is a simulation result, in m (allowed: --unit m" in err
+
+
+def test_a_result_read_as_a_record_of_sensors_says_what_it_is(simulated):
+    """``read_signals`` (what ``rubdiag predict`` reads) on a simulation result: it names
+    the file as a result and what reads one (it said "KeyError('channels')")."""
+    from rubdiag.signal import read_signals
+
+    _, path = simulated
+    with pytest.raises(ValueError) as info:
+        read_signals(path)
+    message = str(info.value)
+    assert "\n" not in message and "KeyError" not in message
+    assert message.startswith(f"{path.name}: a simulation result (rubdiag simulate --out), "
+                              "not a record of sensors")
