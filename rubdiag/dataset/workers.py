@@ -45,6 +45,23 @@ def start_local_worker() -> None:
     os.environ.update(THREAD_ENVIRON)
     blas_signature()            # loads scipy.linalg's BLAS, so that the limit reaches it
     threadpool_limits(limits=1)
+    _end_with_parent()
+
+
+def _end_with_parent(period_s: float = 1.0) -> None:
+    """End this worker once the process that started it is gone (killed, SIGKILL too): a
+    pool's worker would otherwise wait on its queues for ever, holding its memory."""
+    import threading
+    import time
+
+    parent = os.getppid()
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(period_s)
+        os._exit(1)             # no clean-up to do: the job's rows are the parent's to store
+
+    threading.Thread(target=watch, name="rubdiag-parent-watch", daemon=True).start()
 
 
 def signature() -> dict:

@@ -91,3 +91,50 @@ def test_a_killed_job_keeps_every_run_it_counted(tmp_path):
     # the kept rows were not made again: the same values, wall time included
     again = rows.set_index("run_id").loc[kept["run_id"]].reset_index()
     pd.testing.assert_frame_equal(again, kept, check_exact=True)
+
+
+def _alive(pid: int) -> bool:
+    """True while ``pid`` runs (a zombie, or a process that is gone, is not running)."""
+    try:
+        with open(f"/proc/{pid}/stat") as fh:
+            return fh.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except FileNotFoundError:
+        return False
+
+
+def test_workers_end_when_the_job_alone_is_killed(tmp_path):
+    """``kill -9`` of the job's own process (not its group, as a user does): its workers
+    end within a few seconds (they waited for their parent for ever, blocked on its
+    queues, and kept their memory)."""
+    import time
+
+    import pytest
+
+    if not os.path.isdir("/proc"):
+        pytest.skip("reads the process table in /proc")
+    design = tmp_path / "design.toml"
+    design.write_text(TOML)
+    proc = subprocess.Popen(command(design, tmp_path / "dataset"), stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, start_new_session=True)
+    watchdog = threading.Timer(600, os.killpg, (proc.pid, signal.SIGKILL))
+    watchdog.start()
+    workers: list[int] = []
+    try:
+        for line in proc.stderr:
+            if DONE.match(line):              # the workers are running
+                break
+        with open(f"/proc/{proc.pid}/task/{proc.pid}/children") as fh:
+            workers = [int(pid) for pid in fh.read().split()]
+        assert len(workers) == 2
+        proc.kill()
+        proc.wait(timeout=60)
+        deadline = time.monotonic() + 20
+        while any(map(_alive, workers)) and time.monotonic() < deadline:
+            time.sleep(0.2)
+        assert not any(map(_alive, workers))
+    finally:
+        watchdog.cancel()
+        if any(map(_alive, workers)):
+            os.killpg(proc.pid, signal.SIGKILL)
+        proc.stdout.close()
+        proc.stderr.close()
