@@ -1,7 +1,8 @@
 """``rubdiag compare A B``: features of two signal files and B - A, channel by channel.
 
 Every channel both files hold is compared (``--column`` chooses): a simulation result's
-shaft, blade and casing, a measurement's probes. Each file is analysed at its own speed
+shaft, blade and casing, a measurement's probes; a channel flat in both (a casing neither
+run touched) is left out. Each file is analysed at its own speed
 (given, from a tacho, or the vote of its channels' strongest lines), and amplitudes are
 labelled with the files' unit (``--unit``; m for simulation results).
 """
@@ -24,9 +25,13 @@ def compare(args) -> int:
     check_across_speed(args)
     if args.out:
         output_file(args.out)
-    loaded = {"A": load(args.a, args), "B": load(args.b, args)}
+    # a channel that moves in one file only (a casing touched in B alone) is compared
+    loaded = {"A": load(args.a, args, keep_flat=True), "B": load(args.b, args, keep_flat=True)}
     ta, tb = loaded["A"][2], loaded["B"][2]
     channels = list(dict.fromkeys(c for c in ta["channel"] if c in set(tb["channel"])))
+    if args.column is None:
+        channels = [c for c in channels
+                    if not all(loaded[k][0][c].std() == 0 for k in ("A", "B"))] or channels
     if not channels:
         raise ValueError(f"{args.a} and {args.b} have no channel in common")
     units = list(dict.fromkeys(unit_words(loaded[k][3]) for k in ("A", "B")))

@@ -148,16 +148,18 @@ def unit_words(unit: str | None) -> str:
     return "the signal's unit" if unit is None else unit
 
 
-def load(path, args):
+def load(path, args, keep_flat: bool = False):
     """Channels (DataFrame), fs (Hz), the feature table (with ``--revs-per-bin``: the
     table across speed, :func:`rubdiag.signal.features_by_revolution`) and the unit
-    (:func:`unit_of`) of one signal file."""
-    frame, fs, table = _load(path, args)
+    (:func:`unit_of`) of one signal file (``keep_flat``: :func:`_load`)."""
+    frame, fs, table = _load(path, args, keep_flat)
     return frame, fs, table, unit_of(path, args)
 
 
-def _load(path, args):
-    """Channels (DataFrame), fs (Hz) and the feature table of one signal file."""
+def _load(path, args, keep_flat: bool = False):
+    """Channels (DataFrame), fs (Hz) and the feature table of one signal file. A result's
+    channel that does not move (a casing never touched) is left out unless ``keep_flat``
+    or ``--column`` names it."""
     from rubdiag.runs import is_result, run_signals
     from rubdiag.signal import features, features_by_revolution, read_signals
 
@@ -171,7 +173,7 @@ def _load(path, args):
 
         result = load_result(path)
         frame, fs = pd.DataFrame(run_signals(result)), result.fs
-        if args.column is None:   # a casing that was never touched does not move: skip it
+        if args.column is None and not keep_flat:   # a casing never touched: skip it
             frame = frame.loc[:, frame.std() > 0]
         speed = result.run.speed_rpm if speed is None else speed
         if args.revs_per_bin is not None and args.tacho is None and angle is None:

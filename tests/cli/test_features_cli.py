@@ -294,3 +294,21 @@ def test_a_result_read_as_a_record_of_sensors_says_what_it_is(simulated):
     assert "\n" not in message and "KeyError" not in message
     assert message.startswith(f"{path.name}: a simulation result (rubdiag simulate --out), "
                               "not a record of sensors")
+
+
+def test_compare_keeps_a_casing_that_moves_in_one_result_only(simulated, tmp_path, capsys):
+    """A run without rub (its casing never moves) against a rubbing one: the casing — the
+    largest difference — is compared too (it was left out, unsaid); flat in both, it is not."""
+    from rubdiag.simulate import Run, simulate
+
+    _, rubbing = simulated
+    quiet = simulate(Run.paper_case(2, 5.0, speed_rpm=5700, duration_s=0.5, discard_s=0.2))
+    assert quiet.summary()["casing_max_y_m"] == 0.0            # the premise: untouched
+    healthy = quiet.save(tmp_path / "healthy.npz")
+    assert main(["compare", str(healthy), str(rubbing)]) == 0
+    blocks = _blocks(capsys.readouterr().out)
+    assert list(blocks) == ["shaft", "blade", "casing"]
+    a, b, diff = blocks["casing"]["rms"]
+    assert a == 0.0 and b > 0.0 and diff == b
+    assert main(["compare", str(healthy), str(healthy)]) == 0
+    assert list(_blocks(capsys.readouterr().out)) == ["shaft", "blade"]
