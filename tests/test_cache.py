@@ -66,3 +66,17 @@ def test_rubdiag_cache_shows_and_clears_only_its_own_files(tmp_path, monkeypatch
     assert main(["cache", "--clear"]) == 0
     assert capsys.readouterr().out == f"removed 2 files from {tmp_path}\n"
     assert [p.name for p in tmp_path.iterdir()] == ["notes.txt"]
+
+
+def test_rubdiag_cache_on_a_file_says_it_is_not_a_folder(tmp_path, monkeypatch, capsys):
+    """RUBDIAG_CACHE_DIR naming a file: nothing can be cached there, which ``rubdiag cache``
+    says in one line (exit 2) instead of "0 files"; the file is left alone."""
+    target = tmp_path / "a-file"
+    target.write_text("not a folder")
+    monkeypatch.setenv(_cache.ENV, str(target))
+    for argv in (["cache"], ["cache", "--clear"]):
+        assert main(argv) == 2
+        captured = capsys.readouterr()
+        assert captured.out == "" and captured.err.count("\n") == 1
+        assert f"error: {target}: not a folder, so nothing is cached" in captured.err
+    assert target.read_text() == "not a folder"

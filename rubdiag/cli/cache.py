@@ -22,6 +22,9 @@ def _cache_command(args) -> int:
     if where is None:
         print(f"disk cache off ({_cache.ENV} is empty)")
         return 0
+    if where.exists() and not where.is_dir():       # runs then cache nothing, silently
+        raise ValueError(f"{where}: not a folder, so nothing is cached (allowed: {_cache.ENV} "
+                         "naming a folder, or empty to switch the disk cache off)")
     if args.clear:
         print(f"removed {_cache.clear()} files from {where}")
         return 0
