@@ -125,6 +125,9 @@ def unit_of(path, args) -> str | None:
     from rubdiag.runs import is_result
     from rubdiag.signal.io import stored_units
 
+    if args.unit is not None and not args.unit.strip():
+        raise ValueError(f"--unit {args.unit!r} names no unit (allowed: the unit of the "
+                         "file's values, e.g. um)")
     if is_result(path):
         own, what = RESULT_UNIT, "a simulation result"
     else:

@@ -210,6 +210,10 @@ CATALOGUE = [
     ("simulate-negative-inf-gap", [*SIM, "--gap-mm", "-inf"], "--gap-mm = -inf is out of range"),
     ("features-zero-speed", ["features", "{d}/a.csv", "--speed-rpm", "0"],
      "speed_rpm = 0.0 is out of range"),                  # a plain number, not np.float64(0.0)
+    ("features-empty-unit", ["features", "{d}/a.csv", "--unit", " "],
+     "--unit ' ' names no unit (allowed: the unit of the file's values, e.g. um)"),
+    ("compare-empty-unit", ["compare", "{d}/a.csv", "{d}/a.csv", "--unit", ""],
+     "--unit '' names no unit (allowed: the unit of the file's values, e.g. um)"),
     # --- already one line before issue 9: they stay so --------------------------------------
     ("simulate-negative-gap", [*SIM, "--gap-mm", "-1"], "--gap-mm = -1 is out of range"),
     ("simulate-zero-gap", [*SIM, "--gap-mm", "0"], "--gap-mm = 0 is out of range"),
