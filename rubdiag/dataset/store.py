@@ -48,6 +48,8 @@ from __future__ import annotations
 import io
 import json
 import os
+import zipfile
+import zlib
 from pathlib import Path
 
 import numpy as np
@@ -337,12 +339,16 @@ def load_waveforms(root: str | Path, run_id: str) -> pd.DataFrame:
         stored = (Path(root) / "waveforms").is_dir()
         why = "no such run in it" if stored else "made without --waveforms"
         raise ValueError(f"{path}: no waveforms stored ({why})")
-    with np.load(path, allow_pickle=False) as archive:
-        meta = json.loads(str(archive["meta"]))
-        columns = {name: archive[f"channel_{i}"] for i, name in enumerate(meta["channels"])}
-        units = dict(zip(meta["channels"], meta["units"], strict=True))
-        if "angle_rad" in archive.files:
-            columns["angle_rad"], units["angle_rad"] = archive["angle_rad"], "rad"
+    try:
+        with np.load(path, allow_pickle=False) as archive:
+            meta = json.loads(str(archive["meta"]))
+            columns = {name: archive[f"channel_{i}"]
+                       for i, name in enumerate(meta["channels"])}
+            units = dict(zip(meta["channels"], meta["units"], strict=True))
+            if "angle_rad" in archive.files:
+                columns["angle_rad"], units["angle_rad"] = archive["angle_rad"], "rad"
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, zlib.error) as exc:
+        raise ValueError(f"{path}: unreadable ({type(exc).__name__}: {exc})") from None
     n = len(next(iter(columns.values()))) if columns else 0
     frame = pd.DataFrame(columns, index=pd.Index(np.arange(n) / meta["fs_hz"], name="t_s"))
     frame.attrs.update(units=units, fs_hz=meta["fs_hz"], discard_s=meta["discard_s"],

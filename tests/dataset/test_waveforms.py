@@ -203,3 +203,20 @@ def test_no_unit_names_stored_channels_of_several_units(dataset, capsys):
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and "--unit um" in err
         assert "m/s^2" in err and "--column" in err
+
+
+def test_a_damaged_waveform_file_is_named(dataset, tmp_path):
+    """A truncated DIR/waveforms/<run_id>.npz is a ValueError naming it (it was zipfile's
+    "File is not a zip file", which names nothing)."""
+    import shutil
+
+    _, out, rows = dataset
+    copy = tmp_path / "copy"
+    shutil.copytree(out, copy)
+    run_id = rows.loc[1.9]["run_id"]
+    path = copy / "waveforms" / f"{run_id}.npz"
+    path.write_bytes(path.read_bytes()[:1000])
+    with pytest.raises(ValueError) as info:
+        load_waveforms(copy, run_id)
+    message = str(info.value)
+    assert message.startswith(f"{path}: unreadable (") and "\n" not in message
