@@ -498,8 +498,12 @@ def _check_revolutions(duration_s: float | None, discard_s: float, ramp: SpeedRa
                "or widen ramp.span")
     revolutions = window_s * rpm / 60.0
     if revolutions < needed * (1 - 1e-12):
-        raise ValueError(f"{what} holds {revolutions:.3g} revolutions at {rpm:.6g} rpm, the "
-                         f"design's slowest speed (allowed: at least {needed:g}, {why})")
+        digits = 3                  # as few as show it short: never "holds 10 … at least 10"
+        while float(f"{revolutions:.{digits}g}") >= needed and digits < 17:
+            digits += 1
+        raise ValueError(f"{what} holds {revolutions:.{digits}g} revolutions at "
+                         f"{rpm:.{max(6, digits + 1)}g} rpm, the design's slowest speed (allowed: at "
+                         f"least {needed:g}, {why})")
 
 
 def _check_top_speed(run: Run) -> None:

@@ -6,6 +6,7 @@ Nothing here simulates."""
 import dataclasses
 import math
 import pickle
+import re
 
 import numpy as np
 import pytest
@@ -466,3 +467,16 @@ def test_file_errors_name_the_file(tmp_path):
 
 def test_good_base_is_good():
     assert make(GOOD["factors"], method="lhs", n=8).n_runs == 8
+
+
+def test_a_window_short_of_the_revolutions_never_reads_as_enough():
+    """0.5 s at 1199.9999 rpm is 9.9999992 revolutions, refused: the message must not say
+    it holds 10 (it read "holds 10 revolutions at 1200 rpm … allowed: at least 10")."""
+    text = ('[base]\nduration_s = 0.6\ndiscard_s = 0.1\n[factors]\ncase = [1]\n'
+            'speed_rpm = [1199.9999]\n')
+    with pytest.raises(ValueError) as info:
+        Design.from_toml(text)
+    shown = re.search(r"holds ([0-9.e+-]+) revolutions at ([0-9.e+-]+) rpm", str(info.value))
+    assert float(shown.group(1)) < design_module.MIN_REVOLUTIONS
+    assert float(shown.group(2)) < 1200.0
+    Design.from_toml(text.replace("1199.9999", "1200"))       # exactly 10: accepted
