@@ -502,8 +502,8 @@ def _check_revolutions(duration_s: float | None, discard_s: float, ramp: SpeedRa
         while float(f"{revolutions:.{digits}g}") >= needed and digits < 17:
             digits += 1
         raise ValueError(f"{what} holds {revolutions:.{digits}g} revolutions at "
-                         f"{rpm:.{max(6, digits + 1)}g} rpm, the design's slowest speed (allowed: at "
-                         f"least {needed:g}, {why})")
+                         f"{rpm:.{max(6, digits + 1)}g} rpm, the design's slowest speed "
+                         f"(allowed: at least {needed:g}, {why})")
 
 
 def _check_top_speed(run: Run) -> None:
