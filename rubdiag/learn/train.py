@@ -308,7 +308,8 @@ class ModelScores:
         "training runs unknown: …"."""
         if self.shared_runs is None:
             return ("training runs unknown: the model does not record them (trained before "
-                    "rubdiag did) or the data has no run ids")
+                    "rubdiag did, or its record does not match its SHA-256) or the data has "
+                    "no run ids")
         if self.shared_runs:
             return (f"in-sample: {self.shared_runs} of these {self.n_rows} runs were in the "
                     "model's training set, so these scores flatter it")
@@ -391,9 +392,11 @@ def evaluate_model(model, dataset, n_bootstrap: int = 1000, seed: int = 0) -> Mo
     warnings = [f"{i}: {w}" for i, w in zip(table["input"], table["warnings"], strict=True)
                 if w]
     record = model.meta.get("training_runs")
-    shared = None
-    if record and record.get("ids") is not None and "run_id" in data.columns:
-        shared = int(np.isin(data["run_id"].astype(str).to_numpy(), record["ids"]).sum())
+    ids = record.get("ids") if isinstance(record, dict) else None
+    shared = None               # unknown: not recorded, or not the ids its digest names
+    if isinstance(ids, list) and record.get("sha256") == runs_digest(ids) \
+            and "run_id" in data.columns:
+        shared = int(np.isin(data["run_id"].astype(str).to_numpy(), ids).sum())
     return ModelScores(
         target=model.meta["target"], dataset=source, classes=classes, n_rows=len(data),
         n_scored=int(known.sum()), unknown=unknown, scores=scores, per_class=per_class,

@@ -301,3 +301,22 @@ def test_evaluate_s_first_line(half, small_dataset, tiny_dataset, capsys):
     assert code == 0 and "out of sample" in text.splitlines()[0]
     code, text, _ = run(["evaluate", out, small_dataset, "--json"], capsys)
     assert json.loads(text)["shared_runs"] == 12
+
+
+def test_a_training_record_that_does_not_match_its_digest_is_unknown(half, small_rows,
+                                                                       tmp_path):
+    """model.json edited or damaged (ids no longer those the SHA-256 names): the runs are
+    unknown, not "out of sample" (a string of ids was read character by character)."""
+    import shutil
+
+    out, _, _ = half
+    for damage in ({"ids": "".join(small_rows["run_id"])},          # a string, not a list
+                   {"ids": sorted(small_rows["run_id"])[12:]}):     # other ids, old digest
+        edited = shutil.copytree(out, tmp_path / f"m{len(list(tmp_path.iterdir()))}")
+        meta = json.loads((edited / "model.json").read_text())
+        meta["training_runs"].update(damage)
+        (edited / "model.json").write_text(json.dumps(meta))
+        scores = evaluate_model(edited, small_rows, n_bootstrap=10)
+        assert scores.shared_runs is None
+        assert scores.to_text().splitlines()[0].split("; ")[1].startswith(
+            "training runs unknown")
