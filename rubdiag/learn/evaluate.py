@@ -203,11 +203,11 @@ def evaluate(data, target: str = "rub", split: str = "group", estimator: str = "
     if pipeline is None:
         pipeline = make_pipeline(estimator, channels=channels, families=families,
                                  random_state=seed)
-    splits = folds(data, split, y, n_splits=n_splits, bands=bands, seed=seed)
     classes = sorted(set(y))
-    if len(classes) < 2:
+    if len(classes) < 2:      # before the folds: their complaints would hide this one
         raise ValueError(f"target {target!r} takes one value in the data ({classes[0]!r}): "
                          "nothing to classify")
+    splits = folds(data, split, y, n_splits=n_splits, bands=bands, seed=seed)
     groups = data["point_id"].to_numpy()
 
     cp = cross_predict(pipeline, data, y, splits)

@@ -274,6 +274,13 @@ class TestBadInput:
         with pytest.raises(ValueError, match="one value"):
             evaluate(learnable.assign(rub=True), "rub", **BARE)
 
+    def test_one_class_is_said_before_the_folds_complain(self, learnable):
+        """Few design points and one class: the class is the problem to name, not that
+        the points are too few for five folds."""
+        few = learnable[learnable.point_id.isin(learnable.point_id.unique()[:3])]
+        with pytest.raises(ValueError, match="takes one value in the data"):
+            evaluate(few.assign(rub=False), "rub", **BARE)
+
     def test_channels(self, learnable):
         with pytest.raises(ValueError, match="'blade'"):
             evaluate(learnable, "rub", channels=["blade"], **BARE)
