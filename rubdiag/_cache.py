@@ -16,21 +16,20 @@ by hand is safe at any time.
 
 The cache is only a shortcut: a file that cannot be read (truncated, garbage, another key) is
 ignored and rewritten; a folder that cannot be written is ignored; a file is written
-atomically (a temporary file of this process in the same folder, then renamed), so that a
-parallel process never reads half of one.
+atomically (:mod:`rubdiag._atomic`: a temporary file in the same folder, then renamed), so
+that a parallel process never reads half of one.
 """
 
 from __future__ import annotations
 
-import contextlib
 import functools
 import hashlib
+import io
 import json
 import os
 import platform
 import re
 import sys
-import threading
 import zipfile
 import zlib
 from collections.abc import Callable
@@ -38,6 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
+from rubdiag._atomic import write_bytes
 from rubdiag._version import __version__
 
 __all__ = ["ENV", "cached", "clear", "entries", "folder", "load", "sources_digest", "store"]
@@ -46,7 +46,7 @@ __all__ = ["ENV", "cached", "clear", "entries", "folder", "load", "sources_diges
 ENV = "RUBDIAG_CACHE_DIR"
 _KEY = "cache_key"
 _ENTRY = re.compile(r"^[a-z0-9-]+-[0-9a-f]{32}\.npz$")
-_TEMPORARY = re.compile(r"^\.[a-z0-9-]+-[0-9a-f]{32}\.[0-9.]+\.tmp\.npz$")
+_TEMPORARY = re.compile(r"^\.[a-z0-9-]+-[0-9a-f]{32}\.npz\.[0-9]+\.[0-9]+\.tmp$")   # _atomic's
 # what reading a damaged .npz raises (truncated: BadZipFile or EOFError; bad data: zlib,
 # ValueError; a missing array: KeyError)
 _UNREADABLE = (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, zlib.error)
@@ -135,16 +135,13 @@ def store(kind: str, depends_on: dict, arrays: dict[str, np.ndarray]) -> Path | 
     file = path(kind, depends_on)
     if file is None:
         return None
-    tmp = file.with_name(f".{file.stem}.{os.getpid()}.{threading.get_ident()}.tmp.npz")
+    sink = io.BytesIO()
+    np.savez(sink, **{_KEY: np.array(key(kind, depends_on))}, **arrays)
     try:
         file.parent.mkdir(parents=True, exist_ok=True)
-        np.savez(tmp, **{_KEY: np.array(key(kind, depends_on))}, **arrays)
-        os.replace(tmp, file)
+        return write_bytes(file, sink.getvalue())
     except OSError:
-        with contextlib.suppress(OSError):
-            tmp.unlink(missing_ok=True)
         return None
-    return file
 
 
 def cached(kind: str, depends_on: dict, names: tuple[str, ...],

@@ -65,7 +65,7 @@ def cell(data, target: str, split: str, estimator: str) -> dict:
 
 
 def build(dataset: Path, csv: Path = CSV) -> pd.DataFrame:
-    from rubdiag.dataset.store import atomic_write_text
+    from rubdiag._atomic import write_text
     from rubdiag.learn import read_dataset
 
     data = read_dataset(dataset)
@@ -79,7 +79,7 @@ def build(dataset: Path, csv: Path = CSV) -> pd.DataFrame:
                     continue
                 row = cell(data, target, split, estimator)
                 done = pd.concat([done, pd.DataFrame([row])], ignore_index=True)
-                atomic_write_text(csv, done.to_csv(index=False, float_format="%.6g"))
+                write_text(csv, done.to_csv(index=False, float_format="%.6g"))
                 print(f"{target:9s} {split:12s} {estimator:7s} macro-F1 {row['macro_f1']:.3f} "
                       f"[{row['macro_f1_lo']:.3f}, {row['macro_f1_hi']:.3f}]  best baseline "
                       f"{row[row['best_baseline']]:.3f}  ({row['wall_s']:.0f} s)", flush=True)

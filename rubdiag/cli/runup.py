@@ -7,6 +7,7 @@ import math
 import sys
 from pathlib import Path
 
+from rubdiag._atomic import write_text
 from rubdiag.cli._model import add_model_options, reduction
 
 
@@ -87,7 +88,7 @@ def _runup(args) -> int:
         summaries.append(summary)
         if not args.json:
             print(_line(name, summary))
-    _write_text(args.out / "summary.json", json.dumps(summaries, indent=2))
+    write_text(args.out / "summary.json", json.dumps(summaries, indent=2))
     any_run = next(iter(runs.values()))
     lo, hi = sorted((args.from_rpm, args.to_rpm))
     linear = linear_response(any_run, args.point, _rpm_grid(lo, hi))
@@ -161,13 +162,7 @@ def _line(name: str, s: dict) -> str:
 
 
 def _write_csv(table, path: Path) -> None:
-    _write_text(path, table.to_csv(index=False))
-
-
-def _write_text(path: Path, text: str) -> None:
-    tmp = path.with_name(f".{path.name}.tmp")
-    tmp.write_text(text, encoding="utf-8")
-    tmp.replace(path)
+    write_text(path, table.to_csv(index=False))
 
 
 def _figures(tracks: dict, linear, args) -> list[Path]:

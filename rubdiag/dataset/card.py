@@ -85,14 +85,15 @@ def column_map(columns, sensors=()) -> pd.DataFrame:
 
 def write_card(folder, design) -> None:
     """Write ``columns.csv`` and ``README.md`` of ``folder`` (a DatasetFolder)."""
-    from rubdiag.dataset.store import atomic_write_text, load
+    from rubdiag._atomic import write_text
+    from rubdiag.dataset.store import load
 
     rows = load(folder.root)
     columns = column_map(rows.columns, design.sensors)
     buffer = io.StringIO()
     columns.to_csv(buffer, index=False, lineterminator="\n")
-    atomic_write_text(folder.root / "columns.csv", buffer.getvalue())
-    atomic_write_text(folder.root / "README.md", card_text(rows, design, columns))
+    write_text(folder.root / "columns.csv", buffer.getvalue())
+    write_text(folder.root / "README.md", card_text(rows, design, columns))
 
 
 def _counts(rows: pd.DataFrame, column: str, order) -> str:

@@ -20,14 +20,15 @@ raises :class:`UnreadableFile`, a ``ValueError`` whose one-line message names th
 from __future__ import annotations
 
 import json
-import os
 from pathlib import Path
 
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-__all__ = ["UnreadableFile", "atomic_write_bytes", "atomic_write_text", "read_chunk",
-           "read_journal_row", "row_schema", "write_chunk", "write_journal_row"]
+from rubdiag._atomic import write_bytes
+
+__all__ = ["UnreadableFile", "read_chunk", "read_journal_row", "row_schema", "write_chunk",
+           "write_journal_row"]
 
 #: Columns every row has: a file without them is not a chunk of a dataset.
 _NEEDED = ("run_id", "status")
@@ -40,23 +41,6 @@ class UnreadableFile(ValueError):
     def __init__(self, path: Path, reason: str, advice: str = ""):
         super().__init__(f"{path}: unreadable ({reason})" + (f"; {advice}" if advice else ""))
         self.path, self.reason = Path(path), reason
-
-
-def atomic_write_bytes(path: Path, data: bytes) -> None:
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        with open(tmp, "wb") as f:
-            f.write(data)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
-
-
-def atomic_write_text(path: Path, text: str) -> None:
-    atomic_write_bytes(Path(path), text.encode("utf-8"))
 
 
 def row_schema(row: dict) -> pa.Schema:
@@ -79,7 +63,7 @@ def write_chunk(path: Path, rows: list[dict], schema: pa.Schema) -> None:
     table = pa.Table.from_pylist(rows, schema=schema)
     sink = pa.BufferOutputStream()
     pq.write_table(table, sink, compression="zstd", write_page_checksum=True)
-    atomic_write_bytes(path, sink.getvalue().to_pybytes())
+    write_bytes(path, sink.getvalue().to_pybytes())
 
 
 def read_chunk(path: Path, columns: list[str] | None = None) -> pa.Table:
@@ -108,7 +92,7 @@ def _reason(exc: Exception) -> str:
 
 # --- journal rows -----------------------------------------------------------------------------
 def write_journal_row(path: Path, row: dict) -> None:
-    atomic_write_bytes(path, json.dumps(row, allow_nan=True).encode("utf-8"))
+    write_bytes(path, json.dumps(row, allow_nan=True).encode("utf-8"))
 
 
 def read_journal_row(path: Path) -> dict:

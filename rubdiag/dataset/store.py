@@ -56,10 +56,9 @@ import numpy as np
 import pandas as pd
 import pyarrow as pa
 
+from rubdiag._atomic import write_bytes, write_text
 from rubdiag.dataset.chunks import (
     UnreadableFile,
-    atomic_write_bytes,
-    atomic_write_text,
     read_chunk,
     read_journal_row,
     row_schema,
@@ -134,7 +133,7 @@ class DatasetFolder:
         an interrupted job left half-written."""
         self.chunks_dir.mkdir(parents=True, exist_ok=True)
         if not (self.root / "design.toml").is_file():
-            atomic_write_text(self.root / "design.toml", design_toml)
+            write_text(self.root / "design.toml", design_toml)
         meta = self.meta() or {"format": _FORMAT, "schema_version": SCHEMA_VERSION}
         if acquisition is not None and meta.get("acquisition") != acquisition:
             meta["acquisition"] = acquisition
@@ -156,7 +155,7 @@ class DatasetFolder:
             raise ValueError(f"{path}: unreadable ({exc})") from None
 
     def write_meta(self, meta: dict) -> None:
-        atomic_write_text(self.root / "dataset.json", json.dumps(meta, indent=1) + "\n")
+        write_text(self.root / "dataset.json", json.dumps(meta, indent=1) + "\n")
 
     def schema(self) -> pa.Schema | None:
         columns = self.meta().get("columns")
@@ -323,7 +322,7 @@ def write_waveforms(root: str | Path, run_id: str, waves: dict, design) -> Path:
     sink = io.BytesIO()
     np.savez_compressed(sink, meta=np.array(json.dumps(meta)), **arrays)
     path = folder / f"{run_id}.npz"
-    atomic_write_bytes(path, sink.getvalue())
+    write_bytes(path, sink.getvalue())
     return path
 
 

@@ -22,12 +22,11 @@ from __future__ import annotations
 
 import io
 import json
-import os
 import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 
-from rubdiag.dataset.store import atomic_write_text
+from rubdiag._atomic import write_bytes, write_text
 
 __all__ = [
     "META_FILE",
@@ -135,20 +134,10 @@ def save_model(pipeline, model_dir: str | Path, meta: dict) -> Path:
     text = json.dumps({"format": _FORMAT, "format_version": _FORMAT_VERSION, **meta},
                       indent=1, allow_nan=False)
     model_dir.mkdir(parents=True, exist_ok=True)
-    _write_bytes_atomically(model_dir / MODEL_FILE, data)
-    atomic_write_text(model_dir / META_FILE, text + "\n")
+    write_bytes(model_dir / MODEL_FILE, data)
+    write_text(model_dir / META_FILE, text + "\n")
     return model_dir
 
-
-def _write_bytes_atomically(path: Path, data: bytes) -> None:
-    """A hidden temporary file in the same folder, renamed: the file is whole or absent."""
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        tmp.write_bytes(data)
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
 
 
 def is_model_dir(path: str | Path) -> bool:

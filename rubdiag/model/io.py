@@ -56,11 +56,9 @@ def save_rig(rig: Rig, path: str | Path) -> Path:
     """Write ``rig`` as TOML (SI units); ``load_rig`` reads it back equal."""
     import tomli_w
 
-    path = Path(path)
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(tomli_w.dumps(rig_to_dict(rig)), encoding="utf-8")
-    tmp.replace(path)
-    return path
+    from rubdiag._atomic import write_text
+
+    return write_text(path, tomli_w.dumps(rig_to_dict(rig)))
 
 
 def rig_to_dict(rig: Rig) -> dict:

@@ -15,9 +15,9 @@ same folder, then renamed); the folder must exist.
 from __future__ import annotations
 
 import dataclasses
+import io
 import itertools
 import json
-import os
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from rubdiag import _check
+from rubdiag._atomic import write_bytes
 from rubdiag._blas import one_thread
 from rubdiag._version import __version__
 from rubdiag.model.io import rig_from_dict, rig_to_dict
@@ -290,16 +291,9 @@ class SimulationResult:
             raise IsADirectoryError(f"{path}: is a folder; give a file name")
         if not path.parent.is_dir():   # say so before writing, naming the file asked for
             raise FileNotFoundError(f"{path}: the folder {path.parent} does not exist")
-        # a temporary file of this process in the same folder, renamed when complete: a
-        # reader never sees half a file, and parallel writers never share a temporary file
-        tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp.npz")
-        try:
-            np.savez_compressed(tmp, meta=np.array(json.dumps(meta)), **arrays)
-            tmp.replace(path)
-        except BaseException:
-            tmp.unlink(missing_ok=True)
-            raise
-        return path
+        sink = io.BytesIO()
+        np.savez_compressed(sink, meta=np.array(json.dumps(meta)), **arrays)
+        return write_bytes(path, sink.getvalue())     # a reader never sees half a file
 
 
 def load_result(path: str | Path) -> SimulationResult:
