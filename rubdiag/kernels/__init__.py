@@ -1,23 +1,26 @@
 """Numba kernels: sparse triangular solves, contact laws and the Newmark time loop.
 
 * :mod:`rubdiag.kernels.sparse_lu` — CSR products, SuperLU factors applied in Numba.
-* :mod:`rubdiag.kernels.contact` — one element's contact law (point–point, annular) and the
-  per-step contact solve in the Schur complement (Newton + augmented Lagrangian).
+* :mod:`rubdiag.kernels.elements` — the seam for nonlinear elements: local coordinates,
+  the law of each kind (:mod:`~rubdiag.kernels.point_contact`,
+  :mod:`~rubdiag.kernels.annular_contact`, with :mod:`~rubdiag.kernels.contact_books`) and
+  the per-step element solve in the Schur complement (Newton + augmented Lagrangian);
+  :mod:`rubdiag.kernels.extend` compiles a kernel that also knows kinds defined elsewhere.
 * :mod:`rubdiag.kernels.newmark` — the whole time loop (variable step, event log, energy),
-  on named bundles of arrays (``Linear``, ``Factors``, ``ContactSet``, ``State`` …).
+  on named bundles of arrays (``Linear``, ``Factors``, ``Elements``, ``State`` …).
 * :mod:`rubdiag.kernels.clock` — a CPU cycle counter for the kernels' profiled runs.
-* :mod:`rubdiag.kernels.layout` — the names of the rows and entries of the kernel's packed
-  state, work and log arrays.
+* :mod:`rubdiag.kernels.records` — the structured records the kernel and its caller share
+  (the run's parameters, the loop's counters, each element's record, the logs), by name.
 
 Kernel contract (see :mod:`rubdiag._numba`): float64 / int64 C-contiguous arrays and scalars in
 SI units, outputs and work arrays preallocated by the caller, status codes instead of
 exceptions. The public door is :mod:`rubdiag.simulate`.
 
 Numba's on-disk cache is keyed on the source file of the *called* kernel only:
-``newmark_contact`` inlines code from ``contact.py`` and ``sparse_lu.py``, and its cache entry
-would not be invalidated when only those files change. :func:`ensure_fresh_cache` drops the
-whole cache when any kernel source changed; callers run it before their first kernel call
-(importing the package has no side effect).
+``newmark_contact`` inlines code from ``elements.py``, the kinds' modules and
+``sparse_lu.py``, and its cache entry would not be invalidated when only those files
+change. :func:`ensure_fresh_cache` drops the whole cache when any kernel source changed;
+callers run it before their first kernel call (importing the package has no side effect).
 """
 
 from pathlib import Path

@@ -29,23 +29,27 @@ starts on a multiple of its own tick length; growing to k-1 requires the tick to
 to the larger step. A trial step is rejected and retried one level down when (i) the contact
 iteration fails (Newton or augmentation cap, singular Jacobian), (ii) an element that was
 open at the step start ends it deeper than ``gap_jump``, or (it jumps straight to that
-level) (iii) an element closed at the start or end of the step needs a smaller step by the
-contact-stiffness criterion (``lev_req``). At the smallest level (i) stops the run with
-``STATUS_NO_CONVERGENCE`` and (ii) is accepted and counted. After ``grow_after`` accepted
-steps at a level the step doubles (when aligned, and not below any closed element's
-``lev_req``). In fixed-step mode nothing is rejected: (i) stops the run.
+level) (iii) an element closed at the start or end of the step needs a smaller step by its
+step requirement (``lev_req``; for contacts the contact-stiffness criterion). At the
+smallest level (i) stops the run with ``STATUS_NO_CONVERGENCE`` and (ii) is accepted and
+counted. After ``grow_after`` accepted steps at a level the step doubles (when aligned, and
+not below any closed element's ``lev_req``). In fixed-step mode nothing is rejected: (i)
+stops the run.
 
 The kernel, part by part. :func:`newmark_contact` is the step controller: the loop, the
 order of the parts, rejections and level changes. A trial step:
 :func:`~rubdiag.kernels.load.load_factors` (the load's factors at the step's ends, once per
 group of terms by order and law), :func:`_rhs_average` (or
-:func:`_rhs_general`, γ != 1/2), the linear solve (``lu_solve``, or a product with the dense
-inverse), :func:`_contact_inputs` and :func:`~rubdiag.kernels.contact.solve_contact` (the
-contact Newton solve in the Schur complement), :func:`_level_needed` (abrupt closing,
-contact stiffness). The accept: :func:`_increment` (``dq += S Δp``), :func:`_mk_products`
-(M dq, K dq and the viscous dissipation in one pass; dense: :func:`_dissipation`),
+:func:`_rhs_general` and :func:`_load_increment`, γ != 1/2), the linear solve
+(``lu_solve``, or a product with the dense inverse), :func:`_clock` (the step's times and the
+shaft's angle for the element laws), :func:`_element_inputs` and
+:func:`~rubdiag.kernels.elements.solve_elements` (the nonlinear elements' Newton solve in the
+Schur complement, each element's law by its kind: the seam of
+:mod:`rubdiag.kernels.elements`), :func:`_level_needed` (abrupt closing, each element's step
+requirement). The accept: :func:`_increment` (``dq += S Δp``), :func:`_mk_products` (M dq, K
+dq and the viscous dissipation in one pass; dense: :func:`_dissipation`),
 :func:`_new_state`. The books: :func:`_energy_ledger`, :func:`_log_episodes` (episodes and
-status segments), :func:`_commit_contacts` (totals, maxima, the new contact state). Then
+status segments), :func:`_commit_elements` (totals, maxima, the elements' new state). Then
 :func:`_advance` (the clock, step growth) and :func:`_record` / :func:`_record_sensors` at
 the sample ticks.
 
@@ -61,14 +65,13 @@ inlined). What is left is the call itself, about 15 ns with 20 arrays; ``_increm
 µs per step slower as calls). Inlining the others brings reference counts back into the
 controller (``_add_columns`` is inlined into its two callers for the same reason).
 ``tests/kernels/test_reference_counts.py`` compiles without the disk cache and counts the
-calls to ``NRT_incref`` in each part's IR: none in the per-step parts, 170 in the
-controller (the records, ``_recover`` and the failure paths have some, as before the
-split).
+calls to ``NRT_incref`` in each part's IR: none in the per-step parts, a bounded number in
+the controller (the records, ``_recover`` and the failure paths have some).
 
 Everything is preallocated by the caller (:mod:`rubdiag.simulate.system`); the kernel can be
-re-entered: all state lives in the arrays passed in. The rows of the packed arrays (``cf``,
-``ci``, ``ciw``, the work rows, ``fpar``, ``ipar`` …) are named in
-:mod:`rubdiag.kernels.layout`.
+re-entered: all state lives in the arrays passed in. The run's parameters, the loop's
+counters and clock, each element's record and the logs are structured arrays whose fields
+are named in :mod:`rubdiag.kernels.records` (``run[0].dt``, ``prog[0].tick`` …).
 """
 
 from __future__ import annotations
@@ -79,137 +82,27 @@ import numpy as np
 
 from rubdiag._numba import njit
 from rubdiag.kernels.clock import cycles
-from rubdiag.kernels.contact import (
+from rubdiag.kernels.elements import (
     AUGMENT_PENDING,
-    KIND_POINT,
     NONFINITE,
+    add_bt_p,
+    local_coords,
+    solve_elements,
+)
+from rubdiag.kernels.load import _shaft, load_factors
+from rubdiag.kernels.records import (
+    D_LIN,
+    D_NEW,
     OPEN,
+    P_NEW,
     SLIDING,
     STICKING,
-    solve_contact,
+    V2,
+    X_N,
+    XA_N,
+    XV_N,
+    V,
 )
-from rubdiag.kernels.layout import (
-    CF_E,
-    CF_EP_PEAK_FN,
-    CF_EP_SLIDE_IMPULSE,
-    CF_EP_SLIDE_TIME,
-    CF_EP_START,
-    CF_EP_STICK_IMPULSE,
-    CF_EP_STICK_TIME,
-    CF_FN,
-    CF_FT,
-    CF_GAP,
-    CF_LAM,
-    CF_SEG_START,
-    CF_SLIP,
-    CF_Z,
-    CI_EP_SLIDE_ENTRIES,
-    CI_EP_STEPS,
-    CI_EP_STICK_ENTRIES,
-    CI_STATUS,
-    CR_E,
-    CR_E_TRIAL,
-    CR_FN,
-    CR_FT,
-    CR_GAP,
-    CR_Z,
-    EN_CONTACT,
-    EN_D_FRIC,
-    EN_D_NUM,
-    EN_D_VISC,
-    EN_KINETIC,
-    EN_STRAIN,
-    EN_W_DRIVE,
-    EN_W_EXT,
-    EPF_PEAK_FN,
-    EPF_SLIDE_IMPULSE,
-    EPF_SLIDE_TIME,
-    EPF_STICK_IMPULSE,
-    EPF_STICK_TIME,
-    EPF_T_END,
-    EPF_T_START,
-    EPI_COMPLETE,
-    EPI_ELEMENT,
-    EPI_SLIDE_ENTRIES,
-    EPI_STEPS,
-    EPI_STICK_ENTRIES,
-    F_CONE_EXCESS,
-    F_D_FRIC,
-    F_D_NUM,
-    F_D_VISC,
-    F_E_CONTACT,
-    F_FAIL_TIME,
-    F_W_DRIVE,
-    F_W_EXT,
-    FP_AUG_SHIFT,
-    FP_BETA,
-    FP_DT,
-    FP_GAMMA,
-    FP_GAP_JUMP,
-    FP_NEWTON_TOL,
-    FP_T_RAMP,
-    I_AUG_MAX,
-    I_AUG_PENDING,
-    I_AUG_TOTAL,
-    I_FAIL_CODE,
-    I_FAIL_ELEMENT,
-    I_LEVEL,
-    I_N_ABRUPT_AT_MIN,
-    I_N_ACCEPTED,
-    I_N_EPISODES,
-    I_N_LEVEL_CHANGES,
-    I_N_REJ_ABRUPT,
-    I_N_REJ_NEWTON,
-    I_N_SEGMENTS,
-    I_NEWTON_MAX,
-    I_NEWTON_TOTAL,
-    I_QUIET,
-    I_SAMPLE0_DONE,
-    I_TICK,
-    IP_AUG_STRICT,
-    IP_COUPLED,
-    IP_FIXED,
-    IP_GROW_AFTER,
-    IP_MAX_AUG,
-    IP_MAX_NEWTON,
-    IP_N_LEV,
-    IP_OUT_TICKS,
-    IP_SEN_TICKS,
-    IP_TICK_END,
-    MX_FN,
-    MX_FT,
-    MX_PENETRATION,
-    P_CONTACT,
-    P_LEDGER,
-    P_OUTPUT,
-    P_RHS,
-    P_SIZE,
-    P_SOLVE,
-    P_UPDATE,
-    PROFILE_SECTIONS,
-    SGF_T_END,
-    SGF_T_START,
-    SGI_ELEMENT,
-    SGI_STATUS,
-    TOT_FN_IMPULSE,
-    TOT_FT_IMPULSE,
-    TOT_TIME,
-    WC_D_LIN,
-    WC_D_NEW,
-    WC_P_NEW,
-    WC_V,
-    WC_V2,
-    WCN_DRIVE,
-    WCN_GAP,
-    WCN_GAP_START,
-    WCN_LAM,
-    WN_DQ,
-    WN_KDQ,
-    WN_MDQ,
-    WN_RHS,
-    WN_X,
-)
-from rubdiag.kernels.load import load_factors
 from rubdiag.kernels.sparse_lu import csr_matvec, lu_solve
 
 __all__ = [
@@ -219,7 +112,9 @@ __all__ = [
     "STATUS_LOG_FULL",
     "STATUS_NONFINITE",
     "STATUS_NO_CONVERGENCE",
-    "ContactSet",
+    "WC_SIZE",
+    "WN_SIZE",
+    "Elements",
     "Factors",
     "Force",
     "Linear",
@@ -232,14 +127,33 @@ __all__ = [
 
 # kernel return codes
 STATUS_DONE = 0  # reached tick_end
-STATUS_NO_CONVERGENCE = 1  # contact iteration failed at the smallest step
+STATUS_NO_CONVERGENCE = 1  # element solve failed at the smallest step
 STATUS_NONFINITE = 2  # non-finite state
 STATUS_LOG_FULL = 3  # a log (episodes, segments, level changes) is full: caller grows it
+
+# rows of the work ``wn`` (WN_SIZE, n); ``wc`` (WC_SIZE, m) rows are the seam's
+WN_X = 0  # operand of the gamma != 1/2 products
+WN_RHS = 1  # right-hand side; at the accept, plus Bᵀ Δp: the system dq solves
+WN_DQ = 2  # displacement increment
+WN_KDQ = 3  # work of the LU solve, then K dq
+WN_MDQ = 4  # C x (gamma != 1/2), then M dq
+WN_SIZE = 5
+WC_SIZE = 5
+
+# CPU cycles per section of a step, in a profiled run (``prof`` (P_SIZE) int64)
+P_RHS = 0  # right-hand side of the increment equation (force, M v, K q, Bᵀp)
+P_SOLVE = 1  # the linear solve with K_eff
+P_CONTACT = 2  # element predictor, the element Newton solve, the level check
+P_UPDATE = 3  # accept: dq += S Δp, M dq and K dq, the new state
+P_LEDGER = 4  # energy ledger, episodes and totals, committing the elements' state
+P_OUTPUT = 5  # step-size control and the recorded samples
+P_SIZE = 6
+PROFILE_SECTIONS = ("rhs", "solve", "contact", "update", "ledger", "output")
 
 
 # The kernel's arrays in named bundles (Numba compiles namedtuples of arrays as records: a
 # swapped pair of same-typed arrays is a wrong name here, not a silent wrong result). n DOF,
-# n_c contacts, L step levels; float64 unless int64.
+# n_e nonlinear elements with m local coordinates, L step levels; float64 unless int64.
 #: The linear system: CSR of M and C (``m_ptr, m_idx, m_val``, ``c_*``; used by γ != 1/2
 #: only), the union pattern of M and K in CSR with both value arrays (``mk_ptr``,
 #: ``mk_idx``, ``mk_m``, ``mk_k``). A dense system (a reduced model) also gives M and K as
@@ -248,57 +162,52 @@ Linear = namedtuple("Linear", "m_ptr m_idx m_val c_ptr c_idx c_val mk_ptr mk_idx
                     "m_dense k_dense")
 #: Per step level (first axis L): K_eff's SuperLU factors as CSR without diagonals
 #: (``l_ptr`` (L, n+1), ``l_idx``/``l_val`` (L, nnz_max), ``l_dinv`` (L, n) the inverse
-#: diagonal, the same for U, ``perm_r``/``perm_c`` (L, n)), ``s_mat`` (L, 2n_c, n) =
-#: (K_eff^-1 Bᵀ)ᵀ and ``w_mat`` (L, 2n_c, 2n_c) = B S. A dense system gives ``inv_t`` =
+#: diagonal, the same for U, ``perm_r``/``perm_c`` (L, n)), ``s_mat`` (L, m, n) =
+#: (K_eff^-1 Bᵀ)ᵀ and ``w_mat`` (L, m, m) = B S. A dense system gives ``inv_t`` =
 #: (K_eff^-1)ᵀ (L, n, n) instead of the LU factors (a sparse one an empty (L, 0, 0)).
 Factors = namedtuple("Factors", "l_ptr l_idx l_val l_dinv u_ptr u_idx u_val u_dinv "
                      "perm_r perm_c s_mat w_mat inv_t")
 #: The external load: term j is f_j(t) = Re((re + i im) z_g(t)) (N) at DOF ``dof`` (int),
 #: with the factor z_g of its group g = ``group[j]`` (int). A group's ``law`` row (G, 3) is
 #: (ω, order k, code) and ``table`` (G, n_knots, 2) its (Ω, factor) knots
-#: (:mod:`rubdiag.kernels.load`); ``rot`` (n_knots, 3) the knots (t, Ω, φ) of a speed
-#: profile, one knot (1, 3) for constant speed (z = e^{iωt}); ``zt`` (G, 4) work: each
-#: group's factor at both ends of the step (:func:`~rubdiag.kernels.load.load_factors`).
+#: (:mod:`rubdiag.kernels.load`); ``rot`` (n_knots, 3) the knots (t, Ω, φ) of the shaft's
+#: speed, one knot (1, 3) for constant speed; ``zt`` (G, 4) work: each group's factor at
+#: both ends of the step (:func:`~rubdiag.kernels.load.load_factors`).
 Force = namedtuple("Force", "dof re im group law table rot zt")
-#: The contact elements (n_c): ``kind`` (int), ``dof`` (n_c, 4) int (a_y, a_z, b_y, b_z,
-#: -1 = ground), ``basis`` (n_c, 4) rows of the local 2x2 basis, ``g0``, ``gstart`` (m: the
-#: gap, and the gap at t = 0 of a gap ramp), ``kn``, ``kt`` (N/m), ``mu``, ``aug`` (int: 1 =
-#: augmented Lagrangian), ``eps`` (m), ``speed`` (Ω R, m/s), ``lev_req`` (int) the smallest
-#: level at which a step with the element closed is allowed (contact-stiffness criterion),
-#: ``aug_k`` (L, n_c) the multiplier update stiffness per level (N/m).
-ContactSet = namedtuple("ContactSet", "kind dof basis g0 gstart kn kt mu aug eps speed "
-                        "lev_req aug_k")
+#: The nonlinear elements (:mod:`rubdiag.kernels.elements`): ``el`` (n_e) records.ELEMENT,
+#: ``rmap`` (m, 3) int and ``tmat`` (m, N_LOCAL_MAX) their local coordinates, ``par``
+#: (n_e, n_par) their parameters, ``aug_k`` (L, n_e) the multiplier update stiffness of each
+#: (N/m) at each step level.
+Elements = namedtuple("Elements", "el rmap tmat par aug_k")
 #: The state carried from step to step (and from call to call): ``q, v, a`` (n), ``mv = M v``
-#: and ``kq = K q`` (n, tracked incrementally), ``pc``, ``dc`` (2n_c) contact forces and
-#: displacements, ``cf`` (CF_SIZE, n_c) and ``ci`` (CI_SIZE, n_c) int each element's state
-#: and current episode, ``istate`` (I_SIZE) int counters, ``fstate`` (F_SIZE) the energy
-#: ledger.
-State = namedtuple("State", "q v a mv kq pc dc cf ci istate fstate")
-#: The recorded samples (every ``ipar[IP_OUT_TICKS]`` ticks): ``q`` (n_out, n_rec) at
-#: ``rec_dof`` (int); per element ``fn``, ``ft``, ``st`` (int), ``gap``, ``slip`` (n_out,
-#: n_c); ``en`` (n_out, EN_SIZE) the energy ledger; and the sensor stream (every
-#: ``ipar[IP_SEN_TICKS]`` ticks, a multiple of the largest step, so samples are step ends):
-#: ``sq``, ``sv``, ``sa`` (n_sen_out, n_s) displacement, velocity, acceleration at
-#: ``sen_dof`` — the integrator's own state, not differences. Recorded values are
-#: ``q[rec_dof]`` (``q[sen_dof]``), or, when ``rec_map`` (n, n_rec) and ``sen_map`` (n, n_s)
-#: are not empty, the recovered ``rec_mapᵀ q`` (``sen_mapᵀ q``): the physical DOFs of a
-#: reduced model.
-Outputs = namedtuple("Outputs", "rec_dof q fn ft st gap slip en sen_dof sq sv sa rec_map "
-                     "sen_map")
+#: and ``kq = K q`` (n, tracked incrementally), ``pc`` (m) the elements' local forces,
+#: ``xs`` (3, m) their local displacement, velocity and acceleration, ``es`` (2, n_e, n_s)
+#: each element's own state (committed, trial), ``track`` (n_e) records.TRACK each
+#: element's record and current episode, ``prog`` (1) records.PROGRESS the loop's counters,
+#: ledger and clock.
+State = namedtuple("State", "q v a mv kq pc xs es track prog")
+#: The recorded samples (every ``run.out_ticks`` ticks): ``q`` (n_out, n_rec) at ``rec_dof``
+#: (int); ``el`` (n_out, n_e) records.SAMPLE each element's record; ``en`` (n_out)
+#: records.ENERGY the energy ledger; and the sensor stream (every ``run.sen_ticks`` ticks, a
+#: multiple of the largest step, so samples are step ends): ``sq``, ``sv``, ``sa`` (n_sen_out,
+#: n_s) displacement, velocity, acceleration at ``sen_dof`` — the integrator's own state,
+#: not differences. Recorded values are ``q[rec_dof]`` (``q[sen_dof]``), or, when
+#: ``rec_map`` (n, n_rec) and ``sen_map`` (n, n_s) are not empty, the recovered ``rec_mapᵀ
+#: q`` (``sen_mapᵀ q``): the physical DOFs of a reduced model.
+Outputs = namedtuple("Outputs", "rec_dof q el en sen_dof sq sv sa rec_map sen_map")
 #: Event logs and totals (the caller grows the logs on STATUS_LOG_FULL): the ended episodes
-#: ``ep_f`` (cap, EPF_SIZE), ``ep_i`` (cap, EPI_SIZE) int; every status segment (a maximal
-#: run of one closed status: steps count with their end-of-step status, an episode's
-#: interpolated start and end bound its first and last segment) ``sg_f``, ``sg_i`` (cap,
-#: SG_SIZE); the level changes ``lv_t``, ``lv_l`` (int); ``tot`` (n_c, TOT_SIZE) time,
-#: normal and tangential impulse per status; ``mx`` (n_c, MX_SIZE) largest F_N, |F_T|,
-#: penetration; ``lvl_count`` (L) int accepted steps per level.
-Logs = namedtuple("Logs", "ep_f ep_i sg_f sg_i lv_t lv_l tot mx lvl_count")
-#: Work arrays (nothing is allocated in the loop): ``wn`` (WN_SIZE, n), ``wc`` (WC_SIZE,
-#: 2n_c), ``wcn`` (WCN_SIZE, n_c), ``wm`` (2n_c, 2n_c), ``jac`` (n_c, 4), ``iwork`` (5 n_c)
-#: int, ``ciw`` (CR_SIZE, n_c) the contact solve's results; and ``prof`` (P_SIZE) int64, the
-#: CPU cycles per section of a step (``P_*``), counted when not empty (an empty array costs
-#: one branch per section).
-Work = namedtuple("Work", "wn wc wcn wm jac iwork ciw prof")
+#: ``ep`` (cap) records.EPISODE; every status segment (a maximal run of one engaged status:
+#: steps count with their end-of-step status, an episode's interpolated start and end bound
+#: its first and last segment) ``sg`` (cap) records.SEGMENT; the level changes ``lv_t``,
+#: ``lv_l`` (int); ``stats`` (n_e) records.STATS totals and maxima per element; ``lvl_count``
+#: (L) int accepted steps per level.
+Logs = namedtuple("Logs", "ep sg lv_t lv_l stats lvl_count")
+#: Work arrays (nothing is allocated in the loop): ``wn`` (WN_SIZE, n), ``wc`` (WC_SIZE, m),
+#: ``wm`` (m, m), ``jac`` (m, N_LOCAL_MAX), ``iwork`` (4 m) int, ``trial`` (n_e)
+#: records.TRIAL each element's law at the trial state; and ``prof`` (P_SIZE) int64,
+#: the CPU cycles per section of a step (``P_*``), counted when not empty (an empty array
+#: costs one branch per section).
+Work = namedtuple("Work", "wn wc wm jac iwork trial prof")
 
 
 @njit(error_model="numpy", inline="always")
@@ -385,49 +294,11 @@ def _recover(mapt, dofs, x, out):
         _matvec_t(mapt, x, out)
 
 
-@njit(error_model="numpy", inline="always")
-def _gaps_at(t, g0, gstart, t_ramp, out):
-    """The gaps at time ``t``: ``g0``, or on the gap ramp (``t < t_ramp``) linearly from
-    ``gstart`` at t = 0."""
-    ramp = t_ramp > 0.0 and t < t_ramp
-    frac = 1.0 - t / t_ramp if ramp else 0.0
-    for e in range(g0.shape[0]):
-        out[e] = g0[e] + (gstart[e] - g0[e]) * frac if ramp else g0[e]
-
-
-@njit
-def _contact_coords(c_dof, c_basis, qv, out):
-    """Local contact displacements ``out = B qv`` (2 n_c)."""
-    for e in range(c_dof.shape[0]):
-        uy = qv[c_dof[e, 0]]
-        uz = qv[c_dof[e, 1]]
-        if c_dof[e, 2] >= 0:
-            uy -= qv[c_dof[e, 2]]
-        if c_dof[e, 3] >= 0:
-            uz -= qv[c_dof[e, 3]]
-        out[2 * e] = c_basis[e, 0] * uy + c_basis[e, 1] * uz
-        out[2 * e + 1] = c_basis[e, 2] * uy + c_basis[e, 3] * uz
-
-
-@njit
-def _add_bt_p(c_dof, c_basis, p, scale, out):
-    """``out += scale B^T p`` for the local contact forces p (2 n_c)."""
-    for e in range(c_dof.shape[0]):
-        fy = c_basis[e, 0] * p[2 * e] + c_basis[e, 2] * p[2 * e + 1]
-        fz = c_basis[e, 1] * p[2 * e] + c_basis[e, 3] * p[2 * e + 1]
-        out[c_dof[e, 0]] += scale * fy
-        out[c_dof[e, 1]] += scale * fz
-        if c_dof[e, 2] >= 0:
-            out[c_dof[e, 2]] -= scale * fy
-        if c_dof[e, 3] >= 0:
-            out[c_dof[e, 3]] -= scale * fz
-
-
-# ---- a trial step: the linear predictor, the contact solve's inputs, the level check
+# ---- a trial step: the linear predictor, the elements' inputs, the level check
 
 
 @njit(error_model="numpy")
-def _rhs_average(h, mv, kq, pc, f_dof, f_re, f_im, f_group, zt, c_dof, c_basis, rhs):
+def _rhs_average(h, mv, kq, pc, f_dof, f_re, f_im, f_group, zt, el, rmap, tmat, rhs):
     """``rhs`` of the increment equation for average acceleration (module docstring):
     ``f_{n+1} + f_n + 2 Bᵀ p_n + 4/h M v_n - 2 K q_n``, no product."""
     # r_n = M (4/h v + 2 a) + 2 C v = 4/h M v + 2 (f_n + B^T p_n - K q)
@@ -436,15 +307,17 @@ def _rhs_average(h, mv, kq, pc, f_dof, f_re, f_im, f_group, zt, c_dof, c_basis, 
         rhs[i] = c4 * mv[i] - 2.0 * kq[i]
     # + Δf + 2 f_n = f_{n+1} + f_n
     _add_force(f_dof, f_re, f_im, f_group, zt, 0, 1.0, rhs)
-    _add_bt_p(c_dof, c_basis, pc, 2.0, rhs)
+    add_bt_p(el, rmap, tmat, pc, 2.0, rhs)
     _add_force(f_dof, f_re, f_im, f_group, zt, 2, 1.0, rhs)
 
 
 @njit(error_model="numpy")
-def _rhs_general(nb, ng, h, v, a, f_dof, f_re, f_im, f_group, zt, m_ptr, m_idx, m_val,
-                 c_ptr, c_idx, c_val, x, cx, rhs):
-    """``rhs`` of the increment equation for Newmark β = ``nb``, γ = ``ng``: ``Δf + M (v_n
-    / (β h) + a_n / (2β)) + C (γ/β v_n - h (1 - γ/(2β)) a_n)``; ``x``, ``cx`` (n) work."""
+def _rhs_general(run, h, v, a, m_ptr, m_idx, m_val, c_ptr, c_idx, c_val, x, cx, rhs):
+    """``rhs`` of the increment equation for Newmark β, γ (``run``) without the load:
+    ``M (v_n / (β h) + a_n / (2β)) + C (γ/β v_n - h (1 - γ/(2β)) a_n)``; ``x``, ``cx`` (n)
+    work. :func:`_load_increment` adds Δf."""
+    nb = run[0].beta
+    ng = run[0].gamma
     ca2 = 1.0 / (nb * h)
     ca3 = 1.0 / (2.0 * nb)
     for i in range(rhs.shape[0]):
@@ -457,40 +330,64 @@ def _rhs_general(nb, ng, h, v, a, f_dof, f_re, f_im, f_group, zt, m_ptr, m_idx, 
     csr_matvec(c_ptr, c_idx, c_val, x, cx)
     for i in range(rhs.shape[0]):
         rhs[i] += cx[i]
+
+
+@njit(error_model="numpy")
+def _load_increment(f_dof, f_re, f_im, f_group, zt, rhs):
+    """``rhs += f(t_1) - f(t_n)``."""
     _add_force(f_dof, f_re, f_im, f_group, zt, 0, -1.0, rhs)
     _add_force(f_dof, f_re, f_im, f_group, zt, 2, 1.0, rhs)
 
 
 @njit(error_model="numpy")
-def _contact_inputs(h, t_1, t_ramp, dq, dc, c_dof, c_basis, c_g0, c_gstart, c_speed,
-                    d_lin, gap, lam, drive):
-    """What the contact solve starts from: the predictor's contact displacements ``d_lin =
-    B (q + dq_lin) = d_n + B dq_lin``, the gaps at the step end, the multipliers and each
-    element's surface travel Ω R h."""
-    _contact_coords(c_dof, c_basis, dq, d_lin)
-    for i in range(d_lin.shape[0]):
-        d_lin[i] += dc[i]
-    _gaps_at(t_1, c_g0, c_gstart, t_ramp, gap)
-    for e in range(lam.shape[0]):
+def _clock(run, prog, rot, t_n, t_1, h):
+    """The trial step's clock in ``prog`` for the element laws: its ends and length, the
+    shaft's speed and angle at its end (``rot``: :data:`Force`), and the Newmark velocity
+    relation ``v_1 = cv Δq + cvv v_n + cva a_n``."""
+    nb = run[0].beta
+    ng = run[0].gamma
+    kinematics = run[0].kinematics != 0
+    prog[0].t_n = t_n
+    prog[0].t_1 = t_1
+    prog[0].h = h
+    w, _, phi = _shaft(rot, t_1)    # (the search is over a few knots, and always done)
+    prog[0].omega = w
+    prog[0].phi = phi
+    if kinematics:      # the divisions only for the kinds that read the rates
+        prog[0].cv = ng / (nb * h)
+        prog[0].cvv = 1.0 - ng / nb
+        prog[0].cva = h * (1.0 - ng / (2.0 * nb))
+
+
+@njit(error_model="numpy")
+def _element_inputs(dq, xs, el, rmap, tmat, wc, trial):
+    """What the element solve starts from: the predictor's local displacements ``d_lin =
+    B (q + dq_lin) = d_n + B dq_lin``, and the multipliers."""
+    local_coords(el, el.shape[0], rmap, tmat, dq, wc, D_LIN)
+    for i in range(wc.shape[1]):
+        wc[D_LIN, i] += xs[X_N, i]
+    for e in range(el.shape[0]):
         # multipliers are iterated from 0 within each step (no carry-over: a multiplier
         # kept while the penetration shrinks pushes the contact open impulsively)
-        lam[e] = 0.0
-        drive[e] = c_speed[e] * h
+        trial[e].lam = 0.0
 
 
 @njit
-def _level_needed(lev, fpar, ci, st_new, ciw, lev_req):
+def _level_needed(run, lev, el, track, trial):
     """The level a converged step at ``lev`` must be retried at (``lev``: none): one down
-    when an element open at the start ends deeper than ``fpar[FP_GAP_JUMP]`` (an abrupt
-    closing), and at least the ``lev_req`` of every element closed at the start or end."""
-    gap_jump = fpar[FP_GAP_JUMP]
+    when an element open at the start ends deeper than ``run.gap_jump`` (an abrupt
+    closing), and at least the ``lev_req`` of every element engaged at the start or end."""
+    gap_jump = run[0].gap_jump
     need = lev
-    for e in range(st_new.shape[0]):
-        was_open = ci[CI_STATUS, e] == OPEN
-        if was_open and st_new[e] != OPEN and -ciw[CR_GAP, e] > gap_jump:
+    for e in range(el.shape[0]):
+        was_open = track[e].status == OPEN
+        now_open = trial[e].status == OPEN
+        depth = -trial[e].gap
+        lev_req = el[e].lev_req
+        if was_open and not now_open and depth > gap_jump:
             need = max(need, lev + 1)
-        if (not was_open or st_new[e] != OPEN) and lev_req[e] > need:
-            need = lev_req[e]
+        if (not was_open or not now_open) and lev_req > need:
+            need = lev_req
     return need
 
 
@@ -498,7 +395,7 @@ def _level_needed(lev, fpar, ci, st_new, ciw, lev_req):
 
 
 @njit(inline="always")
-def _increment(lev, s_mat, pc, p_new, c_dof, c_basis, dp, dq, rhs):
+def _increment(lev, s_mat, pc, p_new, el, rmap, tmat, dp, dq, rhs):
     """The accepted step's increment ``dq += S Δp`` (Δp = ``p_new - pc``, into ``dp``) and
     ``rhs += Bᵀ Δp``: the right-hand side ``K_eff dq = rhs`` actually solved."""
     for j in range(dp.shape[0]):
@@ -507,7 +404,7 @@ def _increment(lev, s_mat, pc, p_new, c_dof, c_basis, dp, dq, rhs):
         if dpj != 0.0:
             for i in range(dq.shape[0]):
                 dq[i] += dpj * s_mat[lev, j, i]
-    _add_bt_p(c_dof, c_basis, dp, 1.0, rhs)
+    add_bt_p(el, rmap, tmat, dp, 1.0, rhs)
 
 
 @njit(error_model="numpy")
@@ -572,263 +469,281 @@ def _new_state(nb, ng, h, dq, mdq, kdq, q, v, a, mv, kq):
         mv[i] = _normal(cmv * mdq[i] - mv[i])  # M v_{n+1} = 2/h M dq - M v_n (trapezoid)
 
 
-# ---- the books: energy, episodes and segments, totals, the contact state
+# ---- the books: energy, episodes and segments, totals, the elements' state
 
 
 @njit(error_model="numpy")
-def _energy_ledger(h, t_n, t_1, t_ramp, dvisc, dq, f_dof, f_re, f_im, f_group, zt, pc, p_new,
-                   st_new, ciw, cf, c_dof, c_basis, c_g0, c_gstart, c_kn, c_kt, c_speed, gap,
-                   gap_start, bdq, fstate):
-    """The energy ledger of the accepted step (``fstate``): the external work, the viscous
-    dissipation (``dvisc / h``), and the contact terms: the drive work (the prescribed gap
-    motion, the surface travel), the friction dissipation, the contact elastic energy, and
-    the algorithmic remainder of the work the contact forces did on the structure, ``B dq ·
-    (p_n + p_{n+1}) / 2``. Reads ``cf`` before the commit."""
-    fstate[F_D_VISC] += dvisc / h
-    fstate[F_W_EXT] += _force_work(f_dof, f_re, f_im, f_group, zt, dq)
-    _contact_coords(c_dof, c_basis, dq, bdq)
+def _energy_ledger(prog, dvisc, dq, f_dof, f_re, f_im, f_group, zt, pc, el, rmap, tmat, wc,
+                   trial):
+    """The energy ledger of the accepted step (``prog``): the external work, the viscous
+    dissipation (``dvisc / h``), and the elements' terms (each law's trial record): the
+    drive work (the prescribed gap motion, the surface travel), the friction dissipation,
+    the elastic energy stored, and the algorithmic remainder of the work the element forces
+    did on the structure, ``B dq · (p_n + p_{n+1}) / 2``. Reads the committed state."""
+    h = prog[0].h
+    prog[0].d_visc += dvisc / h
+    prog[0].w_ext += _force_work(f_dof, f_re, f_im, f_group, zt, dq)
+    local_coords(el, el.shape[0], rmap, tmat, dq, wc, V)
     w_struct = 0.0
-    for i in range(bdq.shape[0]):
-        w_struct += bdq[i] * 0.5 * (p_new[i] + pc[i])
+    for i in range(wc.shape[1]):
+        w_struct += wc[V, i] * 0.5 * (wc[P_NEW, i] + pc[i])
     wdrive = 0.0
     dfric = 0.0
     ec = 0.0
-    ramp = t_ramp > 0.0 and t_n < t_ramp
-    _gaps_at(t_n, c_g0, c_gstart, t_ramp, gap_start)
-    for e in range(st_new.shape[0]):
-        fn = ciw[CR_FN, e]
-        ft = ciw[CR_FT, e]
-        if ramp:
-            # work of the prescribed gap motion on the contact (trapezoid)
-            wdrive -= 0.5 * (fn + cf[CF_FN, e]) * (gap[e] - gap_start[e])
-        if st_new[e] != OPEN:
-            ec += 0.5 * fn * fn / c_kn[e] + 0.5 * ft * ft / c_kt[e]
-            wdrive -= ft * c_speed[e] * h
-            if st_new[e] == SLIDING:
-                dfric += abs(ft) * abs(ciw[CR_E_TRIAL, e] - ciw[CR_E, e])
-    fstate[F_W_DRIVE] += wdrive
-    fstate[F_D_FRIC] += dfric
-    fstate[F_D_NUM] += -w_struct + wdrive - (ec - fstate[F_E_CONTACT]) - dfric
-    fstate[F_E_CONTACT] = ec
+    for e in range(el.shape[0]):
+        engaged = trial[e].status != OPEN
+        w_ramp = trial[e].w_ramp
+        elastic = trial[e].elastic
+        w_surface = trial[e].w_surface
+        dissipated = trial[e].dissipated
+        wdrive -= w_ramp
+        if engaged:
+            ec += elastic
+            wdrive -= w_surface
+            dfric += dissipated
+    prog[0].w_drive += wdrive
+    prog[0].d_fric += dfric
+    prog[0].d_num += -w_struct + wdrive - (ec - prog[0].e_contact) - dfric
+    prog[0].e_contact = ec
 
 
 @njit
-def _log_segment(sg_f, sg_i, istate, e, status, t_start, t_end):
-    """Log element ``e``'s segment of one closed ``status`` from ``t_start`` to ``t_end``."""
-    k = istate[I_N_SEGMENTS]
-    sg_f[k, SGF_T_START] = t_start
-    sg_f[k, SGF_T_END] = t_end
-    sg_i[k, SGI_ELEMENT] = e
-    sg_i[k, SGI_STATUS] = status
-    istate[I_N_SEGMENTS] = k + 1
+def _log_segment(sg, prog, e, status, t_start, t_end):
+    """Log element ``e``'s segment of one engaged ``status`` from ``t_start`` to ``t_end``."""
+    pr = prog[0]
+    k = pr.n_segments
+    sg[k].t_start = t_start
+    sg[k].t_end = t_end
+    sg[k].element = e
+    sg[k].status = status
+    pr.n_segments = k + 1
 
 
 @njit(error_model="numpy")
-def _log_episodes(h, t_n, st_new, ciw, cf, ci, istate, ep_f, ep_i, sg_f, sg_i):
-    """Each element's current episode (a maximal run of closed steps) and status segment
-    over the accepted step: opened, counted, or ended and logged (``ep_*``, ``sg_*``). A
-    step counts with its end-of-step status; the episode's start and end are where the
-    trial normal force z crosses 0 within the step. Reads the old status in ``ci``."""
-    for e in range(st_new.shape[0]):
-        so = ci[CI_STATUS, e]
-        sn = st_new[e]
-        fn = ciw[CR_FN, e]
-        zo = cf[CF_Z, e]
-        zn = ciw[CR_Z, e]
+def _log_episodes(prog, trial, track, ep, sg):
+    """Each element's current episode (a maximal run of engaged steps) and status segment
+    over the accepted step: opened, counted, or ended and logged (``ep``, ``sg``). A step
+    counts with its end-of-step status; the episode's start and end are where the trial
+    engagement function z crosses 0 within the step. Reads the old status in ``track``."""
+    pr = prog[0]
+    h = pr.h
+    t_n = pr.t_n
+    for e in range(track.shape[0]):
+        k = track[e]
+        so = k.status
+        sn = trial[e].status
+        fn = trial[e].fn
+        zo = k.z
+        zn = trial[e].z
         if so == OPEN and sn != OPEN:
             frac = zo / (zo - zn) if zo < 0.0 else 0.0
-            cf[CF_EP_START, e] = t_n + frac * h
-            cf[CF_EP_PEAK_FN, e] = 0.0
-            cf[CF_EP_SLIDE_TIME, e] = 0.0
-            cf[CF_EP_STICK_TIME, e] = 0.0
-            cf[CF_EP_SLIDE_IMPULSE, e] = 0.0
-            cf[CF_EP_STICK_IMPULSE, e] = 0.0
-            ci[CI_EP_STEPS, e] = 0
-            ci[CI_EP_SLIDE_ENTRIES, e] = 0
-            ci[CI_EP_STICK_ENTRIES, e] = 0
-            cf[CF_SEG_START, e] = cf[CF_EP_START, e]
+            k.ep_start = t_n + frac * h
+            k.ep_peak_fn = 0.0
+            k.ep_slide_time = 0.0
+            k.ep_stick_time = 0.0
+            k.ep_slide_impulse = 0.0
+            k.ep_stick_impulse = 0.0
+            k.ep_steps = 0
+            k.ep_slide_entries = 0
+            k.ep_stick_entries = 0
+            k.seg_start = k.ep_start
         elif so != OPEN and sn != OPEN and sn != so:
             # sliding <-> sticking: the step counts with its new status
-            _log_segment(sg_f, sg_i, istate, e, so, cf[CF_SEG_START, e], t_n)
-            cf[CF_SEG_START, e] = t_n
+            _log_segment(sg, prog, e, so, k.seg_start, t_n)
+            k.seg_start = t_n
         if sn != OPEN:
-            ci[CI_EP_STEPS, e] += 1
-            if fn > cf[CF_EP_PEAK_FN, e]:
-                cf[CF_EP_PEAK_FN, e] = fn
+            k.ep_steps += 1
+            if fn > k.ep_peak_fn:
+                k.ep_peak_fn = fn
             if sn == SLIDING and so != SLIDING:
-                ci[CI_EP_SLIDE_ENTRIES, e] += 1
+                k.ep_slide_entries += 1
             if sn == STICKING and so != STICKING:
-                ci[CI_EP_STICK_ENTRIES, e] += 1
+                k.ep_stick_entries += 1
             if sn == SLIDING:
-                cf[CF_EP_SLIDE_TIME, e] += h
-                cf[CF_EP_SLIDE_IMPULSE, e] += fn * h
+                k.ep_slide_time += h
+                k.ep_slide_impulse += fn * h
             else:
-                cf[CF_EP_STICK_TIME, e] += h
-                cf[CF_EP_STICK_IMPULSE, e] += fn * h
+                k.ep_stick_time += h
+                k.ep_stick_impulse += fn * h
         elif so != OPEN:
             # episode ends inside this step: interpolate the trial normal force to zero
             frac = zo / (zo - zn) if zn < 0.0 and zo > 0.0 else 1.0
-            k = istate[I_N_EPISODES]
-            ep_f[k, EPF_T_START] = cf[CF_EP_START, e]
-            ep_f[k, EPF_T_END] = t_n + frac * h
-            ep_f[k, EPF_PEAK_FN] = cf[CF_EP_PEAK_FN, e]
-            ep_f[k, EPF_SLIDE_TIME] = cf[CF_EP_SLIDE_TIME, e]
-            ep_f[k, EPF_STICK_TIME] = cf[CF_EP_STICK_TIME, e]
-            ep_f[k, EPF_SLIDE_IMPULSE] = cf[CF_EP_SLIDE_IMPULSE, e]
-            ep_f[k, EPF_STICK_IMPULSE] = cf[CF_EP_STICK_IMPULSE, e]
-            ep_i[k, EPI_ELEMENT] = e
-            ep_i[k, EPI_STEPS] = ci[CI_EP_STEPS, e]
-            ep_i[k, EPI_SLIDE_ENTRIES] = ci[CI_EP_SLIDE_ENTRIES, e]
-            ep_i[k, EPI_STICK_ENTRIES] = ci[CI_EP_STICK_ENTRIES, e]
-            ep_i[k, EPI_COMPLETE] = 1
-            istate[I_N_EPISODES] = k + 1
-            _log_segment(sg_f, sg_i, istate, e, so, cf[CF_SEG_START, e], ep_f[k, EPF_T_END])
+            j = pr.n_episodes
+            ep[j].t_start = k.ep_start
+            ep[j].t_end = t_n + frac * h
+            ep[j].peak_fn = k.ep_peak_fn
+            ep[j].slide_time = k.ep_slide_time
+            ep[j].stick_time = k.ep_stick_time
+            ep[j].slide_impulse = k.ep_slide_impulse
+            ep[j].stick_impulse = k.ep_stick_impulse
+            ep[j].element = e
+            ep[j].steps = k.ep_steps
+            ep[j].slide_entries = k.ep_slide_entries
+            ep[j].stick_entries = k.ep_stick_entries
+            pr.n_episodes = j + 1
+            _log_segment(sg, prog, e, so, k.seg_start, ep[j].t_end)
 
 
 @njit
-def _commit_contacts(h, c_kind, c_mu, c_dof, c_basis, st_new, ciw, d_new, lam, p_new, q, tot,
-                     mx, fstate, cf, ci, pc, dc):
-    """The accepted step's totals and maxima per element (``tot``, ``mx``, the cone excess),
-    then its contact state becomes the current one (``cf``, ``ci``, ``pc``, and ``dc`` from
-    the new ``q``: ``d_new`` only up to the Newton tolerance)."""
-    for e in range(st_new.shape[0]):
-        sn = st_new[e]
-        fn = ciw[CR_FN, e]
-        ft = ciw[CR_FT, e]
-        tot[e, TOT_TIME + sn - 1] += h
-        tot[e, TOT_FN_IMPULSE + sn - 1] += fn * h
-        tot[e, TOT_FT_IMPULSE + sn - 1] += abs(ft) * h
-        if fn > mx[e, MX_FN]:
-            mx[e, MX_FN] = fn
-        if abs(ft) > mx[e, MX_FT]:
-            mx[e, MX_FT] = abs(ft)
-        if -ciw[CR_GAP, e] > mx[e, MX_PENETRATION]:
-            mx[e, MX_PENETRATION] = -ciw[CR_GAP, e]
-        excess = abs(ft) - c_mu[e] * fn
-        if excess > fstate[F_CONE_EXCESS]:
-            fstate[F_CONE_EXCESS] = excess
-        # slip first: it needs the old e
-        if c_kind[e] == KIND_POINT:
-            cf[CF_SLIP, e] = d_new[2 * e + 1]
-        elif sn != OPEN:
-            cf[CF_SLIP, e] += ciw[CR_E_TRIAL, e] - cf[CF_E, e]
-        ci[CI_STATUS, e] = sn
-        cf[CF_E, e] = ciw[CR_E, e] if sn != OPEN else 0.0
-        cf[CF_LAM, e] = lam[e] if sn != OPEN else 0.0
-        cf[CF_FN, e] = fn
-        cf[CF_FT, e] = ft
-        cf[CF_GAP, e] = ciw[CR_GAP, e]
-        cf[CF_Z, e] = ciw[CR_Z, e]
+def _commit_elements(run, prog, trial, es, track, stats, wc, pc, el, rmap, tmat, q, v, a, xs):
+    """The accepted step's totals and maxima per element (``stats``, the cone excess), then
+    its trial state becomes the current one (``track``, ``es``, ``pc``, and the local
+    displacement, velocity and acceleration ``xs`` from the new q, v, a: ``d_new`` only up
+    to the Newton tolerance)."""
+    h = prog[0].h
+    for e in range(el.shape[0]):
+        sn = trial[e].status
+        fn = trial[e].fn
+        ft = trial[e].ft
+        depth = -trial[e].gap
+        cone = trial[e].cone
+        stats[e].time[sn - 1] += h
+        stats[e].fn_impulse[sn - 1] += fn * h
+        stats[e].ft_impulse[sn - 1] += abs(ft) * h
+        if fn > stats[e].max_fn:
+            stats[e].max_fn = fn
+        if abs(ft) > stats[e].max_ft:
+            stats[e].max_ft = abs(ft)
+        if depth > stats[e].max_penetration:
+            stats[e].max_penetration = depth
+        if cone > prog[0].cone_excess:
+            prog[0].cone_excess = cone
+        track[e].status = sn
+        track[e].fn = fn
+        track[e].ft = ft
+        track[e].gap = trial[e].gap
+        track[e].z = trial[e].z
+        track[e].slip = trial[e].slip
+        for j in range(es.shape[2]):
+            es[0, e, j] = es[1, e, j]
     for i in range(pc.shape[0]):
-        pc[i] = p_new[i]
-    _contact_coords(c_dof, c_basis, q, dc)
+        pc[i] = wc[P_NEW, i]
+    ne = el.shape[0]
+    local_coords(el, ne, rmap, tmat, q, xs, X_N)
+    # the local velocity and acceleration for the kinds that read them (none of today's:
+    # then no element; a count, not a branch, keeps the arrays free of reference counting)
+    n_kin = ne if run[0].kinematics != 0 else 0
+    local_coords(el, n_kin, rmap, tmat, v, xs, XV_N)
+    local_coords(el, n_kin, rmap, tmat, a, xs, XA_N)
 
 
 # ---- step control, failures and the records
 
 
 @njit
-def _count_iterations(code, nit, naug, istate):
-    """Count a contact solve's iterations; its code, with a step accepted before the
+def _count_iterations(code, nit, naug, prog):
+    """Count an element solve's iterations; its code, with a step accepted before the
     multipliers reached the band (``AUGMENT_PENDING``, counted) as converged."""
-    istate[I_NEWTON_TOTAL] += nit
-    istate[I_AUG_TOTAL] += naug
+    pr = prog[0]
+    pr.newton_total += nit
+    pr.aug_total += naug
     pending = code == AUGMENT_PENDING
-    istate[I_AUG_PENDING] += 1 if pending else 0
+    pr.aug_pending += 1 if pending else 0
     return 0 if pending else code
 
 
 @njit
-def _contact_failure(istate, fstate, code, worst, t):
-    """Note a failed contact solve (its code, the element of its worst row, the time); the
+def _element_failure(prog, rmap, code, worst, t):
+    """Note a failed element solve (its code, the element of its worst row, the time); the
     kernel's status."""
-    istate[I_FAIL_ELEMENT] = worst // 2 if worst >= 0 else -1
-    istate[I_FAIL_CODE] = code
-    fstate[F_FAIL_TIME] = t
+    pr = prog[0]
+    pr.fail_element = rmap[worst, 2] if worst >= 0 else -1
+    pr.fail_code = code
+    pr.fail_time = t
     return STATUS_NONFINITE if code == NONFINITE else STATUS_NO_CONVERGENCE
 
 
 @njit
-def _nonfinite_increment(istate, fstate, d_new, t):
-    """Note a non-finite increment (the first element with non-finite contact
-    displacements, if any, and the time); the kernel's status."""
-    istate[I_FAIL_ELEMENT] = -1
-    for e in range(d_new.shape[0] // 2):
-        if not (np.isfinite(d_new[2 * e]) and np.isfinite(d_new[2 * e + 1])):
-            istate[I_FAIL_ELEMENT] = e
+def _nonfinite_increment(prog, el, wc, t):
+    """Note a non-finite increment (the first element with non-finite local displacements,
+    if any, and the time); the kernel's status."""
+    pr = prog[0]
+    pr.fail_element = -1
+    for e in range(el.shape[0]):
+        finite = True
+        for r in range(el[e].row, el[e].row + el[e].n):
+            finite = finite and np.isfinite(wc[D_NEW, r])
+        if not finite:
+            pr.fail_element = e
             break
-    fstate[F_FAIL_TIME] = t
+    pr.fail_time = t
     return STATUS_NONFINITE
 
 
 @njit
-def _change_level(istate, lv_t, lv_l, t, level):
+def _change_level(prog, lv_t, lv_l, t, level):
     """Go on at ``level`` from time ``t`` (logged)."""
-    istate[I_LEVEL] = level
-    istate[I_QUIET] = 0
-    k = istate[I_N_LEVEL_CHANGES]
+    pr = prog[0]
+    pr.level = level
+    pr.quiet = 0
+    k = pr.n_level_changes
     lv_t[k] = t
     lv_l[k] = level
-    istate[I_N_LEVEL_CHANGES] = k + 1
+    pr.n_level_changes = k + 1
 
 
 @njit(error_model="numpy")
-def _advance(lev, nt, fixed, grow_after, ci, lev_req, istate, lvl_count):
+def _advance(run, prog, lev, nt, el, track, lvl_count):
     """Count the accepted step of ``nt`` ticks at ``lev`` and move the clock on. Returns the
     new tick and whether the next step may be twice as long: after ``grow_after`` quiet
-    steps at this level, when the new tick is aligned to it and every closed element allows
-    it (``lev_req``)."""
-    tick = istate[I_TICK] + nt
-    istate[I_TICK] = tick
-    istate[I_N_ACCEPTED] += 1
+    steps at this level, when the new tick is aligned to it and every engaged element
+    allows it (``lev_req``)."""
+    fixed = run[0].fixed != 0
+    grow_after = run[0].grow_after
+    tick = prog[0].tick + nt
+    prog[0].tick = tick
+    prog[0].n_accepted += 1
     lvl_count[lev] += 1
-    quiet = istate[I_QUIET] + 1
-    istate[I_QUIET] = quiet
+    quiet = prog[0].quiet + 1
+    prog[0].quiet = quiet
     grow = not fixed and lev > 0 and quiet >= grow_after and tick % (2 * nt) == 0
-    for e in range(lev_req.shape[0]):
-        if ci[CI_STATUS, e] != OPEN and lev_req[e] >= lev:
+    for e in range(el.shape[0]):
+        engaged = track[e].status != OPEN
+        lev_req = el[e].lev_req
+        if engaged and lev_req >= lev:
             grow = False
     return tick, grow
 
 
 @njit
-def _logs_full(nc, istate, ep_f, sg_f, lv_t):
+def _logs_full(ne, prog, ep, sg, lv_t):
     """Whether a step could overflow the episode, segment or level-change log (a step logs
     at most one episode and one segment per element, and one level change)."""
-    episodes = istate[I_N_EPISODES] + nc > ep_f.shape[0]
-    segments = istate[I_N_SEGMENTS] + nc > sg_f.shape[0]
-    levels = istate[I_N_LEVEL_CHANGES] + 2 > lv_t.shape[0]
+    pr = prog[0]
+    episodes = pr.n_episodes + ne > ep.shape[0]
+    segments = pr.n_segments + ne > sg.shape[0]
+    levels = pr.n_level_changes + 2 > lv_t.shape[0]
     return episodes or segments or levels
 
 
 @njit
-def _record(
-    idx, q, v, mv, kq, rec_dof, rec_map, cf, ci, fstate,
-    out_q, out_fn, out_ft, out_st, out_gap, out_slip, out_en,
-):
-    """Record sample ``idx``: the recorded DOFs, each element's force, status, gap and slip,
-    and the energy ledger with the kinetic and strain energies ``vᵀ M v / 2``, ``qᵀ K q /
-    2``."""
+def _record(idx, q, v, mv, kq, rec_dof, rec_map, track, prog, out_q, out_el, out_en):
+    """Record sample ``idx``: the recorded DOFs, each element's record, and the energy
+    ledger with the kinetic and strain energies ``vᵀ M v / 2``, ``qᵀ K q / 2``."""
     _recover(rec_map, rec_dof, q, out_q[idx])
-    for e in range(ci.shape[1]):
-        out_fn[idx, e] = cf[CF_FN, e]
-        out_ft[idx, e] = cf[CF_FT, e]
-        out_st[idx, e] = ci[CI_STATUS, e]
-        out_gap[idx, e] = cf[CF_GAP, e]
-        out_slip[idx, e] = cf[CF_SLIP, e]
+    for e in range(track.shape[0]):
+        k = track[e]
+        o = out_el[idx, e]
+        o.fn = k.fn
+        o.ft = k.ft
+        o.status = k.status
+        o.gap = k.gap
+        o.slip = k.slip
     ek = 0.0
     es = 0.0
     for i in range(q.shape[0]):
         ek += v[i] * mv[i]
         es += q[i] * kq[i]
-    out_en[idx, EN_W_EXT] = fstate[F_W_EXT]
-    out_en[idx, EN_W_DRIVE] = fstate[F_W_DRIVE]
-    out_en[idx, EN_D_VISC] = fstate[F_D_VISC]
-    out_en[idx, EN_D_FRIC] = fstate[F_D_FRIC]
-    out_en[idx, EN_D_NUM] = fstate[F_D_NUM]
-    out_en[idx, EN_KINETIC] = 0.5 * ek
-    out_en[idx, EN_STRAIN] = 0.5 * es
-    out_en[idx, EN_CONTACT] = fstate[F_E_CONTACT]
+    pr = prog[0]
+    en = out_en[idx]
+    en.w_ext = pr.w_ext
+    en.w_drive = pr.w_drive
+    en.d_visc = pr.d_visc
+    en.d_fric = pr.d_fric
+    en.d_num = pr.d_num
+    en.kinetic = 0.5 * ek
+    en.strain = 0.5 * es
+    en.contact = pr.e_contact
 
 
 @njit
@@ -851,63 +766,61 @@ def _lap(prof, section, c0):
 
 
 @njit
-def newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs, logs, work):
-    """Run the time loop from ``istate[I_TICK]`` to ``ipar[IP_TICK_END]``; a ``STATUS_*``.
+def newmark_contact(linear, factors, force, elements, run, state, outputs, logs, work):
+    """Run the time loop from ``prog.tick`` to ``run.tick_end``; a ``STATUS_*``.
 
     The step controller: each pass tries one step at the current level, then rejects it (a
     level down), stops the run or accepts it (module docstring). The arrays come in the
-    bundles (:data:`Linear` … :data:`Work`), unpacked once; ``fpar``, ``ipar`` hold the
-    run's parameters. ``STATUS_LOG_FULL``: a log could overflow (the caller grows it).
+    bundles (:data:`Linear` … :data:`Work`), unpacked once; ``run`` (1) records.RUN holds
+    the run's parameters. ``STATUS_LOG_FULL``: a log could overflow (the caller grows it).
     """
     m_ptr, m_idx, m_val, c_ptr, c_idx, c_val, mk_ptr, mk_idx, mk_m, mk_k, m_dense, k_dense = linear
     (l_ptr, l_idx, l_val, l_dinv, u_ptr, u_idx, u_val, u_dinv, perm_r, perm_c, s_mat,
      w_mat, inv_t) = factors
     f_dof, f_re, f_im, f_group, f_law, f_table, f_rot, zt = force
-    (c_kind, c_dof, c_basis, c_g0, c_gstart, c_kn, c_kt, c_mu, c_aug, c_eps, c_speed,
-     lev_req, aug_k) = contacts
-    q, v, a, mv, kq, pc, dc, cf, ci, istate, fstate = state
-    (rec_dof, out_q, out_fn, out_ft, out_st, out_gap, out_slip, out_en, sen_dof, out_sq,
-     out_sv, out_sa, rec_map, sen_map) = outputs
-    ep_f, ep_i, sg_f, sg_i, lv_t, lv_l, tot, mx, lvl_count = logs
-    wn, wc, wcn, wm, jac, iwork, ciw, prof = work
-    nc = c_kind.shape[0]
-    dt0, t_ramp, nb, ng = fpar[FP_DT], fpar[FP_T_RAMP], fpar[FP_BETA], fpar[FP_GAMMA]
+    el, rmap, tmat, par, aug_k = elements
+    q, v, a, mv, kq, pc, xs, es, track, prog = state
+    rec_dof, out_q, out_el, out_en, sen_dof, out_sq, out_sv, out_sa, rec_map, sen_map = outputs
+    ep, sg, lv_t, lv_l, stats, lvl_count = logs
+    wn, wc, wm, jac, iwork, trial, prof = work
+    rp = run[0]
+    pr = prog[0]
+    ne = el.shape[0]
+    dt0, nb, ng = rp.dt, rp.beta, rp.gamma
     trapezoid = nb == 0.25 and ng == 0.5
-    top, fixed = ipar[IP_N_LEV] - 1, ipar[IP_FIXED] != 0
-    out_ticks, sen_ticks = ipar[IP_OUT_TICKS], ipar[IP_SEN_TICKS]
+    top, fixed = rp.n_lev - 1, rp.fixed != 0
+    out_ticks, sen_ticks = rp.out_ticks, rp.sen_ticks
     tick_dt = dt0 / (1 << top)
     dense = inv_t.shape[1] > 0
     x, rhs, dq, kdq, mdq = wn[WN_X], wn[WN_RHS], wn[WN_DQ], wn[WN_KDQ], wn[WN_MDQ]
-    d_lin, d_new, p_new, wv, dp = wc[WC_D_LIN], wc[WC_D_NEW], wc[WC_P_NEW], wc[WC_V], wc[WC_V2]
-    gap, lam, drive, gap_start = wcn[WCN_GAP], wcn[WCN_LAM], wcn[WCN_DRIVE], wcn[WCN_GAP_START]
-    st_new, iw = iwork[4 * nc : 5 * nc], iwork[: 4 * nc]
+    p_new, dp = wc[P_NEW], wc[V2]
 
-    tick = istate[I_TICK]
-    if istate[I_SAMPLE0_DONE] == 0:
+    tick = pr.tick
+    if pr.sample0_done == 0:
         if tick % out_ticks == 0:
-            _record(tick // out_ticks, q, v, mv, kq, rec_dof, rec_map, cf, ci, fstate, out_q,
-                    out_fn, out_ft, out_st, out_gap, out_slip, out_en)
+            _record(tick // out_ticks, q, v, mv, kq, rec_dof, rec_map, track, prog, out_q,
+                    out_el, out_en)
         if tick % sen_ticks == 0:
             _record_sensors(tick // sen_ticks, q, v, a, sen_dof, sen_map, out_sq, out_sv, out_sa)
-        istate[I_SAMPLE0_DONE] = 1
+        pr.sample0_done = 1
 
-    while tick < ipar[IP_TICK_END]:
-        if _logs_full(nc, istate, ep_f, sg_f, lv_t):
+    while tick < rp.tick_end:
+        if _logs_full(ne, prog, ep, sg, lv_t):
             return STATUS_LOG_FULL
         c0 = cycles() if prof.shape[0] else 0
-        lev = istate[I_LEVEL]
+        lev = pr.level
         nt = np.int64(1) << (top - lev)
         h = dt0 / (1 << lev)
         t_n = tick * tick_dt
         t_1 = (tick + nt) * tick_dt
         load_factors(f_law, f_table, f_rot, t_n, t_1, zt)   # the load's factors at both ends
 
-        # ---- a trial step: the linear predictor, then the contact solve
+        # ---- a trial step: the linear predictor, then the element solve
         if trapezoid:
-            _rhs_average(h, mv, kq, pc, f_dof, f_re, f_im, f_group, zt, c_dof, c_basis, rhs)
+            _rhs_average(h, mv, kq, pc, f_dof, f_re, f_im, f_group, zt, el, rmap, tmat, rhs)
         else:
-            _rhs_general(nb, ng, h, v, a, f_dof, f_re, f_im, f_group, zt, m_ptr, m_idx, m_val,
-                         c_ptr, c_idx, c_val, x, mdq, rhs)
+            _rhs_general(run, h, v, a, m_ptr, m_idx, m_val, c_ptr, c_idx, c_val, x, mdq, rhs)
+            _load_increment(f_dof, f_re, f_im, f_group, zt, rhs)
         c0 = _lap(prof, P_RHS, c0)
         if dense:
             _matvec_t(inv_t[lev], rhs, dq)
@@ -915,60 +828,59 @@ def newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs
             lu_solve(l_ptr[lev], l_idx[lev], l_val[lev], l_dinv[lev], u_ptr[lev], u_idx[lev],
                      u_val[lev], u_dinv[lev], perm_r[lev], perm_c[lev], rhs, dq, kdq)
         c0 = _lap(prof, P_SOLVE, c0)
-        _contact_inputs(h, t_1, t_ramp, dq, dc, c_dof, c_basis, c_g0, c_gstart, c_speed, d_lin,
-                        gap, lam, drive)
-        code, nit, naug, worst = solve_contact(
-            w_mat[lev], d_lin, pc, dc, c_kind, gap, c_kn, c_kt, c_mu, c_aug, c_eps, lam,
-            cf[CF_E], drive, aug_k[lev], fpar[FP_AUG_SHIFT], ipar[IP_MAX_NEWTON],
-            ipar[IP_MAX_AUG], ipar[IP_AUG_STRICT] != 0, fpar[FP_NEWTON_TOL],
-            d_new, p_new, jac, ciw, st_new, iw, wm, wv, dp)
-        code = _count_iterations(code, nit, naug, istate)
+        _clock(run, prog, f_rot, t_n, t_1, h)
+        _element_inputs(dq, xs, el, rmap, tmat, wc, trial)
+        code, nit, naug, worst = solve_elements(
+            w_mat[lev], wc, pc, xs, el, par, aug_k[lev], es, track, trial, run, prog, jac, iwork,
+            wm)
+        code = _count_iterations(code, nit, naug, prog)
         if code == NONFINITE or (code != 0 and (fixed or lev == top)):
-            return _contact_failure(istate, fstate, code, worst, t_1)
-        # rejected: the contact solve failed (one level down), or converged to an abrupt
+            return _element_failure(prog, rmap, code, worst, t_1)
+        # rejected: the element solve failed (one level down), or converged to an abrupt
         # closing or too stiff a contact for this step (down to the level needed)
-        need = lev + 1 if code != 0 else _level_needed(lev, fpar, ci, st_new, ciw, lev_req)
+        need = lev + 1 if code != 0 else _level_needed(run, lev, el, track, trial)
         if need > lev and not fixed:
             if lev < top:
-                _change_level(istate, lv_t, lv_l, t_n, min(need, top))
-                istate[I_N_REJ_NEWTON if code != 0 else I_N_REJ_ABRUPT] += 1
+                _change_level(prog, lv_t, lv_l, t_n, min(need, top))
+                if code != 0:
+                    pr.n_rej_newton += 1
+                else:
+                    pr.n_rej_abrupt += 1
                 _lap(prof, P_CONTACT, c0)
                 continue
-            istate[I_N_ABRUPT_AT_MIN] += 1  # abrupt at the smallest step: accepted, counted
+            pr.n_abrupt_at_min += 1  # abrupt at the smallest step: accepted, counted
         c0 = _lap(prof, P_CONTACT, c0)
 
         # ---- accept: dq, the new state, the books
-        istate[I_NEWTON_MAX] = max(istate[I_NEWTON_MAX], nit)
-        istate[I_AUG_MAX] = max(istate[I_AUG_MAX], naug)
-        _increment(lev, s_mat, pc, p_new, c_dof, c_basis, dp, dq, rhs)
+        pr.newton_max = max(pr.newton_max, nit)
+        pr.aug_max = max(pr.aug_max, naug)
+        _increment(lev, s_mat, pc, p_new, el, rmap, tmat, dp, dq, rhs)
         if dense:   # M and K are symmetric: row j is column j
-            _mk_dense(ipar[IP_COUPLED], m_dense, k_dense, dq, mdq, kdq)
+            _mk_dense(rp.coupled, m_dense, k_dense, dq, mdq, kdq)
             dvisc = _dissipation(nb, ng, h, dq, rhs, mdq, kdq)
         else:
             dvisc = _mk_products(nb, ng, h, mk_ptr, mk_idx, mk_m, mk_k, dq, rhs, mdq, kdq)
         if not np.isfinite(dvisc):  # any non-finite dq shows here; the state is untouched
-            return _nonfinite_increment(istate, fstate, d_new, t_1)
+            return _nonfinite_increment(prog, el, wc, t_1)
         _new_state(nb, ng, h, dq, mdq, kdq, q, v, a, mv, kq)
         if not trapezoid:
             # M v_{n+1} also has a term h (1 - γ/(2β)) M a_n that is not tracked: recompute
             csr_matvec(m_ptr, m_idx, m_val, v, mv)
         c0 = _lap(prof, P_UPDATE, c0)
-        _energy_ledger(h, t_n, t_1, t_ramp, dvisc, dq, f_dof, f_re, f_im, f_group, zt, pc, p_new,
-                       st_new, ciw, cf, c_dof, c_basis, c_g0, c_gstart, c_kn, c_kt, c_speed,
-                       gap, gap_start, wv, fstate)
-        _log_episodes(h, t_n, st_new, ciw, cf, ci, istate, ep_f, ep_i, sg_f, sg_i)
-        _commit_contacts(h, c_kind, c_mu, c_dof, c_basis, st_new, ciw, d_new, lam, p_new, q,
-                         tot, mx, fstate, cf, ci, pc, dc)
+        _energy_ledger(prog, dvisc, dq, f_dof, f_re, f_im, f_group, zt, pc, el, rmap, tmat, wc,
+                       trial)
+        _log_episodes(prog, trial, track, ep, sg)
+        _commit_elements(run, prog, trial, es, track, stats, wc, pc, el, rmap, tmat, q, v, a,
+                         xs)
         c0 = _lap(prof, P_LEDGER, c0)
 
         # ---- the next step's size, the samples
-        tick, grow = _advance(lev, nt, fixed, ipar[IP_GROW_AFTER], ci, lev_req, istate,
-                              lvl_count)
+        tick, grow = _advance(run, prog, lev, nt, el, track, lvl_count)
         if grow:
-            _change_level(istate, lv_t, lv_l, t_1, lev - 1)
+            _change_level(prog, lv_t, lv_l, t_1, lev - 1)
         if tick % out_ticks == 0:
-            _record(tick // out_ticks, q, v, mv, kq, rec_dof, rec_map, cf, ci, fstate, out_q,
-                    out_fn, out_ft, out_st, out_gap, out_slip, out_en)
+            _record(tick // out_ticks, q, v, mv, kq, rec_dof, rec_map, track, prog, out_q,
+                    out_el, out_en)
         if tick % sen_ticks == 0:
             _record_sensors(tick // sen_ticks, q, v, a, sen_dof, sen_map, out_sq, out_sv, out_sa)
         _lap(prof, P_OUTPUT, c0)

@@ -14,7 +14,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -23,34 +23,31 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from rubdiag import _check
-from rubdiag.kernels import ensure_fresh_cache, layout
-from rubdiag.kernels.contact import (
-    AUGMENT_FAILED,
-    KIND_ANNULAR,
-    KIND_POINT,
-    NEWTON_FAILED,
-    OPEN,
-    SINGULAR,
-    SLIDING,
-    STICKING,
-    element_law,
-)
+from rubdiag.kernels import ensure_fresh_cache, records
+from rubdiag.kernels.annular_contact import KIND as KIND_ANNULAR
+from rubdiag.kernels.elements import AUGMENT_FAILED, KINDS, N_LOCAL_MAX, NEWTON_FAILED, SINGULAR
+from rubdiag.kernels.extend import Kernel, kernel_with
 from rubdiag.kernels.newmark import (
     PROFILE_SECTIONS,
     STATUS_DONE,
     STATUS_LOG_FULL,
     STATUS_NO_CONVERGENCE,
     STATUS_NONFINITE,
-    ContactSet,
+    WC_SIZE,
+    WN_SIZE,
+    Elements,
     Factors,
     Linear,
     Logs,
     Outputs,
     State,
     Work,
-    newmark_contact,
 )
+from rubdiag.kernels.point_contact import KIND as KIND_POINT
+from rubdiag.kernels.records import OPEN
 from rubdiag.kernels.sparse_lu import factorize
+from rubdiag.simulate.descriptions import LinearSystem, Recording, Solver, TimeGrid, legacy_call
+from rubdiag.simulate.elements import AnnularContact, Packed, PointContact
 from rubdiag.simulate.loads import HarmonicForce, kernel_force, load_vector
 from rubdiag.simulate.result import EpisodeLog, SimulationDiverged, StatusLog, SystemResult
 from rubdiag.simulate.speed_profile import SpeedProfile
@@ -63,7 +60,7 @@ __all__ = [
     "simulate_system",
 ]
 
-_MAX_LEVELS = 31
+_MAX_LEVELS = records.MAX_LEVELS
 
 
 # --------------------------------------------------------------------------------------------
@@ -184,27 +181,28 @@ class Contacts:
             ))
         )
 
-    def basis(self) -> np.ndarray:
-        """(n_c, 4) rows of the local 2x2 basis: (n_y, n_z, t_y, t_z) for kind 1, identity
-        for kind 2."""
-        out = np.zeros((self.n_c, 4))
-        out[:, 0:2] = self.normal
-        out[:, 2:4] = self.tangent
-        ann = self.kind == KIND_ANNULAR
-        out[ann] = [1.0, 0.0, 0.0, 1.0]
-        return out
+    def elements(self) -> tuple:
+        """The elements one by one, as their kinds' descriptions
+        (:class:`~rubdiag.simulate.elements.PointContact`,
+        :class:`~rubdiag.simulate.elements.AnnularContact`), in order."""
+        out = []
+        for e in range(self.n_c):
+            law = {"dof_a": tuple(self.dof_a[e].tolist()), "dof_b": tuple(self.dof_b[e].tolist()),
+                   "k_n": float(self.k_n[e]), "k_t": float(self.k_t[e]),
+                   "mu": float(self.mu[e]), "augmented": bool(self.augmented[e]),
+                   "eps": float(self.eps[e])}
+            if self.kind[e] == KIND_POINT:
+                out.append(PointContact(normal=tuple(self.normal[e].tolist()),
+                                        tangent=tuple(self.tangent[e].tolist()),
+                                        gap=float(self.gap[e]), **law))
+            else:
+                out.append(AnnularContact(clearance=float(self.gap[e]),
+                                          radius=float(self.radius[e]), **law))
+        return tuple(out)
 
     def b_matrix(self, n: int) -> np.ndarray:
-        """Dense constraint matrix B (2 n_c, n): local contact displacements ``d = B q``."""
-        basis = self.basis()
-        B = np.zeros((2 * self.n_c, n))
-        for e in range(self.n_c):
-            for r in range(2):
-                for c in range(2):
-                    B[2 * e + r, self.dof_a[e, c]] += basis[e, 2 * r + c]
-                    if self.dof_b[e, c] >= 0:
-                        B[2 * e + r, self.dof_b[e, c]] -= basis[e, 2 * r + c]
-        return B
+        """Dense matrix B (2 n_c, n) of the local contact displacements ``d = B q``."""
+        return b_matrix([el.pack(0.0) for el in self.elements()], n)
 
 
 # --------------------------------------------------------------------------------------------
@@ -276,15 +274,34 @@ def _check_contacts(ct: Contacts, n: int) -> None:
         )
 
 
+def _checked_elements(contacts, n: int) -> tuple:
+    """The nonlinear elements: a :class:`Contacts` (checked), a sequence of element
+    descriptions (:mod:`rubdiag.simulate.elements`, or a kind defined outside rubdiag), or
+    None (none); each element's DOFs checked against the system's n."""
+    if contacts is None:
+        return ()
+    if isinstance(contacts, Contacts):
+        _check_contacts(contacts, n)
+        return contacts.elements()
+    elements = tuple(contacts)
+    for i, element in enumerate(elements):
+        if not callable(getattr(element, "pack", None)):
+            raise _check.wrong_type(f"elements[{i}]", type(element).__name__,
+                                    "an element description (rubdiag.simulate.elements)")
+        dofs = np.asarray(element.dofs())
+        if dofs.size and (dofs.min() < 0 or dofs.max() >= n):
+            raise _bad(f"elements[{i}] DOFs", dofs.tolist(), f"DOF indices in [0, {n})")
+    return elements
+
+
 def _checked_system(M, C, K, force, contacts, q0, v0):
-    """The linear system, load, contacts and initial state, checked and converted (CSR
+    """The linear system, load, elements and initial state, checked and converted (CSR
     float64 matrices, float64 vectors; None load or contacts: none)."""
     M = _check_matrix("M", M, None)
     n = M.shape[0]
     C = _check_matrix("C", C, n)
     K = _check_matrix("K", K, n)
     force = HarmonicForce.zero() if force is None else force
-    contacts = Contacts.empty() if contacts is None else contacts
     q0 = np.asarray(q0, dtype=np.float64).reshape(-1)
     v0 = np.asarray(v0, dtype=np.float64).reshape(-1)
     for name, vec in (("q0", q0), ("v0", v0)):
@@ -297,8 +314,8 @@ def _checked_system(M, C, K, force, contacts, q0, v0):
             raise _bad("force.dofs", force.dofs.tolist(), f"DOF indices in [0, {n})")
         if not (np.all(np.isfinite(force.amplitudes)) and np.all(np.isfinite(force.omega))):
             raise _bad("force", "amplitudes/omega with NaN or inf", "finite")
-    _check_contacts(contacts, n)
-    return M, C, K, force, contacts, q0, v0
+    elements = _checked_elements(contacts, n)
+    return M, C, K, force, elements, q0, v0
 
 
 class _TimeGrid(NamedTuple):
@@ -434,51 +451,26 @@ class _Settings:
         )
 
 
-def _checked_gap_ramp(gap_ramp, contacts: Contacts):
-    """``t_ramp`` (s; 0 = no ramp) and every element's gap at t = 0 (m)."""
+def _checked_gap_ramp(gap_ramp, elements) -> list:
+    """Each element's gap ramp ``(t_ramp, gap at t = 0)``, or None (no ramp, or a kind
+    without a gap)."""
+    gaps = np.array([getattr(el, "gap", np.nan) for el in elements], dtype=np.float64)
     if gap_ramp is None:
-        return 0.0, contacts.gap.copy()
+        return [None] * len(elements)
     t_ramp = _check_scalar("gap_ramp[0] (t_ramp)", gap_ramp[0], 0.0)
-    g_start = np.broadcast_to(np.asarray(gap_ramp[1], dtype=np.float64), (contacts.n_c,)).copy()
-    if not np.all(np.isfinite(g_start)) or np.any(g_start < contacts.gap):
+    g_start = np.broadcast_to(np.asarray(gap_ramp[1], dtype=np.float64),
+                              (len(elements),)).copy()
+    has_gap = np.isfinite(gaps)
+    if not np.all(np.isfinite(g_start[has_gap])) or np.any(g_start[has_gap] < gaps[has_gap]):
         raise _bad("gap_ramp[1] (g_start)", gap_ramp[1], ">= every element's gap g0, finite")
-    return t_ramp, g_start
+    if t_ramp == 0:     # no ramp: the elements start at their gaps
+        return [None] * len(elements)
+    return [(t_ramp, float(g)) if ok else None for g, ok in zip(g_start, has_gap, strict=True)]
 
 
 # --------------------------------------------------------------------------------------------
 # set-up: the state at t = 0, the operators of each step size
 # --------------------------------------------------------------------------------------------
-def _initial_contact_state(contacts: Contacts, d0: np.ndarray, gap: np.ndarray):
-    """Forces ``p0`` (2n_c), the kernel's per-element float and int state ``cf`` (CF_SIZE,
-    n_c) and ``ci`` (CI_SIZE, n_c), and the contact elastic energy at t = 0, from the
-    contact displacements ``d0`` at gaps ``gap``."""
-    nc = contacts.n_c
-    p0 = np.zeros(2 * nc)
-    cf = np.zeros((layout.CF_SIZE, nc))
-    ci = np.zeros((layout.CI_SIZE, nc), dtype=np.int64)
-    e_c0 = 0.0
-    for e in range(nc):
-        p_n, p_t, _, _, _, _, st, fn, ft, e_new, _, g, z = element_law(
-            int(contacts.kind[e]), d0[2 * e], d0[2 * e + 1], d0[2 * e], d0[2 * e + 1],
-            float(gap[e]), float(contacts.k_n[e]), float(contacts.k_t[e]),
-            float(contacts.mu[e]), 0.0, 0.0, 0.0,
-        )
-        p0[2 * e : 2 * e + 2] = p_n, p_t
-        st = int(st)
-        ci[layout.CI_STATUS, e] = st
-        cf[layout.CF_E, e] = e_new
-        cf[layout.CF_SLIP, e] = d0[2 * e + 1] if contacts.kind[e] == KIND_POINT else 0.0
-        cf[layout.CF_FN, e] = fn
-        cf[layout.CF_FT, e] = ft
-        cf[layout.CF_GAP, e] = g
-        cf[layout.CF_Z, e] = z
-        if st != OPEN:
-            ci[layout.CI_EP_SLIDE_ENTRIES, e] = int(st == SLIDING)
-            ci[layout.CI_EP_STICK_ENTRIES, e] = int(st == STICKING)
-            e_c0 += 0.5 * fn**2 / contacts.k_n[e] + 0.5 * ft**2 / contacts.k_t[e]
-    return p0, cf, ci, e_c0
-
-
 def _initial_acceleration(M, C, K, f0: np.ndarray, B, p0, q0, v0, a0) -> np.ndarray:
     """``a0`` checked, or from equilibrium at t = 0: ``M a0 = f0 + Bᵀp0 - C v0 - K q0``."""
     n = M.shape[0]
@@ -494,17 +486,35 @@ def _initial_acceleration(M, C, K, f0: np.ndarray, B, p0, q0, v0, a0) -> np.ndar
     return a0
 
 
-def _level_operators(M, C, K, B, contacts: Contacts, dt: float, n_lev: int, gamma: float,
+def b_matrix(packed: Sequence[Packed], n: int) -> np.ndarray:
+    """Dense B (m, n) of the elements' local coordinates ``x = B q``: row r of an element is
+    ``Σ_c T[r, c] (q[plus_c] - q[minus_c])``."""
+    m = sum(p.rows.shape[0] for p in packed)
+    B = np.zeros((m, n))
+    r0 = 0
+    for p in packed:
+        k = p.rows.shape[0]
+        for r in range(k):
+            for c in range(k):
+                B[r0 + r, p.rows[c, 0]] += p.tmat[r, c]
+                if p.rows[c, 1] >= 0:
+                    B[r0 + r, p.rows[c, 1]] -= p.tmat[r, c]
+        r0 += k
+    return B
+
+
+def _level_operators(M, C, K, B, elements, dt: float, n_lev: int, gamma: float,
                      beta_nm: float, contact_stiffness_ratio: float | None,
                      augment_boost: float, dense: bool):
-    """Per step level k (h = dt / 2^k): the factors of K_eff, ``s_mat`` (n_lev, 2n_c, n) =
-    (K_eff^-1 Bᵀ)ᵀ, ``w_mat`` (n_lev, 2n_c, 2n_c) = B K_eff^-1 Bᵀ, the smallest level each
-    element may be closed at (``lev_req``; None ratio: no criterion), the multiplier update
-    stiffness ``aug_k`` (n_lev, n_c), the factors packed for the kernel (l_ptr, l_idx,
-    l_val, l_dinv, u_ptr, u_idx, u_val, u_dinv, perm_r, perm_c; first axis the level) and,
-    ``dense``, the transposed inverses ``inv_t`` (n_lev, n, n) (else (n_lev, 0, 0))."""
+    """Per step level k (h = dt / 2^k): the factors of K_eff, ``s_mat`` (n_lev, m, n) =
+    (K_eff^-1 Bᵀ)ᵀ, ``w_mat`` (n_lev, m, m) = B K_eff^-1 Bᵀ, the smallest level each
+    element may be engaged at (``lev_req``, by its step requirement; None ratio: no
+    criterion), the multiplier update stiffness ``aug_k`` (n_lev, n_e), the factors packed
+    for the kernel (l_ptr, l_idx, l_val, l_dinv, u_ptr, u_idx, u_val, u_dinv, perm_r,
+    perm_c; first axis the level) and, ``dense``, the transposed inverses ``inv_t`` (n_lev,
+    n, n) (else (n_lev, 0, 0))."""
     n = M.shape[0]
-    nc = contacts.n_c
+    m = B.shape[0]
     top = n_lev - 1
     factors = []
     s_list = []
@@ -524,34 +534,36 @@ def _level_operators(M, C, K, B, contacts: Contacts, dt: float, n_lev: int, gamm
                 factors.append(fac)
         except np.linalg.LinAlgError as exc:
             raise ValueError(f"K_eff at dt = {h:g} s is singular: {exc}") from exc
-        if nc:
+        if m:
             S = inv_t[k].T @ B.T if dense else fac.splu.solve(np.ascontiguousarray(B.T))
             s_list.append(np.ascontiguousarray(S.T))
             w_list.append(B @ S)
         else:
             s_list.append(np.zeros((0, n)))
             w_list.append(np.zeros((0, 0)))
-    # contact-stiffness criterion: k_N W_ee (= (ω_c h)^2 / 4 for a lumped mass) <= ratio
-    lev_req = np.zeros(nc, np.int64)
-    if nc and contact_stiffness_ratio is not None:
-        for e in range(nc):
+    ne = len(elements)
+    starts = np.cumsum([0] + [el.kernel.N_LOCAL for el in elements])
+
+    def block(k, e):
+        return w_list[k][starts[e]:starts[e + 1], starts[e]:starts[e + 1]]
+
+    # the step requirement: for contacts k_N W_ee (= (ω_c h)^2 / 4 for a lumped mass) <= ratio
+    lev_req = np.zeros(ne, np.int64)
+    if ne and contact_stiffness_ratio is not None:
+        for e, element in enumerate(elements):
             lev_req[e] = top
             for k in range(n_lev):
-                wee = w_list[k][2 * e, 2 * e]  # kind 1: the normal row
-                if contacts.kind[e] == KIND_ANNULAR:  # the normal turns: both rows
-                    wee = max(wee, w_list[k][2 * e + 1, 2 * e + 1])
-                if contacts.k_n[e] * wee <= contact_stiffness_ratio:
+                if element.stiffness_ratio(block(k, e)) <= contact_stiffness_ratio:
                     lev_req[e] = k
                     break
     # multiplier update stiffness: eq. (2) uses k_N; with the step's dynamic stiffness at the
     # contact, 1 / W_ee, far above k_N (small steps) that converges by a factor
     # 1 / (1 + k_N W_ee) per update only. We add 0.9 / W_ee (the Newton update of the
     # multiplier for an isolated contact, under-relaxed): same fixed point, a few updates.
-    aug_k = np.zeros((n_lev, nc))
+    aug_k = np.zeros((n_lev, ne))
     for k in range(n_lev):
-        for e in range(nc):
-            wee = max(w_list[k][2 * e, 2 * e], w_list[k][2 * e + 1, 2 * e + 1])
-            aug_k[k, e] = contacts.k_n[e] + (augment_boost / wee if wee > 0 else 0.0)
+        for e, element in enumerate(elements):
+            aug_k[k, e] = element.multiplier_stiffness(block(k, e), augment_boost)
     s_mat = np.ascontiguousarray(np.stack(s_list))
     w_mat = np.ascontiguousarray(np.stack(w_list))
     return factors, s_mat, w_mat, lev_req, aug_k, _pack_factors(factors, n), inv_t
@@ -589,7 +601,7 @@ def _pack_factors(factors, n: int) -> tuple:
 
 
 # --------------------------------------------------------------------------------------------
-# the kernel's arrays (rubdiag.kernels.newmark's bundles; rubdiag.kernels.layout names rows)
+# the kernel's arrays (rubdiag.kernels.newmark's bundles, rubdiag.kernels.records)
 # --------------------------------------------------------------------------------------------
 def _linear(M, C, K, dense: bool) -> Linear:
     """M and C in CSR, the union pattern of M and K with both value arrays (one pass
@@ -673,346 +685,264 @@ class _Schedule:
         return self.operators(self.speeds[index])
 
 
-def _contact_set(contacts: Contacts, g_start, omega: float, lev_req, aug_k) -> ContactSet:
-    return ContactSet(
-        np.ascontiguousarray(contacts.kind),
-        np.ascontiguousarray(np.hstack([contacts.dof_a, contacts.dof_b]).astype(np.int64)),
-        np.ascontiguousarray(contacts.basis()), np.ascontiguousarray(contacts.gap), g_start,
-        np.ascontiguousarray(contacts.k_n), np.ascontiguousarray(contacts.k_t),
-        np.ascontiguousarray(contacts.mu),
-        np.ascontiguousarray(contacts.augmented.astype(np.int64)),
-        np.ascontiguousarray(contacts.eps), np.ascontiguousarray(omega * contacts.radius),
-        lev_req, aug_k)
+def _element_bundle(packed: Sequence[Packed], lev_req, aug_k) -> Elements:
+    """The elements as the kernel reads them (:data:`~rubdiag.kernels.newmark.Elements`)."""
+    ne = len(packed)
+    el = np.zeros(ne, records.ELEMENT)
+    m = sum(p.rows.shape[0] for p in packed)
+    rmap = np.zeros((m, 3), np.int64)
+    tmat = np.zeros((m, N_LOCAL_MAX))
+    par = np.zeros((ne, max((p.par.size for p in packed), default=0)))
+    r0 = 0
+    for e, p in enumerate(packed):
+        k = p.rows.shape[0]
+        el[e]["kind"], el[e]["row"], el[e]["n"] = p.kind, r0, k
+        el[e]["aug"], el[e]["eps"], el[e]["lev_req"] = int(p.augmented), p.eps, lev_req[e]
+        rmap[r0:r0 + k, :2] = p.rows
+        rmap[r0:r0 + k, 2] = e
+        tmat[r0:r0 + k, :k] = p.tmat
+        par[e, : p.par.size] = p.par
+        r0 += k
+    return Elements(el, rmap, tmat, par, np.ascontiguousarray(aug_k))
 
 
-def _state(M, K, q0, v0, a0, p0, d0, cf, ci, e_c0: float) -> State:
-    """The kernel's state at t = 0 (copies: the inputs stay as they are)."""
-    istate = np.zeros(layout.I_SIZE, np.int64)
-    fstate = np.zeros(layout.F_SIZE)
-    fstate[layout.F_E_CONTACT] = e_c0
-    fstate[layout.F_FAIL_TIME] = np.nan
-    istate[layout.I_FAIL_ELEMENT] = -1
-    return State(q0.copy(), v0.copy(), a0.copy(), np.ascontiguousarray(M @ v0),
-                 np.ascontiguousarray(K @ q0), p0.copy(), np.ascontiguousarray(d0), cf, ci,
-                 istate, fstate)
+def kernel_for(elements) -> Kernel:
+    """The kernel whose element dispatch knows every element's kind: the built-in (cached)
+    one, or one extended by kinds defined outside rubdiag (:mod:`rubdiag.kernels.extend`)."""
+    extra = []
+    for element in elements:
+        module = type(element).kernel
+        if KINDS.get(module.KIND) is module or module in extra:
+            continue
+        extra.append(module)
+    return kernel_with(tuple(sorted(extra, key=lambda m: m.KIND)))
 
 
-def _outputs(grid: _TimeGrid, nc: int, record_dofs, sensor_dofs, recovery) -> Outputs:
+def _packed(elements, omega: float, ramps) -> list[Packed]:
+    return [el.pack(omega, ramp) for el, ramp in zip(elements, ramps, strict=True)]
+
+
+def _state(M, K, q0, v0, B, bundle: Elements, packed, at_rest) -> tuple[State, float]:
+    """The kernel's state at t = 0 (copies: the inputs stay as they are) — the elements'
+    laws evaluated at q0, committed — and the elements' elastic energy there. The local
+    acceleration is set with a0 (:func:`_with_acceleration`). ``at_rest``: the kernel's
+    (:func:`rubdiag.kernels.elements.at_rest`, or the one of an extended kernel)."""
+    ne = len(packed)
+    n_state = max((p.state.size for p in packed), default=0)
+    es = np.zeros((2, ne, n_state))
+    for e, p in enumerate(packed):
+        es[0, e, : p.state.size] = p.state
+        es[1, e, : p.state.size] = p.state
+    xs = np.zeros((3, B.shape[0]))
+    xs[records.X_N] = B @ q0
+    xs[records.XV_N] = B @ v0
+    track = np.zeros(ne, records.TRACK)
+    prog = np.zeros(1, records.PROGRESS)       # h = 0: at rest
+    wc = np.zeros((WC_SIZE, B.shape[0]))
+    wc[records.D_NEW] = xs[records.X_N]
+    e_c0 = at_rest(bundle.el, wc, xs, bundle.par, es, track, np.zeros(ne, records.TRIAL), prog,
+                   np.zeros((B.shape[0], N_LOCAL_MAX)))
+    pc = wc[records.P_NEW].copy()
+    prog["e_contact"] = e_c0
+    prog["fail_time"] = np.nan
+    prog["fail_element"] = -1
+    state = State(q0.copy(), v0.copy(), np.zeros_like(q0), np.ascontiguousarray(M @ v0),
+                  np.ascontiguousarray(K @ q0), pc, xs, es, track, prog)
+    return state, e_c0
+
+
+def _with_acceleration(state: State, a0, B) -> None:
+    state.a[:] = a0
+    state.xs[records.XA_N] = B @ a0
+
+
+def _outputs(grid: _TimeGrid, ne: int, record_dofs, sensor_dofs, recovery) -> Outputs:
     """The recorded samples and the sensor stream, zeros, with the recovery maps."""
     n_out, n_sen = grid.n_out, grid.n_sensor_samples(sensor_dofs.size)
     empty = np.zeros((0, 0))
     sensors = np.zeros((n_sen, sensor_dofs.size))
     return Outputs(
-        record_dofs, np.zeros((n_out, record_dofs.size)), np.zeros((n_out, nc)),
-        np.zeros((n_out, nc)), np.zeros((n_out, nc), np.int64), np.zeros((n_out, nc)),
-        np.zeros((n_out, nc)), np.zeros((n_out, layout.EN_SIZE)),
-        sensor_dofs, sensors, np.zeros_like(sensors), np.zeros_like(sensors),
+        record_dofs, np.zeros((n_out, record_dofs.size)), np.zeros((n_out, ne), records.SAMPLE),
+        np.zeros(n_out, records.ENERGY), sensor_dofs, sensors, np.zeros_like(sensors),
+        np.zeros_like(sensors),
         empty if recovery is None else np.ascontiguousarray(recovery[record_dofs].T),
         empty if recovery is None else np.ascontiguousarray(recovery[sensor_dofs].T))
 
 
-def _logs(nc: int, n_lev: int, episode_capacity: int) -> Logs:
+def _logs(ne: int, n_lev: int, episode_capacity: int) -> Logs:
     """Empty logs (the segment log starts at four times the episode capacity)."""
-    return Logs(
-        np.zeros((episode_capacity, layout.EPF_SIZE)),
-        np.zeros((episode_capacity, layout.EPI_SIZE), np.int64),
-        np.zeros((4 * episode_capacity, layout.SG_SIZE)),
-        np.zeros((4 * episode_capacity, layout.SG_SIZE), np.int64),
-        np.zeros(256), np.zeros(256, np.int64),
-        np.zeros((nc, layout.TOT_SIZE)), np.zeros((nc, layout.MX_SIZE)),
-        np.zeros(n_lev, np.int64))
+    return Logs(np.zeros(episode_capacity, records.EPISODE),
+                np.zeros(4 * episode_capacity, records.SEGMENT),
+                np.zeros(256), np.zeros(256, np.int64), np.zeros(ne, records.STATS),
+                np.zeros(n_lev, np.int64))
 
 
-def _grown(logs: Logs, istate, nc: int) -> Logs:
+def _grown(logs: Logs, prog, ne: int) -> Logs:
     """``logs`` with room for another step (:data:`STATUS_LOG_FULL`): each log that could
-    overflow doubled (the episode log plus n_c rows)."""
-    ep_f, ep_i, sg_f, sg_i, lv_t, lv_l = logs[:6]
-    if istate[layout.I_N_EPISODES] + nc > ep_f.shape[0]:
-        more = ep_f.shape[0] + nc
-        ep_f = np.concatenate([ep_f, np.zeros((more, layout.EPF_SIZE))])
-        ep_i = np.concatenate([ep_i, np.zeros((more, layout.EPI_SIZE), np.int64)])
-    if istate[layout.I_N_SEGMENTS] + nc > sg_f.shape[0]:
-        sg_f = np.concatenate([sg_f, np.zeros_like(sg_f)])
-        sg_i = np.concatenate([sg_i, np.zeros_like(sg_i)])
-    if istate[layout.I_N_LEVEL_CHANGES] + 2 > lv_t.shape[0]:
+    overflow doubled (the episode log plus n_e rows)."""
+    ep, sg, lv_t, lv_l = logs.ep, logs.sg, logs.lv_t, logs.lv_l
+    pr = prog[0]
+    if pr["n_episodes"] + ne > ep.shape[0]:
+        ep = np.concatenate([ep, np.zeros(ep.shape[0] + ne, records.EPISODE)])
+    if pr["n_segments"] + ne > sg.shape[0]:
+        sg = np.concatenate([sg, np.zeros_like(sg)])
+    if pr["n_level_changes"] + 2 > lv_t.shape[0]:
         lv_t = np.concatenate([lv_t, np.zeros(lv_t.shape[0])])
         lv_l = np.concatenate([lv_l, np.zeros(lv_l.shape[0], np.int64)])
-    return logs._replace(ep_f=ep_f, ep_i=ep_i, sg_f=sg_f, sg_i=sg_i, lv_t=lv_t, lv_l=lv_l)
+    return logs._replace(ep=ep, sg=sg, lv_t=lv_t, lv_l=lv_l)
 
 
-def _work(n: int, nc: int, profile: bool) -> Work:
+def _work(n: int, m: int, ne: int, profile: bool) -> Work:
     """Work arrays, and the cycle counters when profiling (else empty)."""
-    return Work(np.zeros((layout.WN_SIZE, n)), np.zeros((layout.WC_SIZE, 2 * nc)),
-                np.zeros((layout.WCN_SIZE, nc)), np.zeros((2 * nc, 2 * nc)), np.zeros((nc, 4)),
-                np.zeros(5 * nc, np.int64), np.zeros((layout.CR_SIZE, nc)),
-                np.zeros(layout.P_SIZE if profile else 0, np.int64))
+    return Work(np.zeros((WN_SIZE, n)), np.zeros((WC_SIZE, m)), np.zeros((m, m)),
+                np.zeros((m, N_LOCAL_MAX)), np.zeros(4 * m, np.int64),
+                np.zeros(ne, records.TRIAL),
+                np.zeros(len(PROFILE_SECTIONS) if profile else 0, np.int64))
 
 
-def _parameters(grid: _TimeGrid, settings: _Settings, t_ramp: float, fixed_step: bool):
-    """The kernel's ``fpar`` and ``ipar`` (the end tick is set per call)."""
-    fpar = np.zeros(layout.FP_SIZE)
-    fpar[layout.FP_DT] = grid.dt
-    fpar[layout.FP_T_RAMP] = t_ramp
-    fpar[layout.FP_NEWTON_TOL] = settings.newton_tol
-    fpar[layout.FP_GAP_JUMP] = settings.gap_jump
+def _parameters(grid: _TimeGrid, settings: _Settings, fixed_step: bool) -> np.ndarray:
+    """The kernel's ``run`` record (the end tick is set per call)."""
+    run = np.zeros(1, records.RUN)
+    run["dt"] = grid.dt
+    run["newton_tol"] = settings.newton_tol
+    run["gap_jump"] = settings.gap_jump
     # the boosted update's landing point in the band (see augment_boost)
-    fpar[layout.FP_AUG_SHIFT] = 0.98 if settings.augment_boost > 0 else 0.0
-    fpar[layout.FP_BETA] = settings.beta
-    fpar[layout.FP_GAMMA] = settings.gamma
-    ipar = np.zeros(layout.IP_SIZE, np.int64)
-    ipar[layout.IP_N_LEV] = grid.n_lev
-    ipar[layout.IP_FIXED] = int(bool(fixed_step))
-    ipar[layout.IP_GROW_AFTER] = settings.grow_after
-    ipar[layout.IP_MAX_NEWTON] = settings.max_newton
-    ipar[layout.IP_MAX_AUG] = settings.max_augment
-    ipar[layout.IP_OUT_TICKS] = grid.out_ticks
-    ipar[layout.IP_AUG_STRICT] = int(settings.augment_strict)
-    ipar[layout.IP_SEN_TICKS] = grid.sen_ticks
-    return fpar, ipar
+    run["aug_shift"] = 0.98 if settings.augment_boost > 0 else 0.0
+    run["beta"] = settings.beta
+    run["gamma"] = settings.gamma
+    run["n_lev"] = grid.n_lev
+    run["fixed"] = int(bool(fixed_step))
+    run["grow_after"] = settings.grow_after
+    run["max_newton"] = settings.max_newton
+    run["max_aug"] = settings.max_augment
+    run["out_ticks"] = grid.out_ticks
+    run["aug_strict"] = int(settings.augment_strict)
+    run["sen_ticks"] = grid.sen_ticks
+    return run
 
 
 # --------------------------------------------------------------------------------------------
 # the public entry point
 # --------------------------------------------------------------------------------------------
-def simulate_system(
-    M,
-    C,
-    K,
-    force: HarmonicForce | None,
-    contacts: Contacts | None,
-    q0,
-    v0,
-    *,
-    duration: float,
-    dt: float,
-    dt_min: float | None = None,
-    fixed_step: bool = False,
-    output_dt: float | None = None,
-    record_dofs: Sequence[int] | np.ndarray | None = None,
-    sensor_dofs: Sequence[int] | np.ndarray | None = None,
-    gap_ramp: tuple[float, float | np.ndarray] | None = None,
-    omega: float = 0.0,
-    gamma: float = 0.5,
-    a0=None,
-    max_newton: int = 25,
-    newton_tol: float = 1e-12,
-    max_augment: int = 10000,
-    augment_boost: float = 0.0,
-    augment_strict: bool = True,
-    gap_jump: float = 1e-5,
-    contact_stiffness_ratio: float | None = 0.25,
-    grow_after: int = 8,
-    episode_capacity: int = 4096,
-    progress: Callable[[float, float], None] | None = None,
-    raise_on_failure: bool = True,
-    profile: bool = False,
-    linear_solver: str = "sparse",
-    recovery: np.ndarray | None = None,
-    gyroscopic=None,
-    speed_profile: SpeedProfile | None = None,
-    speed_tolerance: float = 0.005,
-) -> SystemResult:
-    """Integrate ``M q'' + C q' + K q = f(t) + contact forces`` from ``(q0, v0)`` at t = 0.
+def simulate_system(system, *args, **options) -> SystemResult:
+    """Integrate a linear system with nonlinear elements from its start state.
 
-    Parameters
-    ----------
-    M, C, K : sparse (n, n)
-        Mass (kg), damping (N s/m; damping + Ω G, constant) and stiffness (N/m) matrices.
-        M must be nonsingular. The energy ledger assumes M and K symmetric (C may carry a
-        skew gyroscopic part, which does no work).
-    force : HarmonicForce or None
-        External load (N): harmonic terms by shaft order and amplitude law
-        (:mod:`rubdiag.simulate.loads`).
-    contacts : Contacts or None
-        Contact elements.
-    q0, v0 : (n,)
-        Initial displacement (m) and velocity (m/s).
-    duration : float
-        Simulated time (s), at least one step ``dt``. The run ends at ``N dt`` with
-        ``N = floor(duration / dt)`` (``round`` when within 1e-9 of an integer).
-    dt : float
-        Largest (and initial) step (s), > 0.
-    dt_min : float, optional
-        Smallest step (s), in (0, dt]; the step sizes are ``dt / 2^k`` down to the largest
-        such value >= dt_min. Default ``dt / 64``. Ignored with ``fixed_step``.
-    fixed_step : bool
-        Constant step ``dt`` (for convergence studies): no halving, a contact iteration that
-        fails stops the run.
-    output_dt : float, optional
-        Sampling interval of the recorded waveforms (s), a positive integer multiple of
-        ``dt`` (default ``dt``). Samples are exact states at ``t = k output_dt`` (sample times
-        always fall on step ends; nothing is interpolated).
-    record_dofs : sequence of int, optional
-        DOFs whose displacements are recorded (default: all).
-    sensor_dofs : sequence of int, optional
-        DOFs whose displacement, velocity and acceleration (the integrator's state) are
-        recorded at every multiple of ``dt`` (``sensor_q``, ``sensor_v``, ``sensor_a``):
-        the raw stream sensors are filtered and decimated from (default: none).
+    ``simulate_system(system, elements, grid, outputs=Recording(), *, solver=Solver(),
+    gap_ramp=None)`` (:mod:`rubdiag.simulate.descriptions`):
+
+    system : LinearSystem
+        ``M q'' + C q' + K q = f(t)``, its start state and the shaft's speed.
+    elements : Contacts, sequence of element descriptions, or None
+        The nonlinear elements (:mod:`rubdiag.simulate.elements`).
+    grid : TimeGrid
+        The run's length and steps.
+    outputs : Recording
+        What is recorded and reported.
+    solver : Solver
+        The numerical settings.
     gap_ramp : (t_ramp, g_start), optional
-        Ramp every element's gap linearly from ``g_start`` (m; scalar or (n_c,), >= g0) at
-        t = 0 down to its g0 at ``t_ramp`` (s), so that a linear orbit larger than the gap
-        does not start deep inside the casing. Default: no ramp.
-    omega : float
-        Shaft speed Ω (rad/s): the surface speed Ω R of kind-2 elements.
-    gamma : float
-        Newmark γ in [0.5, 1]; β = (γ + 1/2)² / 4. The default 1/2 is average acceleration
-        (second order, no numerical damping, exact energy identity). γ > 1/2 adds numerical
-        damping of the highest frequencies (first order accurate; costs three more sparse
-        products per step); the energy residual then also contains the numerical
-        dissipation, and ``dissipated_viscous`` uses the trapezoidal mean velocity. (It does
-        not cure the augmented-Lagrangian chatter described under ``augment_boost``: tried
-        with γ = 0.55 and 0.6.)
-    a0 : (n,), optional
-        Initial acceleration (m/s²); default: from equilibrium at t = 0,
-        ``M a0 = f(0) + Bᵀp(q0) - C v0 - K q0``.
-    max_newton : int
-        Newton iterations allowed per contact solve (>= 0).
-    newton_tol : float
-        Convergence tolerance on the contact displacement residual (m), > 0.
-    max_augment : int
-        Multiplier updates allowed per step (augmented elements), >= 0.
-    augment_boost : float
-        0 (default): eq. (2) literally, ``λ <- max(0, λ - k_N g)`` while a closed element has
-        ``g <= -ε`` or ``g > 0``. It creeps towards g = 0 by a factor ``1 / (1 + k_N W_ee)``
-        per update (``W_ee``: the element's diagonal of ``B K_eff^-1 B^T`` at the current step),
-        i.e. hundreds of updates per step at small steps, and stops just inside the band.
-        > 0: ``λ <- max(0, λ - (k_N + augment_boost / W_ee) (g + 0.98 ε))``, a few updates,
-        landing at about ``g = -0.98 ε`` (close to where eq. (2) stops, but with a somewhat
-        larger rebound). In [0, 1].
-        **Caveat** (measured, see the tests): enforcing the band within each step is a
-        rigid wall at depth ε; with the trapezoidal rule a wall hit inside one step gives an
-        impulsive force (tens of times the penalty force) and, in *sustained* contact, force
-        chatter orders of magnitude above the penalty force and a broken energy balance.
-        Pure penalty (the default; README "Differences from the study, and why") has none
-        of this.
-    augment_strict : bool
-        If True (default) a step whose multipliers do not bring every closed element into the
-        band within ``max_augment`` updates is a failed contact iteration (halve the step /
-        stop); if False it is accepted as is and counted in ``extra['augment_pending']``.
-    gap_jump : float
-        A step in which an element closes and ends deeper than this penetration (m) is
-        rejected and retried at half the step (unless at dt_min or with ``fixed_step``).
-    contact_stiffness_ratio : float or None
-        Steps in which an element is closed use at most the step size at which
-        ``k_N W_ee <= contact_stiffness_ratio``, where ``W_ee`` is the element's diagonal of
-        ``B K_eff^-1 B^T`` (for a lumped mass m, ``k_N W_ee ≈ (ω_c h)^2 / 4`` with
-        ``ω_c = sqrt(k_N / m)``): resolves a contact stiffness that the step cannot follow
-        (down to dt_min). Kind 1 uses the normal row only (the tangential stick spring k_T
-        is not considered: at the blade tips of the 412-DOF rig-like test system ``k_T W_tt``
-        is ~14x ``k_N W_nn`` at dt = 1e-5 s, and resolving it would cost 4x steps in rub).
-        None disables it. Ignored with ``fixed_step``. The default 0.25 (ω_c h <= 1) brought
-        the energy residual of the stiff robustness corners (k_N = 1e9 N/m at dt = 1e-4 s)
-        from 110-190 % (no criterion) to below 1 %.
-    grow_after : int
-        Accepted steps at one level before the step is doubled again (>= 1).
-    episode_capacity : int
-        Initial capacity of the episode log (it grows as needed).
-    progress : callable(t, duration), optional
-        Called about 100 times during the run (the kernel runs in chunks).
-    raise_on_failure : bool
-        If True (default) a failed run raises :class:`SimulationDiverged` carrying the partial
-        result; if False the partial result is returned with ``status != 0``.
-    profile : bool
-        Count the CPU cycles of each section of a step (``extra['profile_cycles']``, by
-        section name, :data:`~rubdiag.kernels.newmark.PROFILE_SECTIONS`); the results are
-        the same bits (``benchmarks/bench_breakdown.py``).
-    linear_solver : {"sparse", "dense"}
-        How a step solves with K_eff: sparse LU triangular solves (the default, for large
-        sparse systems), or a product with its dense inverse, and dense products with M and
-        K (for small dense systems such as a reduced model: no indirection, vectorized).
-    recovery : (n_phys, n), optional
-        The integrated coordinates are generalised (a reduced model): physical
-        displacements are ``recovery @ q``. ``record_dofs`` and ``sensor_dofs`` then index
-        the physical DOFs, the kernel records the recovered values, and ``q_final``,
-        ``v_final``, ``a_final`` are physical too.
-    gyroscopic : (n, n), optional
-        The unit-speed gyroscopic matrix G (N s/m per rad/s), with ``speed_profile``: the
-        damping is then ``C + Ω(t) G``, C without the gyroscopic part.
-    speed_profile : SpeedProfile, optional
-        A spin speed that changes in time (:mod:`rubdiag.simulate.speed_profile`). The load
-        rotates with the shaft angle φ(t) and includes the angular acceleration (``force``
-        holds its amplitudes at the profile's start speed, which its ``omega`` must equal).
-        Ω(t) G is held at a reference speed over stretches of the run in which Ω stays
-        within ``speed_tolerance`` of it (relative), and the step operators are
-        refactorised at each new stretch (``extra['speed_stretches']``); kind-2 elements'
-        surface speed follows the same reference. ``omega`` is then ignored.
-    speed_tolerance : float
-        See ``speed_profile``; in (0, 0.5], or 0: refactorise at every largest step, with
-        Ω at its end (slow; the reference of the stretches' accuracy test).
+        Ramp every element's gap linearly from ``g_start`` (m; scalar or one per element,
+        >= its gap) at t = 0 down to its gap at ``t_ramp`` (s), so that a linear orbit
+        larger than the gap does not start deep inside the casing. Elements without a gap
+        ignore it.
+
+    The old call keeps working: ``simulate_system(M, C, K, force, contacts, q0, v0, *,
+    duration, dt, ...)`` with every field of the four objects as a keyword of the same name
+    (:func:`~rubdiag.simulate.descriptions.legacy_call`).
 
     Returns
     -------
     SystemResult
     """
+    if isinstance(system, LinearSystem):
+        return _simulate(system, *args, **options)
+    return _simulate(*legacy_call(system, *args, **options))
+
+
+def _simulate(system: LinearSystem, elements, grid: TimeGrid, outputs: Recording | None = None,
+              solver: Solver | None = None, gap_ramp=None) -> SystemResult:
+    """:func:`simulate_system` on described objects."""
     ensure_fresh_cache()    # before the first kernel call of this process
     t_start = time.perf_counter()
-    M, C, K, force, contacts, q0, v0 = _checked_system(M, C, K, force, contacts, q0, v0)
-    n, nc = M.shape[0], contacts.n_c
-    grid = _time_grid(duration, dt, dt_min, fixed_step, output_dt)
-    rot, stretches, G = _checked_profile(speed_profile, speed_tolerance, gyroscopic, force, n,
-                                         grid)
+    outputs = Recording() if outputs is None else outputs
+    solver = Solver() if solver is None else solver
+    q0, v0 = system.start()
+    M, C, K, force, elements, q0, v0 = _checked_system(system.M, system.C, system.K,
+                                                       system.force, elements, q0, v0)
+    n, ne = M.shape[0], len(elements)
+    ticks = _time_grid(grid.duration, grid.dt, grid.dt_min, grid.fixed_step, grid.output_dt)
+    speed_profile = system.speed_profile
+    rot, stretches, G = _checked_profile(speed_profile, system.speed_tolerance,
+                                         system.gyroscopic, force, n, ticks)
+    omega = system.omega
     if stretches:
         omega = stretches[0][1]
         C_base, C = C, (C + omega * G).tocsr()
-    dense = _check.choice("linear_solver", linear_solver, ("sparse", "dense")) == "dense"
-    recovery, record_dofs, sensor_dofs = _checked_records(grid, n, record_dofs, sensor_dofs,
-                                                          recovery)
-    settings = _Settings.checked(omega, gamma, max_newton, max_augment, grow_after, newton_tol,
-                                 augment_boost, augment_strict, gap_jump,
-                                 contact_stiffness_ratio, episode_capacity)
-    t_ramp, g_start = _checked_gap_ramp(gap_ramp, contacts)
+    dense = _check.choice("linear_solver", solver.linear_solver, ("sparse", "dense")) == "dense"
+    recovery, record_dofs, sensor_dofs = _checked_records(ticks, n, outputs.record_dofs,
+                                                          outputs.sensor_dofs, system.recovery)
+    settings = _Settings.checked(omega, solver.gamma, solver.max_newton, solver.max_augment,
+                                 solver.grow_after, solver.newton_tol, solver.augment_boost,
+                                 solver.augment_strict, solver.gap_jump,
+                                 solver.contact_stiffness_ratio, solver.episode_capacity)
+    ramps = _checked_gap_ramp(gap_ramp, elements)
+    fixed_step = grid.fixed_step
+    kernel = kernel_for(elements)
 
-    # the state at t = 0, the operators of each step size, the kernel's arrays
-    B = contacts.b_matrix(n)
-    d0 = B @ q0
-    p0, cf, ci, e_c0 = _initial_contact_state(contacts, d0,
-                                              g_start if t_ramp > 0 else contacts.gap)
-    a0 = _initial_acceleration(M, C, K, load_vector(force, speed_profile, 0.0, n), B, p0, q0, v0,
-                               a0)
+    # the elements at t = 0, the operators of each step size, the kernel's arrays
+    packed = _packed(elements, settings.omega, ramps)
+    B = b_matrix(packed, n)
+    ratio = None if fixed_step else settings.contact_stiffness_ratio
     factors, s_mat, w_mat, lev_req, aug_k, lu, inv_t = _level_operators(
-        M, C, K, B, contacts, grid.dt, grid.n_lev, settings.gamma, settings.beta,
-        None if fixed_step else settings.contact_stiffness_ratio, settings.augment_boost, dense)
-    state = _state(M, K, q0, v0, a0, p0, d0, cf, ci, e_c0)
-    outputs = _outputs(grid, nc, record_dofs, sensor_dofs, recovery)
-    fpar, ipar = _parameters(grid, settings, t_ramp, fixed_step)
+        M, C, K, B, elements, ticks.dt, ticks.n_lev, settings.gamma, settings.beta, ratio,
+        settings.augment_boost, dense)
+    bundle = _element_bundle(packed, lev_req, aug_k)
+    state, _ = _state(M, K, q0, v0, B, bundle, packed, kernel.at_rest)
+    a0 = _initial_acceleration(M, C, K, load_vector(force, speed_profile, 0.0, n), B, state.pc,
+                               q0, v0, system.a0)
+    _with_acceleration(state, a0, B)
+    recorded = _outputs(ticks, ne, record_dofs, sensor_dofs, recovery)
+    run = _parameters(ticks, settings, fixed_step)
     linear = _linear(M, C, K, dense)
-    ipar[layout.IP_COUPLED] = _coupled(linear.m_dense, linear.k_dense)
-    arrays = (linear, Factors(*lu, s_mat, w_mat, inv_t), kernel_force(force, rot),
-              _contact_set(contacts, g_start, settings.omega, lev_req, aug_k), fpar, ipar,
-              state, outputs)
-    logs = _logs(nc, grid.n_lev, settings.episode_capacity)
-    work = _work(n, nc, profile)
+    run["coupled"] = _coupled(linear.m_dense, linear.k_dense)
+    run["kinematics"] = any(getattr(type(el).kernel, "KINEMATICS", False) for el in elements)
+    k_force = kernel_force(force, rot)
+    if not stretches:   # constant speed: the shaft's angle Ω t for the element laws
+        k_force.rot[0, 1] = settings.omega
+    arrays = (linear, Factors(*lu, s_mat, w_mat, inv_t), k_force, bundle, run, state, recorded)
+    logs = _logs(ne, ticks.n_lev, settings.episode_capacity)
+    work = _work(n, B.shape[0], ne, outputs.profile)
     t_setup = time.perf_counter() - t_start
 
     schedule = None
     if stretches:
         def operators(omega_ref):    # the step operators with Ω_ref G, for the next stretch
             C_ref = (C_base + omega_ref * G).tocsr()
-            ops = _level_operators(
-                M, C_ref, K, B, contacts, grid.dt, grid.n_lev, settings.gamma, settings.beta,
-                None if fixed_step else settings.contact_stiffness_ratio,
-                settings.augment_boost, dense)
+            ops = _level_operators(M, C_ref, K, B, elements, ticks.dt, ticks.n_lev,
+                                   settings.gamma, settings.beta, ratio,
+                                   settings.augment_boost, dense)
             return (_linear(M, C_ref, K, dense), Factors(*ops[5], ops[1], ops[2], ops[6]),
-                    _contact_set(contacts, g_start, omega_ref, ops[3], ops[4]))
+                    _element_bundle(_packed(elements, omega_ref, ramps), ops[3], ops[4]))
 
-        schedule = _Schedule(stretches, grid, operators)
-    code, logs, t_kernel = _integrate(arrays, logs, work, grid, progress, schedule)
-    result = _package(code, grid, state, outputs, logs)
+        schedule = _Schedule(stretches, ticks, operators)
+    code, logs, t_kernel = _integrate(kernel.newmark_contact, arrays, logs, work, ticks,
+                                      outputs.progress, schedule)
+    result = _package(code, ticks, state, recorded, logs)
     if recovery is not None:    # the final state in physical DOFs, like the records
         q, v, a = state.q, state.v, state.a
         result = dataclasses.replace(result, q_final=recovery @ q, v_final=recovery @ v,
                                      a_final=recovery @ a)
-    if profile:
+    if outputs.profile:
         result.extra["profile_cycles"] = dict(zip(PROFILE_SECTIONS, work.prof.tolist(),
                                                   strict=True))
     result.extra.update(
         setup_seconds=t_setup, kernel_seconds=t_kernel, contact_level_required=lev_req,
-        augment_pending=int(state.istate[layout.I_AUG_PENDING]),
+        augment_pending=int(state.prog[0]["aug_pending"]),
         lu_nnz=[f.nnz for f in factors], lu_ordering=[f.ordering for f in factors],
     )
     if schedule is not None:
         result.extra["speed_stretches"] = schedule.used
-    if result.status != 0 and raise_on_failure:
+    if result.status != 0 and outputs.raise_on_failure:
         raise SimulationDiverged(result.message, result)
     return result
 
@@ -1020,79 +950,79 @@ def simulate_system(
 # --------------------------------------------------------------------------------------------
 # running the kernel, and the result
 # --------------------------------------------------------------------------------------------
-def _integrate(arrays: tuple, logs: Logs, work: Work, grid: _TimeGrid, progress,
+def _integrate(kernel, arrays: tuple, logs: Logs, work: Work, grid: _TimeGrid, progress,
                schedule: _Schedule | None = None):
-    """Run the kernel to the end of the run (or a failure): in chunks of about 1 % of the
-    run when there is a ``progress`` to call, growing a log whenever one is full, and with a
-    speed profile's ``schedule`` stretch by stretch (new step operators at each). Returns
-    the kernel's status code, the logs and the kernel's wall time (s)."""
-    linear, factors, force, contacts, fpar, ipar, state, outputs = arrays
-    istate = state.istate
+    """Run ``kernel`` (:func:`~rubdiag.kernels.newmark.newmark_contact`) to the end of the run
+    (or a failure): in chunks of about 1 % of the run when there is a ``progress`` to call,
+    growing a log whenever one is full, and with a speed profile's ``schedule`` stretch by
+    stretch (new step operators at each). Returns the kernel's status code, the logs and the
+    kernel's wall time (s)."""
+    linear, factors, force, elements, run, state, outputs = arrays
+    prog = state.prog
     n_chunks = 100 if progress is not None else 1
     chunk = max(np.int64(1), grid.tick_total // n_chunks)
     t_kernel = 0.0
     while True:
-        end = min(grid.tick_total, istate[layout.I_TICK] + chunk)
+        end = min(grid.tick_total, prog[0]["tick"] + chunk)
         if schedule is not None:
-            ops = schedule.advance(int(istate[layout.I_TICK]))
+            ops = schedule.advance(int(prog[0]["tick"]))
             if ops is not None:
-                linear, factors, contacts = ops
+                linear, factors, elements = ops
             end = min(end, schedule.tick_end())
-        ipar[layout.IP_TICK_END] = end
+        run["tick_end"] = end
         tk = time.perf_counter()
-        code = newmark_contact(linear, factors, force, contacts, fpar, ipar, state, outputs,
-                               logs, work)
+        code = kernel(linear, factors, force, elements, run, state, outputs, logs, work)
         t_kernel += time.perf_counter() - tk
         if code == STATUS_LOG_FULL:
-            logs = _grown(logs, istate, contacts.kind.shape[0])
+            logs = _grown(logs, prog, elements.el.shape[0])
             continue
         if code != STATUS_DONE:
             return code, logs, t_kernel
         if progress is not None:
-            progress(float(istate[layout.I_TICK]) * grid.dt / 2**grid.top, grid.n_big * grid.dt)
-        if istate[layout.I_TICK] >= grid.tick_total:
+            progress(float(prog[0]["tick"]) * grid.dt / 2**grid.top, grid.n_big * grid.dt)
+        if prog[0]["tick"] >= grid.tick_total:
             return code, logs, t_kernel
+
+
+#: the result's arrays from the kernel's records: per sample and element, per sample (the
+#: energy ledger), per element (totals and maxima)
+_SAMPLE_FIELDS = {"contact_fn": "fn", "contact_ft": "ft", "contact_gap": "gap",
+                  "contact_slip": "slip"}
+_LEDGER_FIELDS = {"work_external": "w_ext", "work_drive": "w_drive",
+                  "dissipated_viscous": "d_visc", "dissipated_friction": "d_fric",
+                  "contact_algorithmic": "d_num", "kinetic": "kinetic", "strain": "strain",
+                  "contact_elastic": "contact"}
+_TOTAL_FIELDS = {"time_in_status": "time", "normal_impulse": "fn_impulse",
+                 "tangential_impulse": "ft_impulse", "max_normal_force": "max_fn",
+                 "max_tangential_force": "max_ft", "max_penetration": "max_penetration"}
 
 
 def _package(code, grid: _TimeGrid, state: State, outputs: Outputs, logs: Logs) -> SystemResult:
     """The kernel's arrays as a :class:`SystemResult`, cut to what the run reached."""
-    istate, fstate = state.istate, state.fstate
-    tick = int(istate[layout.I_TICK])
+    pr = state.prog[0]
+    tick = int(pr["tick"])
     t_final = tick * grid.dt / 2**grid.top
     n_written = tick // int(grid.out_ticks) + 1
     n_sen = tick // int(grid.sen_ticks) + 1 if outputs.sen_dof.size else 0
     episodes, segments = _episode_logs(state, logs, t_final)
-    status, message = _status(code, istate, fstate, t_final, grid.dt_min)
-    nl = int(istate[layout.I_N_LEVEL_CHANGES])
+    status, message = _status(code, pr, t_final, grid.dt_min)
+    nl = int(pr["n_level_changes"])
     sl = slice(0, n_written)
-    en = outputs.en
-    tot, mx = logs.tot, logs.mx
+    en = outputs.en[sl]
+    el = outputs.el[sl]
+    columns = {name: np.ascontiguousarray(records_[field])
+               for records_, fields in ((el, _SAMPLE_FIELDS), (en, _LEDGER_FIELDS),
+                                        (logs.stats, _TOTAL_FIELDS))
+               for name, field in fields.items()}
     return SystemResult(
         t=np.arange(n_written) * grid.output_dt,
         record_dofs=outputs.rec_dof,
         q=outputs.q[sl],
-        contact_fn=outputs.fn[sl],
-        contact_ft=outputs.ft[sl],
-        contact_status=outputs.st[sl].astype(np.int8),
-        contact_gap=outputs.gap[sl],
-        contact_slip=outputs.slip[sl],
-        work_external=en[sl, layout.EN_W_EXT],
-        work_drive=en[sl, layout.EN_W_DRIVE],
-        dissipated_viscous=en[sl, layout.EN_D_VISC],
-        dissipated_friction=en[sl, layout.EN_D_FRIC],
-        contact_algorithmic=en[sl, layout.EN_D_NUM],
-        kinetic=en[sl, layout.EN_KINETIC],
-        strain=en[sl, layout.EN_STRAIN],
-        contact_elastic=en[sl, layout.EN_CONTACT],
+        contact_status=np.ascontiguousarray(el["status"], dtype=np.int8),
+        **columns,
         episodes=episodes,
         status_segments=segments,
-        time_in_status=tot[:, layout.TOT_TIME:layout.TOT_TIME + 3].copy(),
-        normal_impulse=tot[:, layout.TOT_FN_IMPULSE:layout.TOT_FN_IMPULSE + 3].copy(),
-        tangential_impulse=tot[:, layout.TOT_FT_IMPULSE:layout.TOT_FT_IMPULSE + 3].copy(),
-        max_normal_force=mx[:, layout.MX_FN].copy(),
-        max_tangential_force=mx[:, layout.MX_FT].copy(),
-        max_penetration=mx[:, layout.MX_PENETRATION].copy(),
-        max_cone_excess=float(fstate[layout.F_CONE_EXCESS]),
+        max_cone_excess=float(pr["cone_excess"]),
         dt=grid.dt,
         dt_min=grid.dt / 2**grid.top,
         output_dt=grid.output_dt,
@@ -1100,22 +1030,22 @@ def _package(code, grid: _TimeGrid, state: State, outputs: Outputs, logs: Logs) 
         steps_per_level=logs.lvl_count.copy(),
         level_change_t=logs.lv_t[:nl].copy(),
         level_change_level=logs.lv_l[:nl].copy(),
-        n_steps=int(istate[layout.I_N_ACCEPTED]),
-        n_rejected_newton=int(istate[layout.I_N_REJ_NEWTON]),
-        n_rejected_abrupt=int(istate[layout.I_N_REJ_ABRUPT]),
-        n_abrupt_at_min=int(istate[layout.I_N_ABRUPT_AT_MIN]),
-        newton_iterations=int(istate[layout.I_NEWTON_TOTAL]),
-        newton_iterations_max=int(istate[layout.I_NEWTON_MAX]),
-        augment_iterations=int(istate[layout.I_AUG_TOTAL]),
-        augment_iterations_max=int(istate[layout.I_AUG_MAX]),
+        n_steps=int(pr["n_accepted"]),
+        n_rejected_newton=int(pr["n_rej_newton"]),
+        n_rejected_abrupt=int(pr["n_rej_abrupt"]),
+        n_abrupt_at_min=int(pr["n_abrupt_at_min"]),
+        newton_iterations=int(pr["newton_total"]),
+        newton_iterations_max=int(pr["newton_max"]),
+        augment_iterations=int(pr["aug_total"]),
+        augment_iterations_max=int(pr["aug_max"]),
         t_final=t_final,
         q_final=state.q.copy(),
         v_final=state.v.copy(),
         a_final=state.a.copy(),
         status=status,
         message=message,
-        failure_time=float(fstate[layout.F_FAIL_TIME]) if status else float("nan"),
-        failure_element=int(istate[layout.I_FAIL_ELEMENT]) + 1 if status else 0,  # 0: none
+        failure_time=float(pr["fail_time"]) if status else float("nan"),
+        failure_element=int(pr["fail_element"]) + 1 if status else 0,  # 0: none
         sensor_dofs=outputs.sen_dof,
         sensor_dt=float(grid.dt * int(grid.sen_ticks) / 2**grid.top),
         sensor_q=outputs.sq[:n_sen],
@@ -1126,59 +1056,52 @@ def _package(code, grid: _TimeGrid, state: State, outputs: Outputs, logs: Logs) 
 
 def _episode_logs(state: State, logs: Logs, t_final: float):
     """The episode and status-segment logs: the ended ones as logged, then those still
-    open at ``t_final`` (from the per-element state)."""
-    cf, ci, istate = state.cf, state.ci, state.istate
-    ne = int(istate[layout.I_N_EPISODES])
-    ns = int(istate[layout.I_N_SEGMENTS])
-    ep_f, ep_i, sg_f, sg_i = logs.ep_f[:ne], logs.ep_i[:ne], logs.sg_f[:ns], logs.sg_i[:ns]
-    open_el = np.flatnonzero(ci[layout.CI_STATUS] != OPEN)
+    open at ``t_final`` (from each element's track)."""
+    pr = state.prog[0]
+    track = state.track
+    ep = logs.ep[: int(pr["n_episodes"])]
+    sg = logs.sg[: int(pr["n_segments"])]
+    open_el = np.flatnonzero(track["status"] != OPEN)
+    current = track[open_el]
 
-    def ended_then_open(ended, current):
-        return np.concatenate([ended, current[open_el]])
+    def ended_then_open(ended, now):
+        return np.concatenate([ended, now])
 
-    element = np.arange(ci.shape[1])
     still_open = np.full(open_el.size, t_final)
     episodes = EpisodeLog(
-        element=ended_then_open(ep_i[:, layout.EPI_ELEMENT], element) + 1,  # numbered from 1
-        t_start=ended_then_open(ep_f[:, layout.EPF_T_START], cf[layout.CF_EP_START]),
-        t_end=np.concatenate([ep_f[:, layout.EPF_T_END], still_open]),
-        n_steps=ended_then_open(ep_i[:, layout.EPI_STEPS], ci[layout.CI_EP_STEPS]),
-        peak_normal_force=ended_then_open(ep_f[:, layout.EPF_PEAK_FN],
-                                          cf[layout.CF_EP_PEAK_FN]),
-        n_slide_entries=ended_then_open(ep_i[:, layout.EPI_SLIDE_ENTRIES],
-                                        ci[layout.CI_EP_SLIDE_ENTRIES]),
-        n_stick_entries=ended_then_open(ep_i[:, layout.EPI_STICK_ENTRIES],
-                                        ci[layout.CI_EP_STICK_ENTRIES]),
-        slide_time=ended_then_open(ep_f[:, layout.EPF_SLIDE_TIME], cf[layout.CF_EP_SLIDE_TIME]),
-        stick_time=ended_then_open(ep_f[:, layout.EPF_STICK_TIME], cf[layout.CF_EP_STICK_TIME]),
-        slide_impulse=ended_then_open(ep_f[:, layout.EPF_SLIDE_IMPULSE],
-                                      cf[layout.CF_EP_SLIDE_IMPULSE]),
-        stick_impulse=ended_then_open(ep_f[:, layout.EPF_STICK_IMPULSE],
-                                      cf[layout.CF_EP_STICK_IMPULSE]),
-        complete=np.concatenate([ep_i[:, layout.EPI_COMPLETE] == 1,
-                                 np.zeros(open_el.size, bool)]),
+        element=ended_then_open(ep["element"], open_el) + 1,  # numbered from 1
+        t_start=ended_then_open(ep["t_start"], current["ep_start"]),
+        t_end=np.concatenate([ep["t_end"], still_open]),
+        n_steps=ended_then_open(ep["steps"], current["ep_steps"]),
+        peak_normal_force=ended_then_open(ep["peak_fn"], current["ep_peak_fn"]),
+        n_slide_entries=ended_then_open(ep["slide_entries"], current["ep_slide_entries"]),
+        n_stick_entries=ended_then_open(ep["stick_entries"], current["ep_stick_entries"]),
+        slide_time=ended_then_open(ep["slide_time"], current["ep_slide_time"]),
+        stick_time=ended_then_open(ep["stick_time"], current["ep_stick_time"]),
+        slide_impulse=ended_then_open(ep["slide_impulse"], current["ep_slide_impulse"]),
+        stick_impulse=ended_then_open(ep["stick_impulse"], current["ep_stick_impulse"]),
+        complete=np.concatenate([np.ones(ep.size, bool), np.zeros(open_el.size, bool)]),
     )
     segments = StatusLog(
-        element=ended_then_open(sg_i[:, layout.SGI_ELEMENT], element) + 1,
-        status=ended_then_open(sg_i[:, layout.SGI_STATUS], ci[layout.CI_STATUS]).astype(np.int8),
-        t_start=ended_then_open(sg_f[:, layout.SGF_T_START], cf[layout.CF_SEG_START]),
-        t_end=np.concatenate([sg_f[:, layout.SGF_T_END], still_open]),
+        element=ended_then_open(sg["element"], open_el) + 1,
+        status=ended_then_open(sg["status"], current["status"]).astype(np.int8),
+        t_start=ended_then_open(sg["t_start"], current["seg_start"]),
+        t_end=np.concatenate([sg["t_end"], still_open]),
     )
     return episodes, segments
 
 
-def _status(code, istate, fstate, t_final: float, dt_min: float) -> tuple[int, str]:
+def _status(code, pr, t_final: float, dt_min: float) -> tuple[int, str]:
     """The result's status (0 done, 1 no convergence, 2 non-finite) and its message."""
     status = {STATUS_DONE: 0, STATUS_NO_CONVERGENCE: 1, STATUS_NONFINITE: 2}[code]
-    fail_t = float(fstate[layout.F_FAIL_TIME])
-    fail_e = int(istate[layout.I_FAIL_ELEMENT]) + 1
+    fail_t = float(pr["fail_time"])
+    fail_e = int(pr["fail_element"]) + 1
     if status == 0:
-        return status, f"Reached t = {t_final:.6g} s in {int(istate[layout.I_N_ACCEPTED])} steps."
+        return status, f"Reached t = {t_final:.6g} s in {int(pr['n_accepted'])} steps."
     if status == 1:
         why = {NEWTON_FAILED: "Newton iterations exhausted",
                AUGMENT_FAILED: "augmentation did not reach eps",
-               SINGULAR: "singular contact Jacobian"}.get(int(istate[layout.I_FAIL_CODE]),
-                                                          "unknown")
+               SINGULAR: "singular contact Jacobian"}.get(int(pr["fail_code"]), "unknown")
         return status, (
             f"Contact iteration did not converge ({why}) at t = {fail_t:.9g} s, contact element "
             f"{fail_e}, even at the smallest step {dt_min:.3g} s; results kept up to "

@@ -5,10 +5,18 @@ import pytest
 import scipy.optimize as so
 import scipy.sparse as sp
 
-from rubdiag.kernels.contact import OPEN, SLIDING, STICKING, element_law
+from rubdiag.kernels import annular_contact, point_contact
+from rubdiag.kernels.records import OPEN, SLIDING, STICKING
 from rubdiag.simulate import Contacts, HarmonicForce, simulate_system
 
 KN, KT = 1e7, 5e6
+
+
+def element_law(kind, x0, x1, x0n, x1n, g0, kn, kt, mu, lam, e_n, drive):
+    """Kind 1's or kind 2's force law (the surface travel ``drive`` is kind 2's)."""
+    if kind == point_contact.KIND:
+        return point_contact.force(x0, x1, x0n, x1n, g0, kn, kt, mu, lam, e_n)
+    return annular_contact.force(x0, x1, x0n, x1n, g0, kn, kt, mu, lam, e_n, drive)
 
 
 def law1(x0, x1, x0n, x1n, g0, mu, lam=0.0, e_n=0.0):

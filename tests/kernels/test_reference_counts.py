@@ -25,36 +25,49 @@ import sys
 
 #: called at every step (or every trial step): no reference counting at all (the parts
 #: inlined into their callers, such as ``_add_force``, are counted there)
-PER_STEP = ("_rhs_average", "_rhs_general", "_contact_inputs", "_level_needed",
-            "_mk_products", "_mk_dense", "_matvec_t", "_dissipation", "_energy_ledger",
-            "_log_episodes", "_commit_contacts", "_advance", "_count_iterations",
-            "_add_bt_p", "_contact_coords", "_lap", "_logs_full",
-            "_change_level", "_force_work", "load_factors", "csr_matvec", "lu_solve")
+PER_STEP = ("_rhs_average", "_rhs_general", "_load_increment", "_clock", "_element_inputs",
+            "_level_needed", "_mk_products", "_mk_dense", "_matvec_t", "_dissipation",
+            "_energy_ledger", "_log_episodes", "_commit_elements", "_advance",
+            "_count_iterations", "_lap", "_logs_full", "_change_level", "_force_work",
+            "load_factors", "csr_matvec", "lu_solve",
+            # the seam: each kind's law and books on its elements, per Newton iteration
+            "element_laws", "element_books")
 #: the CPU the guard compiles for (NUMBA_CPU_NAME): one whose inliner lets Numba prune
 #: every count in the per-step parts, as on the Intel machines the kernel was tuned on
 TARGET_CPU = "haswell"
 #: the controller unpacks its bundles once per call (2026-11-24: 171 increfs in its IR, one
 #: more with the speed profile's knots; 174 since the load's terms come in groups by order
-#: and law, three more arrays in the load's bundle)
-CONTROLLER_MAX = 174
+#: and law, three more arrays in the load's bundle; 132 behind the element seam, whose
+#: records replace a dozen arrays)
+CONTROLLER_MAX = 132
+#: the element solve counts its arguments once per call (a trial step): 17 on 2026-11-25 (the
+#: contact solve before the seam: 28). Each kind's laws run in a loop of their own with the
+#: law inlined (``element_laws``, counted above); a branch over kinds per element brought
+#: 9 increfs per element and Newton iteration here (0.25-0.3 µs per step in rub)
+SOLVE_MAX = 17
 
 COUNT = """
 import json
 import numpy as np
 import rubdiag.kernels.newmark as nm
+from rubdiag.kernels import annular_contact, elements, point_contact
 from rubdiag.simulate import Contacts, HarmonicForce, simulate_system
 
 M, K = np.eye(2), np.diag([100.0, 400.0])
 c = Contacts.point(np.array([[0, 1]]), np.array([[-1, -1]]), np.array([[1.0, 0.0]]),
                    np.array([[0.0, 1.0]]), np.array([1e-3]), 1e5, mu=0.3)
+c = c + Contacts.annular(np.array([[0, 1]]), np.array([2e-3]), 0.01, 1e5)
 for solver in ("sparse", "dense"):   # both linear paths compiled
     simulate_system(M, 0.01 * K, K, HarmonicForce([0], [10.0], 3.0), c, np.zeros(2),
                     np.zeros(2), duration=0.05, dt=1e-3, linear_solver=solver)
 counts = {}
-for name in dir(nm):
-    f = getattr(nm, name)
-    if hasattr(f, "inspect_llvm") and f.signatures:
-        counts[name] = sum(ir.count("call void @NRT_incref") for ir in f.inspect_llvm().values())
+for prefix, module in (("", nm), ("", elements), ("point_contact.", point_contact),
+                       ("annular_contact.", annular_contact)):
+    for name in dir(module):
+        f = getattr(module, name)
+        if hasattr(f, "inspect_llvm") and f.signatures:
+            ir = f.inspect_llvm().values()
+            counts[prefix + name] = sum(text.count("call void @NRT_incref") for text in ir)
 print(json.dumps(counts))
 """
 
@@ -68,3 +81,7 @@ def test_per_step_parts_do_no_reference_counting(tmp_path):
     counted = {name: counts[name] for name in PER_STEP if counts[name]}
     assert not counted, f"reference counting in per-step parts: {counted}"
     assert 0 < counts["newmark_contact"] <= CONTROLLER_MAX
+    assert counts["solve_elements"] <= SOLVE_MAX
+    inlined = {"local_coords", "add_bt_p", "point_contact.law", "annular_contact.law",
+               "_point_laws", "_annular_laws", "_point_books", "_annular_books"}
+    assert not inlined & set(counts), "the seam's per-element parts must be inlined"
