@@ -78,7 +78,7 @@ def _rebound(func, swaps: dict):
             scope[name] = next(new for old, new in swaps.items() if scope[name] is old)
     clone = types.FunctionType(py.__code__, scope, py.__name__, py.__defaults__,
                                py.__closure__)
-    options = {k: v for k, v in func.targetoptions.items() if k != "cache"}
+    options = {k: v for k, v in func.targetoptions.items() if k not in ("cache", "nopython")}
     return numba.njit(**options)(clone)
 
 

@@ -20,17 +20,16 @@ with
   ``B K_eff⁻¹ Bᵀ`` at a step size; an engaged element allows that step when the ratio is at
   most the run's ``contact_stiffness_ratio`` (0: any step);
 * ``multiplier_stiffness(w, boost)`` → the multiplier update stiffness (N/m; 0 without one);
-* ``dofs()`` → every DOF it acts on (they join a reduced model's boundary) and
-  ``renumbered(index)`` → the same element with its DOFs mapped (a reduced model's
-  numbering).
+* ``dofs()`` → every DOF it acts on (checked against the system; a reduced model keeps them
+  physical: :func:`rubdiag.reduce.contact_dofs` lists those of the rig's elements).
 
-``tests/simulate/test_element_seam.py`` adds a linear spring and damper to ground this way,
-outside the package, and checks it against the same spring in K and damper in C.
+``tests/simulate/test_element_seam.py`` (with ``tests/ground_spring_kind.py``) adds a linear
+spring and dashpot to ground this way, outside the package, and checks them against the same
+spring in K and dashpot in C.
 """
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass
 from typing import ClassVar, NamedTuple
 
@@ -109,12 +108,6 @@ class _Contact:
 
     def dofs(self) -> np.ndarray:
         return np.array([d for d in (*self.dof_a, *self.dof_b) if d >= 0], dtype=np.int64)
-
-    def renumbered(self, index) -> _Contact:
-        """The element with its DOFs through ``index`` (a function of an int array; -1
-        stays -1)."""
-        return dataclasses.replace(self, dof_a=tuple(int(i) for i in index(self.dof_a)),
-                                   dof_b=tuple(int(i) for i in index(self.dof_b)))
 
     def _rows(self) -> np.ndarray:
         return np.array([[self.dof_a[0], self.dof_b[0]], [self.dof_a[1], self.dof_b[1]]],

@@ -431,23 +431,22 @@ class _Settings:
         return 0.25 * (self.gamma + 0.5) ** 2
 
     @classmethod
-    def checked(cls, omega, gamma, max_newton, max_augment, grow_after, newton_tol,
-                augment_boost, augment_strict, gap_jump, contact_stiffness_ratio,
-                episode_capacity) -> _Settings:
-        ratio = contact_stiffness_ratio
+    def checked(cls, solver: Solver, omega) -> _Settings:
+        ratio = solver.contact_stiffness_ratio
         return cls(
             omega=_check_scalar("omega", omega),
-            gamma=_check_scalar("gamma", gamma, 0.5, 1.0),
-            max_newton=_check.integer("max_newton", max_newton, lo=0),
-            max_augment=_check.integer("max_augment", max_augment, lo=0),
-            grow_after=_check.integer("grow_after", grow_after, lo=1),
-            newton_tol=_check_scalar("newton_tol", newton_tol, 0.0, lo_open=True),
-            augment_boost=_check_scalar("augment_boost", augment_boost, 0.0, 1.0),
-            augment_strict=bool(augment_strict),
-            gap_jump=_check_scalar("gap_jump", gap_jump, 0.0, lo_open=True),
+            gamma=_check_scalar("gamma", solver.gamma, 0.5, 1.0),
+            max_newton=_check.integer("max_newton", solver.max_newton, lo=0),
+            max_augment=_check.integer("max_augment", solver.max_augment, lo=0),
+            grow_after=_check.integer("grow_after", solver.grow_after, lo=1),
+            newton_tol=_check_scalar("newton_tol", solver.newton_tol, 0.0, lo_open=True),
+            augment_boost=_check_scalar("augment_boost", solver.augment_boost, 0.0, 1.0),
+            augment_strict=bool(solver.augment_strict),
+            gap_jump=_check_scalar("gap_jump", solver.gap_jump, 0.0, lo_open=True),
             contact_stiffness_ratio=None if ratio is None else _check_scalar(
                 "contact_stiffness_ratio", ratio, 0.0, lo_open=True),
-            episode_capacity=_check.integer("episode_capacity", episode_capacity, lo=1),
+            episode_capacity=_check.integer("episode_capacity", solver.episode_capacity,
+                                            lo=1),
         )
 
 
@@ -737,7 +736,8 @@ def _state(M, K, q0, v0, B, bundle: Elements, packed, at_rest) -> tuple[State, f
     xs[records.X_N] = B @ q0
     xs[records.XV_N] = B @ v0
     track = np.zeros(ne, records.TRACK)
-    prog = np.zeros(1, records.PROGRESS)       # h = 0: at rest
+    prog = np.zeros(1, records.PROGRESS)       # h = 0: at rest, where ẋ = ẋ_n
+    prog["cvv"] = 1.0
     wc = np.zeros((WC_SIZE, B.shape[0]))
     wc[records.D_NEW] = xs[records.X_N]
     e_c0 = at_rest(bundle.el, wc, xs, bundle.par, es, track, np.zeros(ne, records.TRIAL), prog,
@@ -881,10 +881,7 @@ def _simulate(system: LinearSystem, elements, grid: TimeGrid, outputs: Recording
     dense = _check.choice("linear_solver", solver.linear_solver, ("sparse", "dense")) == "dense"
     recovery, record_dofs, sensor_dofs = _checked_records(ticks, n, outputs.record_dofs,
                                                           outputs.sensor_dofs, system.recovery)
-    settings = _Settings.checked(omega, solver.gamma, solver.max_newton, solver.max_augment,
-                                 solver.grow_after, solver.newton_tol, solver.augment_boost,
-                                 solver.augment_strict, solver.gap_jump,
-                                 solver.contact_stiffness_ratio, solver.episode_capacity)
+    settings = _Settings.checked(solver, omega)
     ramps = _checked_gap_ramp(gap_ramp, elements)
     fixed_step = grid.fixed_step
     kernel = kernel_for(elements)
