@@ -21,7 +21,7 @@ the kinetic and strain energies at the samples are dot products. (γ ≠ 1/2 use
 M and C for the right-hand side and recomputes M v: three more products.) A dense system (a
 reduced model) replaces the LU solve by a product with ``K_eff^-1`` and the pass over the
 pattern by dense products with M and K, which skip what is zero in a modal tail
-(``ipar[IP_COUPLED]``, :func:`_mk_dense`).
+(``run.coupled``, :func:`_mk_dense`).
 
 Step sizes are levels ``h_k = dt / 2^k`` (k = 0..n_lev-1). Time is an integer tick count
 (tick = dt / 2^(n_lev-1)), so sample times and level changes are exact. A step at level k

@@ -8,12 +8,11 @@ afresh (a cached kernel has no IR to inspect) in a fresh interpreter and counts 
 
 The count depends on the CPU LLVM compiles for: its inliner decides per target what it
 merges, and Numba prunes the counting only where it sees both ends. On AMD znver3 and znver4
-targets five parts keep some increfs (``_rhs_average`` 8, ``_rhs_general`` 20,
-``_contact_inputs`` 11, ``_energy_ledger`` 22, ``_commit_contacts`` 4 on 2026-11-25, Numba
-0.68.1), with no measurable cost there (``benchmarks/bench_kernel.py --repeat 5`` on a
-znver4: 11.05 µs per step compiled for it, 11.06 compiled for Haswell). So the guard
-compiles for one stated target, :data:`TARGET_CPU`: what it catches is a change of the code,
-the same on every machine.
+targets some parts keep increfs (before the element seam five parts, 2026-11-25: 11.05 µs per
+step compiled for the znver4, 11.06 compiled for Haswell, ``benchmarks/bench_kernel.py
+--repeat 5``; behind the seam ``_rhs_general`` 11 and ``_energy_ledger`` 15, Numba 0.68.1).
+So the guard compiles for one stated target, :data:`TARGET_CPU`: what it catches is a change
+of the code, the same on every machine.
 """
 
 from __future__ import annotations
