@@ -17,7 +17,9 @@ held constant outside it. Along a speed profile Ω(t), φ(t) = ∫Ω dt (the run
   ``(Ω² - iΩ') / Ω₀² e^{iφ}`` (f_y = u(Ω² cos φ + Ω' sin φ) for F_y = u Ω₀², F_z = -i F_y),
   bit for bit as before orders existed;
 * ``"constant"``: ``z = e^{ikφ}``, a load of fixed magnitude (a magnetic pull, a
-  misalignment preload turning with the shaft);
+  misalignment preload turning with the shaft); with k = 0, z = 1: a static load
+  f = Re(F) that does not turn (gravity, a side load, a coupling's preload), the only
+  law order 0 is allowed with;
 * ``"table"``: ``z = a(Ω) e^{ikφ}``.
 
 The kernel evaluates z once per group of terms with the same order, law and table
@@ -60,7 +62,8 @@ class HarmonicForce:
 
     ``dofs`` (m,) int, ``amplitudes`` (m,) complex (N), ``omega`` (m,) the shaft speed Ω
     (rad/s; at constant speed, order 1, the term's angular frequency). ``order`` (m,) k,
-    nonzero, |k| <= 100 (default 1: once per revolution). ``law`` one of ``"unbalance"``
+    |k| <= 100 (default 1: once per revolution), nonzero but for the law ``"constant"``,
+    where k = 0 is a static load f = Re(F). ``law`` one of ``"unbalance"``
     (default), ``"constant"``, ``"table"``, for all terms or one per term. ``table``: the
     (speed_rad_s, factor) knots (K, 2) of the ``"table"`` terms, speeds >= 0 increasing,
     one table for all of them or one per term (None for the other laws). Scalars broadcast;
@@ -87,7 +90,7 @@ class HarmonicForce:
         object.__setattr__(self, "dofs", dofs)
         object.__setattr__(self, "amplitudes", amp)
         object.__setattr__(self, "omega", om)
-        object.__setattr__(self, "order", _orders(self.order, m))
+        object.__setattr__(self, "order", _orders(self.order, m, laws))
         object.__setattr__(self, "law", laws)
         object.__setattr__(self, "table", _tables(self.table, laws))
 
@@ -135,14 +138,20 @@ class HarmonicForce:
         return f
 
 
-def _orders(order, m: int) -> np.ndarray:
+def _orders(order, m: int, laws: tuple[str, ...]) -> np.ndarray:
+    """Each term's order k; k = 0 (a static load) only with the law "constant": the
+    unbalance law divides by k, and a table of speeds scaling a load that does not turn
+    is a load the caller should scale itself."""
     k = np.broadcast_to(np.asarray(order, dtype=np.float64), (m,)).copy()
-    bad = ~np.isfinite(k) | (k == 0) | (np.abs(k) > MAX_ORDER)
+    static = np.array([law == "constant" for law in laws], dtype=bool) & (k == 0)
+    bad = ~np.isfinite(k) | ((k == 0) & ~static) | (np.abs(k) > MAX_ORDER)
     if bad.any():
         j = int(np.argmax(bad))
+        zero = f" for the law '{laws[j]}' (0, a static load, only with 'constant')" \
+            if k[j] == 0 else ""
         raise _check.out_of_range(f"force.order[{j}]", float(k[j]),
-                                  f"nonzero, -{MAX_ORDER:g} <= order <= {MAX_ORDER:g}; "
-                                  "negative: backward")
+                                  f"nonzero{zero}, -{MAX_ORDER:g} <= order <= "
+                                  f"{MAX_ORDER:g}; negative: backward")
     return k
 
 

@@ -27,11 +27,12 @@ class RigSystem:
     """``M x'' + (C + Ω G) x' + K x = f(t) + contact forces`` in the coordinates x.
 
     ``M``, ``C``, ``K``, ``G``: sparse (full model) or dense (reduced); ``force``: the
-    unbalance at speed Ω; ``contacts``: in x's numbering; ``x0``, ``v0``: the linear steady
-    state at t = 0; ``approach``: the largest radial approach of that state at the contacts
-    (m); ``recovery``: None (x is q) or T with ``q = T x``; ``linear_solver``: what the
-    integrator uses ("sparse" or "dense"); ``model``: "full" or "reduced"; ``extra``:
-    diagnostics of the reduction."""
+    unbalance at speed Ω, and the run's static load as order-0 terms; ``contacts``: in x's
+    numbering; ``x0``, ``v0``: the linear steady state at t = 0 (the static deflection
+    ``K⁻¹ f_static`` plus the harmonic steady state); ``approach``: the largest radial
+    approach of that state at the contacts (m); ``recovery``: None (x is q) or T with
+    ``q = T x``; ``linear_solver``: what the integrator uses ("sparse" or "dense");
+    ``model``: "full" or "reduced"; ``extra``: diagnostics of the reduction."""
 
     M: object
     C: object
@@ -58,6 +59,8 @@ def rig_system(run: Run, model) -> RigSystem:
     Craig–Bampton reduced when ``run.reduction`` is set."""
     speed = run.speed_rad_s
     F = model.unbalance_force(run.unbalance, speed)
+    f_static = None if run.static_load is None else run.static_load.vector(model.M, model.dofs)
+    x_static = q_static = None
     if run.reduction is None:
         from rubdiag.modal import harmonic_response
 
@@ -65,7 +68,10 @@ def rig_system(run: Run, model) -> RigSystem:
         x_hat = q_hat
         loaded = np.flatnonzero(F)
         force = HarmonicForce(loaded, F[loaded], speed)
-        contacts, approach = _contacts(run, model, q_hat)
+        if f_static is not None:
+            x_static = q_static = _static_deflection(model.K, f_static)
+            force = force + _static_force(f_static, speed)
+        contacts, approach = _contacts(run, model, q_hat, q_static)
         parts = (model.M, model.C, model.K, model.G)
         recovery, solver, extra = None, "sparse", {}
     else:
@@ -76,7 +82,12 @@ def rig_system(run: Run, model) -> RigSystem:
         q_hat = reduced.basis.T @ x_hat
         F_r = reduced.project_force(F)
         force = HarmonicForce(np.arange(F_r.size), F_r, speed)
-        contacts, approach = _contacts(run, model, q_hat)
+        if f_static is not None:    # the reduced system's own static equilibrium
+            f_r = reduced.project_force(f_static)
+            x_static = np.linalg.solve(reduced.K, f_r)
+            q_static = reduced.basis.T @ x_static
+            force = force + _static_force(f_r, speed)
+        contacts, approach = _contacts(run, model, q_hat, q_static)
         index = reduced.basis.boundary_index
         contacts = dataclasses.replace(contacts, dof_a=index(contacts.dof_a),
                                        dof_b=index(contacts.dof_b))
@@ -84,15 +95,31 @@ def rig_system(run: Run, model) -> RigSystem:
         recovery, solver = reduced.basis.T, "dense"
         extra = {"n_reduced": reduced.n_reduced, "cutoff_hz": run.reduction.cutoff_hz,
                  "reduction_seconds": reduced.build_seconds}
-    return RigSystem(*parts, force=force, contacts=contacts, x0=np.real(x_hat),
+    x0 = np.real(x_hat) if x_static is None else np.real(x_hat) + x_static
+    return RigSystem(*parts, force=force, contacts=contacts, x0=x0,
                      v0=np.real(1j * speed * x_hat), approach=approach, recovery=recovery,
                      linear_solver=solver, model="full" if recovery is None else "reduced",
                      extra=extra)
 
 
-def _contacts(run: Run, model, linear) -> tuple[Contacts, float]:
+def _static_deflection(K, f: np.ndarray) -> np.ndarray:
+    """``K⁻¹ f`` of the sparse full model (m)."""
+    import scipy.sparse.linalg as spla
+
+    return spla.spsolve(K.tocsc(), f)
+
+
+def _static_force(f: np.ndarray, speed: float) -> HarmonicForce:
+    """The static load ``f`` (n,) as order-0 "constant" terms on its nonzero DOFs."""
+    loaded = np.flatnonzero(f)
+    return HarmonicForce(loaded, f[loaded], speed, order=0.0, law="constant")
+
+
+def _contacts(run: Run, model, linear, static=None) -> tuple[Contacts, float]:
     """Contact elements of the run (physical DOFs) and the largest radial approach of the
-    linear response ``linear`` (complex amplitudes of every DOF) at them (m)."""
+    linear response ``linear`` (complex amplitudes of every DOF) at them (m), plus the
+    static deflection ``static`` (real, every DOF; None: none) where there is one: an
+    upper bound, |static| + the harmonic's largest excursion."""
     contacts = Contacts.empty()
     start = 0.0
     law = run.contact_law
@@ -108,7 +135,11 @@ def _contacts(run: Run, model, linear) -> tuple[Contacts, float]:
                                   mu=law.friction_coefficient, augmented=law.augmented,
                                   eps=law.penetration_tolerance_m)
         rel = linear[geo.tip_dofs] - linear[geo.casing_dofs]          # (n, 2) complex
-        start = float(np.abs(np.sum(rel * geo.normal, axis=1)).max())
+        approach = np.abs(np.sum(rel * geo.normal, axis=1))
+        if static is not None:
+            shift = static[geo.tip_dofs] - static[geo.casing_dofs]
+            approach = approach + np.abs(np.sum(shift * geo.normal, axis=1))
+        start = float(approach.max())
     for sc in run.rig.stator_contacts:
         dofs = [[model.dofs.index(sc.node, "y"), model.dofs.index(sc.node, "z")]]
         radius = sc.shaft_radius_m
@@ -121,5 +152,7 @@ def _contacts(run: Run, model, linear) -> tuple[Contacts, float]:
             mu=sc.friction_coefficient)
         a, b = linear[dofs[0][0]], linear[dofs[0][1]]
         orbit = np.sqrt(0.5 * (abs(a) ** 2 + abs(b) ** 2 + abs(a * a + b * b)))
+        if static is not None:
+            orbit = orbit + np.hypot(static[dofs[0][0]], static[dofs[0][1]])
         start = max(start, float(orbit))
     return contacts, start

@@ -20,6 +20,7 @@ from rubdiag.model.rig import BladeContact, Rig, Unbalance
 from rubdiag.reduce import Reduction
 from rubdiag.simulate.sensors import Sensor, check_sensors
 from rubdiag.simulate.speed_profile import SpeedProfile
+from rubdiag.simulate.static_load import StaticLoad
 
 __all__ = ["SPEED_TOLERANCE", "GapRampInWindow", "Run", "critical_speed_for_case"]
 
@@ -95,6 +96,12 @@ class Run:
         the linear steady state at that speed; the unbalance follows the shaft angle
         φ(t) = ∫ Ω dt with its angular-acceleration term, the gyroscopic term follows Ω(t)
         (held within ``SPEED_TOLERANCE`` of it, relative).
+    static_load : StaticLoad, optional
+        Gravity along y or z on every mass, and/or a side load at one node
+        (:class:`~rubdiag.simulate.static_load.StaticLoad`); default None: none, as in the
+        study. The run starts from its static deflection ``K⁻¹ f`` added to the linear
+        steady state. Like the reduction and the speed profile it is part of the run's
+        description only when set, so a run without it keeps its ids.
     """
 
     rig: Rig
@@ -113,6 +120,7 @@ class Run:
     label: str = ""
     reduction: Reduction | None = None
     speed_profile: SpeedProfile | None = None
+    static_load: StaticLoad | None = None
 
     def __post_init__(self):
         if not isinstance(self.rig, Rig):
@@ -165,6 +173,13 @@ class Run:
             object.__setattr__(self, "sensors", check_sensors(self.sensors, self.rig))
         elif not isinstance(self.sensors, tuple):
             object.__setattr__(self, "sensors", tuple(self.sensors))
+        if self.static_load is not None:
+            if not isinstance(self.static_load, StaticLoad):
+                raise _check.wrong_type("static_load", type(self.static_load).__name__,
+                                        "a StaticLoad or None")
+            from rubdiag.assembly.assemble import dof_map
+
+            self.static_load.check_model(dof_map(self.rig))
         if self.contact is not None and self.rig.contact is None:
             raise ValueError("contact is given but the rig has no blade-casing contact "
                              "geometry (blades and casing)")

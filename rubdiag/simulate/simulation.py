@@ -38,6 +38,7 @@ from rubdiag.simulate.rig_system import rig_system
 from rubdiag.simulate.run import SPEED_TOLERANCE, Run
 from rubdiag.simulate.sensors import Sensor, sensor_dofs, sensor_signals
 from rubdiag.simulate.speed_profile import SpeedProfile
+from rubdiag.simulate.static_load import StaticLoad
 from rubdiag.simulate.system import simulate_system
 
 __all__ = ["SimulationResult", "load_result", "response_points", "simulate"]
@@ -404,6 +405,10 @@ def run_to_dict(run: Run) -> dict:
                 out[f.name] = {"times_s": list(value.times_s),
                                "speeds_rad_s": list(value.speeds_rad_s)}
             continue
+        if f.name == "static_load":      # written only when set, like the reduction
+            if value is not None:
+                out[f.name] = dataclasses.asdict(value)
+            continue
         if f.name == "rig":
             value = rig_to_dict(value)
         elif f.name == "sensors":
@@ -423,6 +428,8 @@ def run_from_dict(data: dict) -> Run:
         data["reduction"] = Reduction(**{"tip_rotations": False, **data["reduction"]})
     if data.get("speed_profile") is not None:
         data["speed_profile"] = SpeedProfile(**data["speed_profile"])
+    if data.get("static_load") is not None:
+        data["static_load"] = StaticLoad(**data["static_load"])
     data["sensors"] = tuple(Sensor(**s) for s in data.get("sensors", ()))
     data["rig"] = rig_from_dict(data["rig"])
     u = data["unbalance"]

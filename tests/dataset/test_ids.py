@@ -16,6 +16,7 @@ from rubdiag.model import Unbalance
 from rubdiag.reduce import Reduction
 from rubdiag.simulate import Run, Sensor
 from rubdiag.simulate.speed_profile import SpeedProfile
+from rubdiag.simulate.static_load import StaticLoad
 
 DESIGN = """
 [base]
@@ -92,6 +93,7 @@ def _changes(run):
         "sensors": (Sensor("shaft 4", "y"),),
         "reduction": Reduction(),
         "speed_profile": SpeedProfile((0.0, 1.0), (run.speed_rad_s, 1.5 * run.speed_rad_s)),
+        "static_load": StaticLoad(gravity_m_s2=-9.81),
     }
 
 
