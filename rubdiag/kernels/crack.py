@@ -1,0 +1,173 @@
+"""The law of a breathing transverse crack in one shaft element (element kind 3).
+
+Local coordinates: the element's 8 DOFs ``x = [u_y1, u_z1, θ_y1, θ_z1, u_y2, u_z2, θ_y2,
+θ_z2]`` (relative to ground, T = identity; the order of
+:func:`rubdiag.assembly.elements.shaft_element`). The intact element stays in the global K;
+this law adds the crack's stiffness loss, ``p = -f ΔK(ψ) x`` with
+
+* ``ΔK(ψ) = Q(ψ) ΔK_open Q(ψ)ᵀ``: the fully open crack's loss ΔK_open (8 x 8, negative
+  semidefinite, in the crack's frame whose y axis is the crack normal:
+  :class:`rubdiag.simulate.crack.BreathingCrack`) turned with the crack; Q(ψ) turns each
+  node's (u_y, u_z) and (θ_y, θ_z) pairs by ``ψ = φ + angle`` (φ the shaft angle,
+  ``prog[0].phi`` at the step's end, set by the kernel's clock);
+* the breathing function f in [0, 1]:
+
+  - Mayes & Davies: ``f = (1 + cos ψ) / 2`` (Mayes I.W., Davies W.G.R., "Analysis of the
+    response of a multi-rotor-bearing system containing a transverse crack in a rotor",
+    J. Vib. Acoust. Stress Reliab. Des. 106 (1984) 139-145): fully open when the crack
+    normal points along +y, closed half a turn later — a function of the angle only;
+  - Gasch: open (f = 1) while the bending moment at the crack across its depth stretches
+    the crack's mouth, closed (f = 0) otherwise (Gasch R., "A survey of the dynamic
+    behaviour of a simple rotating shaft with a transverse crack", J. Sound Vib. 160(2)
+    (1993) 313-332). The moment is that of the intact element at the crack's position,
+    ``M_n = g · (Q(ψ)ᵀ x)`` (g from the element's flexibility; tension at the mouth when
+    M_n < 0, as ``M = EI v''``). It reads x, so the law is displacement-dependent; its
+    Jacobian is ``-f ΔK(ψ)`` in each state. Switching on this moment (rather than on a
+    difference of the end rotations) makes the force's part across the depth continuous
+    at the switch: that part is proportional to M_n itself.
+
+The Jacobian is ``dp/dx = -f ΔK(ψ)``. Status OPEN (law not engaged: the crack is shut, no
+force) when f = 0, else SLIDING; ``z`` is f for Mayes and ``-M_n`` (N m, > 0 open) for
+Gasch. Books: the elastic energy ``½ f xᵀ ΔK(ψ) x`` (<= 0: the loss of the intact strain
+energy) and, as ``w_ramp``, minus the work the turning and breathing stiffness does on the
+structure over the step, ``½ x_nᵀ (S_1 - S_n) x_1`` with ``S = f ΔK(ψ)`` (the exact
+trapezoidal remainder), so that the energy ledger closes: a time-varying stiffness
+exchanges energy with the drive.
+
+Parameters (``par`` row): the law code, the angle offset (rad), g (8), ΔK_open (64, row
+major). State: f, ψ and x at the step's end (the books read the start's from the committed
+state).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rubdiag._numba import njit
+from rubdiag.kernels.records import D_NEW, OPEN, P_NEW, SLIDING
+
+KIND = 3
+N_LOCAL = 8
+KINEMATICS = True       # reads the shaft angle (records.RUN: kinematics)
+
+MAYES, GASCH = 0, 1     # breathing laws
+LAW, ANGLE, G0, DK0 = 0, 1, 2, 10       # parameters
+N_PAR = DK0 + 64
+F, PSI, X0 = 0, 1, 2                    # state
+N_STATE = X0 + 8
+
+
+@njit(error_model="numpy", inline="always")
+def _rot_wc(wc, r, j, c, s):
+    """Component j of ``Q(ψ)ᵀ x`` (the crack's frame) for the trial x at
+    ``wc[D_NEW, r .. r + 7]``."""
+    if j % 2 == 0:
+        return c * wc[D_NEW, r + j] + s * wc[D_NEW, r + j + 1]
+    return -s * wc[D_NEW, r + j - 1] + c * wc[D_NEW, r + j]
+
+
+@njit(error_model="numpy", inline="always")
+def _rot_es(es, k, e, j, c, s):
+    """Component j of ``Q(ψ)ᵀ x`` for the x of element e's state ``es[k, e]``."""
+    if j % 2 == 0:
+        return c * es[k, e, X0 + j] + s * es[k, e, X0 + j + 1]
+    return -s * es[k, e, X0 + j - 1] + c * es[k, e, X0 + j]
+
+
+@njit(error_model="numpy", inline="always")
+def _q(i, a, c, s):
+    """Q[i, a] = R(ψ)[i % 2, a % 2] within a pair (else 0), R = [[c, -s], [s, c]]."""
+    if i // 2 != a // 2:
+        return 0.0
+    ia = i % 2
+    aa = a % 2
+    if ia == aa:
+        return c
+    return -s if ia == 0 else s
+
+
+@njit(error_model="numpy", inline="always")
+def _openness(e, wc, r, par, c, s, psi):
+    """f, and the engagement function z (module docstring)."""
+    if par[e, LAW] == MAYES:
+        f = 0.5 * (1.0 + np.cos(psi))
+        return f, f
+    moment = 0.0
+    for j in range(8):
+        moment += par[e, G0 + j] * _rot_wc(wc, r, j, c, s)
+    return (1.0 if moment < 0.0 else 0.0), -moment
+
+
+@njit(error_model="numpy", inline="always")
+def law(e, el, wc, xs, par, es, track, trial, prog, jac):
+    r = el[e].row
+    psi = prog[0].phi + par[e, ANGLE]
+    c = np.cos(psi)
+    s = np.sin(psi)
+    f, z = _openness(e, wc, r, par, c, s, psi)
+    # p = -f Q ΔK Qᵀ x: ΔK Qᵀ x into P_NEW, then turned back pair by pair
+    for i in range(8):
+        acc = 0.0
+        for j in range(8):
+            acc += par[e, DK0 + 8 * i + j] * _rot_wc(wc, r, j, c, s)
+        wc[P_NEW, r + i] = acc
+    for k in range(4):
+        a = wc[P_NEW, r + 2 * k]
+        b = wc[P_NEW, r + 2 * k + 1]
+        wc[P_NEW, r + 2 * k] = -f * (c * a - s * b)
+        wc[P_NEW, r + 2 * k + 1] = -f * (s * a + c * b)
+    for i in range(8):
+        i0 = i - i % 2
+        for j in range(8):
+            j0 = j - j % 2
+            acc = 0.0
+            for a in range(i0, i0 + 2):
+                qa = _q(i, a, c, s)
+                for b in range(j0, j0 + 2):
+                    acc += qa * par[e, DK0 + 8 * a + b] * _q(j, b, c, s)
+            jac[r + i, j] = -f * acc
+    status = OPEN if f == 0.0 else SLIDING
+    trial[e].status = status
+    trial[e].fn = 0.0
+    trial[e].ft = 0.0
+    trial[e].gap = np.inf
+    trial[e].z = z
+    trial[e].slip = 0.0
+    es[1, e, F] = f
+    es[1, e, PSI] = psi
+    for i in range(8):
+        es[1, e, X0 + i] = wc[D_NEW, r + i]
+    return status
+
+
+@njit(error_model="numpy", inline="always")
+def _form(par, e, es, sa, sb, psi):
+    """``x_aᵀ Q(ψ) ΔK_open Q(ψ)ᵀ x_b`` for x_a, x_b the states ``es[sa]``, ``es[sb]`` of
+    element e (their x at ``X0 ..``) at the angle ψ."""
+    c = np.cos(psi)
+    s = np.sin(psi)
+    acc = 0.0
+    for i in range(8):
+        xa = _rot_es(es, sa, e, i, c, s)
+        row = 0.0
+        for j in range(8):
+            row += par[e, DK0 + 8 * i + j] * _rot_es(es, sb, e, j, c, s)
+        acc += xa * row
+    return acc
+
+
+@njit(error_model="numpy", inline="always")
+def books(e, el, par, es, track, trial, prog):
+    f1 = es[1, e, F]
+    psi1 = es[1, e, PSI]
+    trial[e].elastic = 0.5 * f1 * _form(par, e, es, 1, 1, psi1)
+    trial[e].dissipated = 0.0
+    if prog[0].h > 0.0:
+        # ½ x_nᵀ (S_1 - S_n) x_1, S = f Q ΔK Qᵀ (symmetric: x_nᵀ S x_1 = x_1ᵀ S x_n)
+        s1 = f1 * _form(par, e, es, 0, 1, psi1)
+        s0 = es[0, e, F] * _form(par, e, es, 0, 1, es[0, e, PSI])
+        trial[e].w_ramp = -0.5 * (s1 - s0)
+    else:
+        trial[e].w_ramp = 0.0
+    trial[e].w_surface = 0.0
+    trial[e].cone = 0.0
