@@ -502,16 +502,25 @@ def b_matrix(packed: Sequence[Packed], n: int) -> np.ndarray:
     return B
 
 
-def _level_operators(M, C, K, B, elements, dt: float, n_lev: int, gamma: float,
-                     beta_nm: float, contact_stiffness_ratio: float | None,
-                     augment_boost: float, dense: bool):
+class _Operators(NamedTuple):
+    """The step operators of every step level (:func:`_level_operators`)."""
+
+    lu: list            # K_eff's SuperLU factors per level (sparse; empty for dense)
+    kernel: Factors     # as the kernel reads them
+    lev_req: np.ndarray  # (n_e,) the smallest level each element may be engaged at
+    aug_k: np.ndarray   # (n_lev, n_e) the multiplier update stiffness (N/m)
+
+
+def _level_operators(M, C, K, B, elements, grid: _TimeGrid, settings: _Settings,
+                     contact_stiffness_ratio: float | None, dense: bool) -> _Operators:
     """Per step level k (h = dt / 2^k): the factors of K_eff, ``s_mat`` (n_lev, m, n) =
     (K_eff^-1 Bᵀ)ᵀ, ``w_mat`` (n_lev, m, m) = B K_eff^-1 Bᵀ, the smallest level each
     element may be engaged at (``lev_req``, by its step requirement; None ratio: no
     criterion), the multiplier update stiffness ``aug_k`` (n_lev, n_e), the factors packed
-    for the kernel (l_ptr, l_idx, l_val, l_dinv, u_ptr, u_idx, u_val, u_dinv, perm_r,
-    perm_c; first axis the level) and, ``dense``, the transposed inverses ``inv_t`` (n_lev,
-    n, n) (else (n_lev, 0, 0))."""
+    for the kernel (first axis the level) and, ``dense``, the transposed inverses ``inv_t``
+    (n_lev, n, n) (else (n_lev, 0, 0))."""
+    dt, n_lev = grid.dt, grid.n_lev
+    gamma, beta_nm, augment_boost = settings.gamma, settings.beta, settings.augment_boost
     n = M.shape[0]
     m = B.shape[0]
     top = n_lev - 1
@@ -565,7 +574,8 @@ def _level_operators(M, C, K, B, elements, dt: float, n_lev: int, gamma: float,
             aug_k[k, e] = element.multiplier_stiffness(block(k, e), augment_boost)
     s_mat = np.ascontiguousarray(np.stack(s_list))
     w_mat = np.ascontiguousarray(np.stack(w_list))
-    return factors, s_mat, w_mat, lev_req, aug_k, _pack_factors(factors, n), inv_t
+    return _Operators(factors, Factors(*_pack_factors(factors, n), s_mat, w_mat, inv_t),
+                      lev_req, aug_k)
 
 
 def _pack_factors(factors, n: int) -> tuple:
@@ -890,10 +900,8 @@ def _simulate(system: LinearSystem, elements, grid: TimeGrid, outputs: Recording
     packed = _packed(elements, settings.omega, ramps)
     B = b_matrix(packed, n)
     ratio = None if fixed_step else settings.contact_stiffness_ratio
-    factors, s_mat, w_mat, lev_req, aug_k, lu, inv_t = _level_operators(
-        M, C, K, B, elements, ticks.dt, ticks.n_lev, settings.gamma, settings.beta, ratio,
-        settings.augment_boost, dense)
-    bundle = _element_bundle(packed, lev_req, aug_k)
+    ops = _level_operators(M, C, K, B, elements, ticks, settings, ratio, dense)
+    bundle = _element_bundle(packed, ops.lev_req, ops.aug_k)
     state, _ = _state(M, K, q0, v0, B, bundle, packed, kernel.at_rest)
     a0 = _initial_acceleration(M, C, K, load_vector(force, speed_profile, 0.0, n), B, state.pc,
                                q0, v0, system.a0)
@@ -906,7 +914,7 @@ def _simulate(system: LinearSystem, elements, grid: TimeGrid, outputs: Recording
     k_force = kernel_force(force, rot)
     if not stretches:   # constant speed: the shaft's angle Ω t for the element laws
         k_force.rot[0, 1] = settings.omega
-    arrays = (linear, Factors(*lu, s_mat, w_mat, inv_t), k_force, bundle, run, state, recorded)
+    arrays = (linear, ops.kernel, k_force, bundle, run, state, recorded)
     logs = _logs(ne, ticks.n_lev, settings.episode_capacity)
     work = _work(n, B.shape[0], ne, outputs.profile)
     t_setup = time.perf_counter() - t_start
@@ -915,11 +923,10 @@ def _simulate(system: LinearSystem, elements, grid: TimeGrid, outputs: Recording
     if stretches:
         def operators(omega_ref):    # the step operators with Ω_ref G, for the next stretch
             C_ref = (C_base + omega_ref * G).tocsr()
-            ops = _level_operators(M, C_ref, K, B, elements, ticks.dt, ticks.n_lev,
-                                   settings.gamma, settings.beta, ratio,
-                                   settings.augment_boost, dense)
-            return (_linear(M, C_ref, K, dense), Factors(*ops[5], ops[1], ops[2], ops[6]),
-                    _element_bundle(_packed(elements, omega_ref, ramps), ops[3], ops[4]))
+            new = _level_operators(M, C_ref, K, B, elements, ticks, settings, ratio, dense)
+            return (_linear(M, C_ref, K, dense), new.kernel,
+                    _element_bundle(_packed(elements, omega_ref, ramps), new.lev_req,
+                                    new.aug_k))
 
         schedule = _Schedule(stretches, ticks, operators)
     code, logs, t_kernel = _integrate(kernel.newmark_contact, arrays, logs, work, ticks,
@@ -933,9 +940,9 @@ def _simulate(system: LinearSystem, elements, grid: TimeGrid, outputs: Recording
         result.extra["profile_cycles"] = dict(zip(PROFILE_SECTIONS, work.prof.tolist(),
                                                   strict=True))
     result.extra.update(
-        setup_seconds=t_setup, kernel_seconds=t_kernel, contact_level_required=lev_req,
+        setup_seconds=t_setup, kernel_seconds=t_kernel, contact_level_required=ops.lev_req,
         augment_pending=int(state.prog[0]["aug_pending"]),
-        lu_nnz=[f.nnz for f in factors], lu_ordering=[f.ordering for f in factors],
+        lu_nnz=[f.nnz for f in ops.lu], lu_ordering=[f.ordering for f in ops.lu],
     )
     if schedule is not None:
         result.extra["speed_stretches"] = schedule.used
