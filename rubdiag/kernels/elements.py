@@ -35,8 +35,10 @@ Adding a kind
    to have the velocity and acceleration tracked); ``prog[0]`` the step's clock
    (records.PROGRESS). Its docstring states the law and its source; a test checks the law
    against its definition and the Jacobian against finite differences.
-2. Its two loops in :func:`element_laws` and :func:`element_books` below (one loop per
-   kind over the elements, with its law inlined: see the note on reference counting).
+2. Its loops in :func:`element_laws` and :func:`element_books` below: ``_x_laws =
+   laws_of(x)`` and a call in ``element_laws`` (the same for its books, if it keeps them
+   apart from its law): one loop per kind over the elements, with its law inlined (see the
+   note on reference counting).
 3. A description in :mod:`rubdiag.simulate.elements`: a frozen dataclass (SI, validated at
    construction) with ``pack(omega, ramp)`` giving its DOFs, T block, parameter row and
    state, and its step requirement.
@@ -55,10 +57,24 @@ from rubdiag._numba import njit
 from rubdiag.kernels import annular_contact, crack, pedestal, point_contact
 from rubdiag.kernels.records import D_LIN, D_NEW, OPEN, P_NEW, SLIDING, STICKING, V2, V
 
-__all__ = ["AUGMENT_FAILED", "AUGMENT_PENDING", "CONVERGED", "KINDS", "NEWTON_FAILED",
-           "NONFINITE", "N_LOCAL_MAX", "SINGULAR", "add_bt_p", "at_rest", "element_books",
-           "element_laws",
-           "local_coords", "solve_elements"]
+__all__ = [
+    "AUGMENT_FAILED",
+    "AUGMENT_PENDING",
+    "CONVERGED",
+    "KINDS",
+    "NEWTON_FAILED",
+    "NONFINITE",
+    "N_LOCAL_MAX",
+    "SINGULAR",
+    "add_bt_p",
+    "at_rest",
+    "books_of",
+    "element_books",
+    "element_laws",
+    "laws_of",
+    "local_coords",
+    "solve_elements",
+]
 
 #: the built-in kinds by code
 KINDS = {point_contact.KIND: point_contact, annular_contact.KIND: annular_contact,
@@ -86,32 +102,37 @@ _RELAX = (0.5, 0.3, 0.7)   # varied, so that a relaxed step cannot fall into a c
 # element and iteration, 0.25-0.3 µs per step in rub, measured 2026-11-25).
 
 
-@njit(error_model="numpy", inline="always")
-def _point_laws(el, wc, xs, par, es, track, trial, prog, jac):
-    for e in range(el.shape[0]):
-        if el[e].kind == point_contact.KIND:
-            point_contact.law(e, el, wc, xs, par, es, track, trial, prog, jac)
+def laws_of(kind, cache: bool = True):
+    """The loop that runs ``kind``'s law on its elements (the others left alone), inlined
+    into :func:`element_laws`: a loop per kind, not a branch per element (see the note on
+    reference counting above). ``cache`` False for a kind defined outside rubdiag."""
+    @njit(error_model="numpy", inline="always", cache=cache)
+    def laws_of_kind(el, wc, xs, par, es, track, trial, prog, jac):
+        for e in range(el.shape[0]):
+            if el[e].kind == kind.KIND:
+                kind.law(e, el, wc, xs, par, es, track, trial, prog, jac)
+
+    return laws_of_kind
 
 
-@njit(error_model="numpy", inline="always")
-def _annular_laws(el, wc, xs, par, es, track, trial, prog, jac):
-    for e in range(el.shape[0]):
-        if el[e].kind == annular_contact.KIND:
-            annular_contact.law(e, el, wc, xs, par, es, track, trial, prog, jac)
+def books_of(kind, cache: bool = True):
+    """The loop that runs ``kind``'s books on its elements, inlined into
+    :func:`element_books`."""
+    @njit(error_model="numpy", inline="always", cache=cache)
+    def books_of_kind(el, par, es, track, trial, prog):
+        for e in range(el.shape[0]):
+            if el[e].kind == kind.KIND:
+                kind.books(e, el, par, es, track, trial, prog)
+
+    return books_of_kind
 
 
-@njit(error_model="numpy", inline="always")
-def _crack_laws(el, wc, xs, par, es, track, trial, prog, jac):
-    for e in range(el.shape[0]):
-        if el[e].kind == crack.KIND:
-            crack.law(e, el, wc, xs, par, es, track, trial, prog, jac)
-
-
-@njit(error_model="numpy", inline="always")
-def _pedestal_laws(el, wc, xs, par, es, track, trial, prog, jac):
-    for e in range(el.shape[0]):
-        if el[e].kind == pedestal.KIND:
-            pedestal.law(e, el, wc, xs, par, es, track, trial, prog, jac)
+_point_laws = laws_of(point_contact)
+_annular_laws = laws_of(annular_contact)
+_crack_laws = laws_of(crack)
+_pedestal_laws = laws_of(pedestal)
+_point_books = books_of(point_contact)
+_annular_books = books_of(annular_contact)
 
 
 @njit(error_model="numpy")
@@ -123,20 +144,6 @@ def element_laws(el, wc, xs, par, es, track, trial, prog, jac):
     _annular_laws(el, wc, xs, par, es, track, trial, prog, jac)
     _crack_laws(el, wc, xs, par, es, track, trial, prog, jac)
     _pedestal_laws(el, wc, xs, par, es, track, trial, prog, jac)
-
-
-@njit(error_model="numpy", inline="always")
-def _point_books(el, par, es, track, trial, prog):
-    for e in range(el.shape[0]):
-        if el[e].kind == point_contact.KIND:
-            point_contact.books(e, el, par, es, track, trial, prog)
-
-
-@njit(error_model="numpy", inline="always")
-def _annular_books(el, par, es, track, trial, prog):
-    for e in range(el.shape[0]):
-        if el[e].kind == annular_contact.KIND:
-            annular_contact.books(e, el, par, es, track, trial, prog)
 
 
 @njit(error_model="numpy")

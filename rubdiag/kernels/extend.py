@@ -35,14 +35,9 @@ class Kernel(NamedTuple):
 BUILTIN = Kernel(newmark.newmark_contact, elements.at_rest)
 
 
-def _with_laws(kind: int, law, builtin):
-    """``element_laws`` that runs ``builtin`` and then ``law`` on the elements of ``kind``."""
-    def laws_of_kind(el, wc, xs, par, es, track, trial, prog, jac):
-        for e in range(el.shape[0]):
-            if el[e].kind == kind:
-                law(e, el, wc, xs, par, es, track, trial, prog, jac)
-
-    each = numba.njit(error_model="numpy")(laws_of_kind)
+def _with_laws(kind, builtin):
+    """``element_laws`` that runs ``builtin`` and then ``kind``'s law on its elements."""
+    each = elements.laws_of(kind, cache=False)
 
     def element_laws(el, wc, xs, par, es, track, trial, prog, jac):
         builtin(el, wc, xs, par, es, track, trial, prog, jac)
@@ -51,15 +46,9 @@ def _with_laws(kind: int, law, builtin):
     return numba.njit(error_model="numpy")(element_laws)
 
 
-def _with_books(kind: int, books, builtin):
-    """``element_books`` that runs ``builtin`` and then ``books`` of the elements of
-    ``kind``."""
-    def books_of_kind(el, par, es, track, trial, prog):
-        for e in range(el.shape[0]):
-            if el[e].kind == kind:
-                books(e, el, par, es, track, trial, prog)
-
-    each = numba.njit(error_model="numpy")(books_of_kind)
+def _with_books(kind, builtin):
+    """``element_books`` that runs ``builtin`` and then ``kind``'s books on its elements."""
+    each = elements.books_of(kind, cache=False)
 
     def element_books(el, par, es, track, trial, prog):
         builtin(el, par, es, track, trial, prog)
@@ -96,8 +85,8 @@ def kernel_with(kinds: tuple = ()) -> Kernel:
         taken.add(module.KIND)
     laws, books = elements.element_laws, elements.element_books
     for module in kinds:
-        laws = _with_laws(module.KIND, module.law, laws)
-        books = _with_books(module.KIND, module.books, books)
+        laws = _with_laws(module, laws)
+        books = _with_books(module, books)
     swaps = {elements.element_laws: laws, elements.element_books: books}
     solve = _rebound(elements.solve_elements, swaps)
     at_rest = _rebound(elements.at_rest, swaps)
