@@ -85,9 +85,16 @@ def contact_dofs(model) -> np.ndarray:
 
 
 def boundary_dofs(model, reduction: Reduction) -> np.ndarray:
-    """The DOFs ``reduction`` keeps physical (ascending): :func:`contact_dofs`, and with
-    ``tip_rotations`` the in-plane rotation of each contact blade's tip."""
+    """The DOFs ``reduction`` keeps physical (ascending): :func:`contact_dofs`, with
+    ``tip_rotations`` the in-plane rotation of each contact blade's tip, and every DOF of its
+    ``shaft_nodes``."""
     dofs = [contact_dofs(model)]
+    for node in reduction.shaft_nodes:
+        try:
+            dofs.append([model.dofs.index(node, d) for d in ("y", "z", "ry", "rz")])
+        except ValueError:
+            raise ValueError(f"reduction.shaft_nodes: {node} is not a shaft node of rig "
+                             f"{model.rig.name!r} (allowed: its shaft node numbers)") from None
     if reduction.tip_rotations and model.rig.contact is not None:
         tip = model.rig.blades.n_elements
         dofs.append([model.dofs.index(f"blade {b}.{tip}", "rx") for b in model.rig.contact.blades])
@@ -112,9 +119,7 @@ def _reduced_model(rig, reduction: Reduction) -> ReducedModel:
         raise TypeError(f"reduction has the wrong type {type(reduction).__name__} "
                         "(expected a Reduction)")
     start = time.perf_counter()
-    depends_on = {"rig": rig_to_dict(rig),
-                  "reduction": {"cutoff_hz": float(reduction.cutoff_hz),
-                                "tip_rotations": bool(reduction.tip_rotations)}}
+    depends_on = {"rig": rig_to_dict(rig), "reduction": reduction.description()}
     arrays, from_disk = _cache.cached("reduced-model", depends_on, _ARRAYS,
                                       functools.partial(_reduce, rig, reduction))
     basis = CraigBampton(boundary=arrays["boundary"], T=arrays["T"],

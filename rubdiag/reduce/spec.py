@@ -40,16 +40,33 @@ class Reduction:
     without the rotations the sticking share of the study's cells is 20-45 % low at 2 kHz
     (README, Reduced model). Results saved before the option existed were made without.
 
+    ``shaft_nodes`` keeps every DOF of those shaft nodes physical too: where another
+    nonlinear element acts (a breathing crack's element, a misaligned coupling's node).
+    A run with faults adds its fault elements' nodes itself
+    (:func:`rubdiag.simulate.rig_system.rig_system`).
+
     Use :meth:`for_features` to derive the cutoff from a speed range.
     """
 
     cutoff_hz: float = DEFAULT_CUTOFF_HZ
     tip_rotations: bool = True
+    shaft_nodes: tuple[int, ...] = ()
 
     def __post_init__(self):
         _check.number("cutoff_hz", self.cutoff_hz, lo=1.0, hi=1e6)
         if not isinstance(self.tip_rotations, bool):
             raise _check.wrong_type("tip_rotations", self.tip_rotations, "True or False")
+        nodes = tuple(sorted({int(n) for n in _check.indices("shaft_nodes", self.shaft_nodes)}))
+        object.__setattr__(self, "shaft_nodes", nodes)
+
+    def description(self) -> dict:
+        """The reduction as JSON-ready data: ``shaft_nodes`` only when there are some, so
+        that a reduction without them has the description (and the runs their ids and the
+        disk cache its keys) it had before the field existed."""
+        out = {"cutoff_hz": float(self.cutoff_hz), "tip_rotations": bool(self.tip_rotations)}
+        if self.shaft_nodes:
+            out["shaft_nodes"] = list(self.shaft_nodes)
+        return out
 
     @property
     def band_hz(self) -> float:

@@ -32,7 +32,9 @@ class RigSystem:
     ``K⁻¹ f_static`` plus the harmonic steady state); ``approach``: the largest radial
     approach of that state at the contacts (m); ``recovery``: None (x is q) or T with
     ``q = T x``; ``linear_solver``: what the integrator uses ("sparse" or "dense");
-    ``model``: "full" or "reduced"; ``extra``: diagnostics of the reduction."""
+    ``model``: "full" or "reduced"; ``extra``: diagnostics of the reduction;
+    ``fault_elements``: the run's fault elements (a breathing crack), in x's numbering; the
+    misaligned coupling's loads are in ``force``."""
 
     M: object
     C: object
@@ -47,6 +49,7 @@ class RigSystem:
     linear_solver: str
     model: str
     extra: dict
+    fault_elements: tuple = ()
 
     def damping(self, speed: float):
         """``C + Ω G`` at spin speed Ω (rad/s)."""
@@ -72,12 +75,14 @@ def rig_system(run: Run, model) -> RigSystem:
             x_static = q_static = _static_deflection(model.K, f_static)
             force = force + _static_force(f_static, speed)
         contacts, approach = _contacts(run, model, q_hat, q_static)
+        force = _with_fault_loads(force, run, model, speed, lambda dofs: dofs)
+        fault_elements = () if run.faults is None else run.faults.elements(run.rig)
         parts = (model.M, model.C, model.K, model.G)
         recovery, solver, extra = None, "sparse", {}
     else:
         from rubdiag.reduce import reduced_model
 
-        reduced = reduced_model(run.rig, run.reduction)
+        reduced = reduced_model(run.rig, _with_fault_nodes(run))
         x_hat = reduced.harmonic_response(F, speed)
         q_hat = reduced.basis.T @ x_hat
         F_r = reduced.project_force(F)
@@ -91,6 +96,11 @@ def rig_system(run: Run, model) -> RigSystem:
         index = reduced.basis.boundary_index
         contacts = dataclasses.replace(contacts, dof_a=index(contacts.dof_a),
                                        dof_b=index(contacts.dof_b))
+        # the fault nodes are boundary coordinates: a load there is a load on its coordinate
+        force = _with_fault_loads(force, run, model, speed, index)
+        fault_elements = () if run.faults is None else tuple(
+            dataclasses.replace(e, element_dofs=tuple(int(i) for i in index(e.element_dofs)))
+            for e in run.faults.elements(run.rig))
         parts = (reduced.M, reduced.C, reduced.K, reduced.G)
         recovery, solver = reduced.basis.T, "dense"
         extra = {"n_reduced": reduced.n_reduced, "cutoff_hz": run.reduction.cutoff_hz,
@@ -99,7 +109,7 @@ def rig_system(run: Run, model) -> RigSystem:
     return RigSystem(*parts, force=force, contacts=contacts, x0=x0,
                      v0=np.real(1j * speed * x_hat), approach=approach, recovery=recovery,
                      linear_solver=solver, model="full" if recovery is None else "reduced",
-                     extra=extra)
+                     extra=extra, fault_elements=fault_elements)
 
 
 def _static_deflection(K, f: np.ndarray) -> np.ndarray:
@@ -113,6 +123,27 @@ def _static_force(f: np.ndarray, speed: float) -> HarmonicForce:
     """The static load ``f`` (n,) as order-0 "constant" terms on its nonzero DOFs."""
     loaded = np.flatnonzero(f)
     return HarmonicForce(loaded, f[loaded], speed, order=0.0, law="constant")
+
+
+def _with_fault_nodes(run: Run):
+    """The run's reduction, keeping its faults' shaft nodes physical too."""
+    if run.faults is None:
+        return run.reduction
+    nodes = set(run.reduction.shaft_nodes) | set(run.faults.shaft_nodes(run.rig))
+    if run.faults.misalignment is not None:
+        nodes.add(run.faults.misalignment.node)
+    return dataclasses.replace(run.reduction, shaft_nodes=tuple(sorted(nodes)))
+
+
+def _with_fault_loads(force: HarmonicForce, run: Run, model, speed: float,
+                      index) -> HarmonicForce:
+    """``force`` and the misaligned coupling's loads, their DOFs through ``index`` (the
+    same ``force`` without one)."""
+    if run.faults is None or run.faults.misalignment is None:
+        return force
+    loads = run.faults.misalignment.forces(model, speed)
+    return force + dataclasses.replace(loads, dofs=np.asarray(index(loads.dofs),
+                                                              dtype=np.int64))
 
 
 def _contacts(run: Run, model, linear, static=None) -> tuple[Contacts, float]:

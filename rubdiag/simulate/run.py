@@ -18,6 +18,7 @@ import numpy as np
 from rubdiag import _check
 from rubdiag.model.rig import BladeContact, Rig, Unbalance
 from rubdiag.reduce import Reduction
+from rubdiag.simulate.faults import Faults
 from rubdiag.simulate.sensors import Sensor, check_sensors
 from rubdiag.simulate.speed_profile import SpeedProfile
 from rubdiag.simulate.static_load import StaticLoad
@@ -102,6 +103,10 @@ class Run:
         study. The run starts from its static deflection ``K⁻¹ f`` added to the linear
         steady state. Like the reduction and the speed profile it is part of the run's
         description only when set, so a run without it keeps its ids.
+    faults : Faults, optional
+        Faults beside (or instead of) rub: a misaligned coupling, a breathing crack
+        (:class:`~rubdiag.simulate.faults.Faults`); default None. Part of the run's
+        description only when set. On a reduced model their nodes stay physical.
     """
 
     rig: Rig
@@ -121,10 +126,16 @@ class Run:
     reduction: Reduction | None = None
     speed_profile: SpeedProfile | None = None
     static_load: StaticLoad | None = None
+    faults: Faults | None = None
 
     def __post_init__(self):
         if not isinstance(self.rig, Rig):
             raise _check.wrong_type("rig", type(self.rig).__name__, "a Rig")
+        if self.faults is not None:
+            if not isinstance(self.faults, Faults):
+                raise _check.wrong_type("faults", type(self.faults).__name__,
+                                        "a Faults or None")
+            self.faults.check(self.rig)
         if self.reduction is not None and not isinstance(self.reduction, Reduction):
             raise _check.wrong_type("reduction", type(self.reduction).__name__,
                                     "a Reduction or None")

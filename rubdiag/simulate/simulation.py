@@ -32,6 +32,8 @@ from rubdiag._version import __version__
 from rubdiag.model.io import rig_from_dict, rig_to_dict
 from rubdiag.model.rig import BladeContact, Unbalance
 from rubdiag.reduce import Reduction
+from rubdiag.simulate.faults import Crack, Faults
+from rubdiag.simulate.misalignment import Misalignment
 from rubdiag.simulate.result import EpisodeLog, SimulationDiverged, StatusLog, SystemResult
 from rubdiag.simulate.rig_cache import damped_model
 from rubdiag.simulate.rig_system import rig_system
@@ -96,7 +98,11 @@ def _simulate(run: Run, progress, raise_on_failure: bool) -> SimulationResult:
     gap_ramp = None
     if len(rs.contacts) and run.gap_ramp_s > 0:
         g0 = rs.contacts.gap
-        gap_ramp = (run.gap_ramp_s, np.maximum(g0, _RAMP_MARGIN * rs.approach))
+        g_start = np.maximum(g0, _RAMP_MARGIN * rs.approach)
+        # the fault elements have no gap: their entries are not read
+        g_start = np.r_[g_start, np.full(len(rs.fault_elements), np.nan)]
+        gap_ramp = (run.gap_ramp_s, g_start if rs.fault_elements else g_start[: len(g0)])
+    elements = rs.contacts.elements() + rs.fault_elements if rs.fault_elements else rs.contacts
     points = response_points(run.rig)
     record = [_dof(model, p) for p in points]
     info = {"linear_approach_m": rs.approach, "model": rs.model, **rs.extra}
@@ -105,7 +111,7 @@ def _simulate(run: Run, progress, raise_on_failure: bool) -> SimulationResult:
         varying = {} if profile is None else {
             "gyroscopic": rs.G, "speed_profile": profile, "speed_tolerance": SPEED_TOLERANCE}
         system = simulate_system(
-            rs.M, rs.C if profile else rs.damping(speed), rs.K, rs.force, rs.contacts,
+            rs.M, rs.C if profile else rs.damping(speed), rs.K, rs.force, elements,
             rs.x0, rs.v0,
             duration=run.duration_s, dt=run.dt_s, dt_min=run.dt_min_s,
             fixed_step=run.fixed_step, output_dt=run.output_dt_s, record_dofs=record,
@@ -397,15 +403,14 @@ def run_to_dict(run: Run) -> dict:
         value = getattr(run, f.name)
         if f.name == "reduction":
             if value is not None:
-                out[f.name] = {"cutoff_hz": float(value.cutoff_hz),
-                               "tip_rotations": bool(value.tip_rotations)}
+                out[f.name] = value.description()
             continue
         if f.name == "speed_profile":    # written only when set, like the reduction
             if value is not None:
                 out[f.name] = {"times_s": list(value.times_s),
                                "speeds_rad_s": list(value.speeds_rad_s)}
             continue
-        if f.name == "static_load":      # written only when set, like the reduction
+        if f.name in ("static_load", "faults"):     # written only when set, like the reduction
             if value is not None:
                 out[f.name] = dataclasses.asdict(value)
             continue
@@ -420,6 +425,12 @@ def run_to_dict(run: Run) -> dict:
     return out
 
 
+def _faults_from_dict(data: dict) -> Faults:
+    parts = {"misalignment": Misalignment, "crack": Crack}
+    return Faults(**{name: None if data.get(name) is None else kind(**data[name])
+                     for name, kind in parts.items()})
+
+
 def run_from_dict(data: dict) -> Run:
     """The :class:`Run` of :func:`run_to_dict`'s data (no ``reduction``: the full model; a
     reduction without ``tip_rotations`` was saved before the option, which it lacked)."""
@@ -430,6 +441,8 @@ def run_from_dict(data: dict) -> Run:
         data["speed_profile"] = SpeedProfile(**data["speed_profile"])
     if data.get("static_load") is not None:
         data["static_load"] = StaticLoad(**data["static_load"])
+    if data.get("faults") is not None:
+        data["faults"] = _faults_from_dict(data["faults"])
     data["sensors"] = tuple(Sensor(**s) for s in data.get("sensors", ()))
     data["rig"] = rig_from_dict(data["rig"])
     u = data["unbalance"]

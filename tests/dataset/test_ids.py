@@ -15,6 +15,7 @@ from rubdiag.dataset import ids as ids_module
 from rubdiag.model import Unbalance
 from rubdiag.reduce import Reduction
 from rubdiag.simulate import Run, Sensor
+from rubdiag.simulate.faults import Crack, Faults
 from rubdiag.simulate.speed_profile import SpeedProfile
 from rubdiag.simulate.static_load import StaticLoad
 
@@ -94,6 +95,7 @@ def _changes(run):
         "reduction": Reduction(),
         "speed_profile": SpeedProfile((0.0, 1.0), (run.speed_rad_s, 1.5 * run.speed_rad_s)),
         "static_load": StaticLoad(gravity_m_s2=-9.81),
+        "faults": Faults(crack=Crack(element=10, depth_ratio=0.3)),
     }
 
 
