@@ -7,6 +7,7 @@ import sys
 import time
 from pathlib import Path
 
+from rubdiag.cli._faults import add_fault_options, run_options
 from rubdiag.cli._model import add_model_options, reduction
 
 
@@ -18,8 +19,9 @@ def register(sub) -> None:
         "[discard, duration] (SI units with --json) and optionally saves the result file.")
     p.add_argument("--case", type=int, choices=(1, 2), required=True,
                    help="unbalance pattern: 1 in phase, 2 out of phase (the study's cases)")
-    p.add_argument("--gap-mm", type=float, required=True,
-                   help="initial blade-casing gap g0 (mm), e.g. 2.3 (light) or 1.9 (serious)")
+    p.add_argument("--gap-mm", type=float,
+                   help="initial blade-casing gap g0 (mm), e.g. 2.3 (light) or 1.9 (serious); "
+                   "without it the run has no blade-casing contact (faults only)")
     p.add_argument("--speed-rpm", type=float,
                    help="speed (rpm); default the rig's 1st (case 1) or 2nd (case 2) forward "
                    "critical speed")
@@ -38,6 +40,7 @@ def register(sub) -> None:
     p.add_argument("--out", type=Path, help="save the result (.npz) here; the folder must "
                    "exist")
     add_model_options(p)
+    add_fault_options(p)
     p.add_argument("--json", action="store_true", help="print one JSON object (SI units)")
     p.set_defaults(func=_simulate)
 
@@ -70,15 +73,18 @@ def _simulate(args) -> int:
     if args.out is not None:   # before any work: a long run must not end in "no such folder"
         out = output_file(args.out if args.out.suffix == ".npz"
                           else args.out.with_suffix(".npz"))
-    if not 0.0 < args.gap_mm <= 100.0:
+    if args.gap_mm is not None and not 0.0 < args.gap_mm <= 100.0:
         raise ValueError(f"--gap-mm = {args.gap_mm:g} is out of range (allowed: > 0 and "
                          "<= 100)")
     model = reduction(args)
     rig = load_rig(args.rig)
     options = dict(duration_s=args.duration_s, discard_s=args.discard_s, dt_s=args.dt_s,
-                   output_rate_hz=args.output_rate_hz, reduction=model)
+                   output_rate_hz=args.output_rate_hz, reduction=model, **run_options(args))
+    if args.gap_mm is None and "faults" not in options:
+        raise ValueError("--gap-mm is missing (allowed: a gap for rub, or a fault option such "
+                         "as --crack-element or --misalignment-offset-mm for a run without rub)")
     if args.mu is not None:
-        if rig.contact is None:
+        if rig.contact is None or args.gap_mm is None:
             raise ValueError("--mu needs a rig with blade-casing contacts")
         options["contact"] = dataclasses.replace(rig.contact, friction_coefficient=args.mu)
     run = Run.paper_case(args.case, args.gap_mm, speed_rpm=args.speed_rpm, rig=rig, **options)
@@ -101,10 +107,16 @@ def _simulate(args) -> int:
           f"({summary['wall_s']:.1f} s wall)")
     if model is not None:
         print(f"model: reduced (Craig-Bampton, modes below {model.cutoff_hz:g} Hz)")
-    print(f"window {w0:g}-{w1:g} s: contact-1 max force {summary['contact1_max_force_n']:.1f} N, "
-          f"all elements {summary['max_contact_force_n']:.1f} N")
-    print(f"contact 1 entries: sliding {summary['contact1_sliding_entries']}, sticking "
-          f"{summary['contact1_sticking_entries']}")
+    if run.faults is not None:
+        print(f"faults: {', '.join(run.faults.names)}")
+    if run.contact_law is not None:
+        print(f"window {w0:g}-{w1:g} s: contact-1 max force "
+              f"{summary['contact1_max_force_n']:.1f} N, all elements "
+              f"{summary['max_contact_force_n']:.1f} N")
+        print(f"contact 1 entries: sliding {summary['contact1_sliding_entries']}, sticking "
+              f"{summary['contact1_sticking_entries']}")
+    else:
+        print(f"window {w0:g}-{w1:g} s: no blade-casing contact")
     if "casing_max_y_m" in summary:
         print(f"casing max y {summary['casing_max_y_m'] * 1e6:.1f} um, shaft max y "
               f"{summary['shaft_max_y_m'] * 1e3:.3f} mm")

@@ -9,6 +9,7 @@ arrays, on any machine or Dask worker.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 from dataclasses import dataclass
@@ -227,10 +228,11 @@ class Run:
         return self.speed_profile.angle(t)
 
     @classmethod
-    def paper_case(cls, case: int, gap_mm: float, speed_rpm: float | None = None,
+    def paper_case(cls, case: int, gap_mm: float | None, speed_rpm: float | None = None,
                    rig: Rig | None = None, **options) -> Run:
         """The study's case 1 (unbalances in phase, at the first forward critical speed)
-        or case 2 (out of phase, at the second), with gap ``gap_mm`` (mm)."""
+        or case 2 (out of phase, at the second), with gap ``gap_mm`` (mm; None: no rub, the
+        rig without its blade-casing contacts, e.g. a run with faults only)."""
         from rubdiag.model import paper_rig
 
         case = _check.integer("case", case, lo=1, hi=2)
@@ -245,6 +247,10 @@ class Run:
             speed = critical_speed_for_case(rig, case)
         else:
             speed = _check.positive("speed_rpm", speed_rpm) * math.pi / 30.0
+        if gap_mm is None:      # no rub: the rig without its blade-casing contacts
+            options.setdefault("label", f"case {case}, no rub")
+            rig = dataclasses.replace(rig, contact=None)
+            return cls(rig=rig, speed_rad_s=speed, unbalance=unbalance, gap_m=None, **options)
         gap = _check.number("gap_mm", gap_mm, lo=0.0, hi=100.0) * 1e-3
         options.setdefault("label", f"case {case}, g0 = {gap_mm:g} mm")
         return cls(rig=rig, speed_rad_s=speed, unbalance=unbalance, gap_m=gap, **options)

@@ -1,0 +1,58 @@
+"""Options that put the faults that look like rub into a run: gravity, a crack, misalignment."""
+
+from __future__ import annotations
+
+import math
+
+
+def add_fault_options(p) -> None:
+    """Add the fault options to a command's parser (``simulate``, ``runup``)."""
+    g = p.add_argument_group(
+        "faults beside (or instead of) rub",
+        "a breathing crack or a misaligned coupling (README, Faults that look like rub); "
+        "without --gap-mm the run has no blade-casing contact")
+    g.add_argument("--gravity-m-s2", type=float,
+                   help="gravity along y (m/s^2; -9.81 pulls towards -y): the static load a "
+                   "crack breathes under; the run starts from its static deflection")
+    g.add_argument("--crack-element", type=int,
+                   help="shaft element (0-based, axial order) with a breathing crack")
+    g.add_argument("--crack-depth", type=float, default=0.3,
+                   help="crack depth ratio a/D in (0, 0.5] (default 0.3)")
+    g.add_argument("--crack-law", choices=("mayes", "gasch"), default="mayes",
+                   help="breathing law: Mayes (cosine of the angle) or Gasch (switch on the "
+                   "bending moment); default mayes")
+    g.add_argument("--misalignment-offset-mm", type=float,
+                   help="parallel offset of the coupling at the driven end (mm)")
+    g.add_argument("--misalignment-angle-deg", type=float, default=0.0,
+                   help="angular misalignment of the coupling (deg, default 0)")
+    g.add_argument("--coupling-node", type=int, default=3,
+                   help="the shaft node of the coupling's rotor-side flex plane (default 3)")
+    g.add_argument("--drive-torque-nm", type=float, default=20.0,
+                   help="the coupling's drive torque (N m, default 20)")
+    g.add_argument("--spacer-length-mm", type=float, default=50.0,
+                   help="the coupling's spacer length (mm, default 50)")
+
+
+def run_options(args) -> dict:
+    """The Run fields the fault options give: ``static_load`` and ``faults`` (only those
+    asked for)."""
+    from rubdiag.simulate.faults import Crack, Faults
+    from rubdiag.simulate.misalignment import Misalignment
+    from rubdiag.simulate.static_load import StaticLoad
+
+    out = {}
+    if args.gravity_m_s2 is not None:
+        out["static_load"] = StaticLoad(direction="y", gravity_m_s2=args.gravity_m_s2)
+    faults = {}
+    if args.crack_element is not None:
+        faults["crack"] = Crack(element=args.crack_element, depth_ratio=args.crack_depth,
+                                law=args.crack_law)
+    if args.misalignment_offset_mm is not None:
+        faults["misalignment"] = Misalignment(
+            node=args.coupling_node, drive_torque_n_m=args.drive_torque_nm,
+            spacer_length_m=args.spacer_length_mm * 1e-3,
+            offset_m=args.misalignment_offset_mm * 1e-3,
+            angle_rad=math.radians(args.misalignment_angle_deg))
+    if faults:
+        out["faults"] = Faults(**faults)
+    return out

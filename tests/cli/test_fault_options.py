@@ -1,0 +1,47 @@
+"""``rubdiag simulate`` with the faults that look like rub (issue 26, part 5 in part): a run
+without rub needs no --gap-mm; bad fault options get one line and exit 2."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+
+from rubdiag.cli import main
+from rubdiag.simulate import load_result
+
+RUN = ["simulate", "--case", "1", "--speed-rpm", "750", "--duration-s", "0.3",
+       "--discard-s", "0.1"]
+
+
+def test_a_cracked_run_without_rub(tmp_path, capsys):
+    out = tmp_path / "crack.npz"
+    assert main([*RUN, "--gravity-m-s2", "-9.81", "--crack-element", "10", "--crack-depth",
+                 "0.4", "--crack-law", "gasch", "--json", "--out", str(out)]) == 0
+    summary = json.loads(capsys.readouterr().out.splitlines()[-1])
+    assert summary["gap_m"] is None and summary["status"] == 0
+    result = load_result(out)
+    crack = result.run.faults.crack
+    assert (crack.element, crack.depth_ratio, crack.law) == (10, 0.4, "gasch")
+    assert result.run.static_load.gravity_m_s2 == -9.81
+    # the crack is the run's only nonlinear element, and Gasch's crack opens and closes
+    assert result.system.contact_status.shape[1] == 1
+    assert set(np.unique(result.system.contact_status)) == {1, 2}
+
+
+def test_a_misaligned_run_with_rub(tmp_path, capsys):
+    assert main([*RUN, "--gap-mm", "50", "--misalignment-offset-mm", "0.5"]) == 0
+    text = capsys.readouterr().out
+    assert "faults: misalignment" in text and "contact-1 max force" in text
+
+
+def test_no_gap_and_no_fault_is_one_line_and_exit_2(capsys):
+    assert main(RUN) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--gap-mm is missing" in err[0]
+
+
+def test_a_crack_off_the_shaft_is_one_line_and_exit_2(capsys):
+    assert main([*RUN, "--crack-element", "99"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "faults.crack.element = 99" in err[0]
