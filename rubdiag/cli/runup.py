@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 from rubdiag._atomic import write_text
+from rubdiag.cli._faults import add_fault_options, run_options
 from rubdiag.cli._model import add_model_options, reduction
 
 
@@ -27,8 +28,9 @@ def register(sub) -> None:
     p.add_argument("--to-rpm", type=float, required=True, help="end speed (rpm)")
     p.add_argument("--rate-rpm-s", type=float, required=True,
                    help="ramp rate (rpm/s, > 0), e.g. 300")
-    p.add_argument("--gap-mm", type=float, required=True,
-                   help="initial blade-casing gap g0 (mm), e.g. 2.3; 50 for no contact")
+    p.add_argument("--gap-mm", type=float,
+                   help="initial blade-casing gap g0 (mm), e.g. 2.3; without it the run has "
+                   "no blade-casing contact (faults only)")
     p.add_argument("--both", action="store_true",
                    help="run up (from -> to) and coast down (to -> from), overlaid")
     p.add_argument("--hold-s", type=float, default=0.0,
@@ -45,6 +47,7 @@ def register(sub) -> None:
     p.add_argument("--rig", type=Path, help="rig TOML file (default: the study's paper rig)")
     p.add_argument("--out", type=Path, required=True, help="output folder (created)")
     add_model_options(p)
+    add_fault_options(p)
     p.add_argument("--json", action="store_true",
                    help="print the summaries as one JSON list (SI units, speeds in rpm)")
     p.set_defaults(func=_runup)
@@ -57,16 +60,20 @@ def _runup(args) -> int:
     from rubdiag.runs.runup import linear_response, ramp_run, runup_orders, runup_summary
     from rubdiag.simulate import SimulationDiverged
 
-    if not 0.0 < args.gap_mm <= 100.0:
+    if args.gap_mm is not None and not 0.0 < args.gap_mm <= 100.0:
         raise ValueError(f"--gap-mm = {args.gap_mm:g} is out of range (allowed: > 0 and "
                          "<= 100)")
     if args.revs_per_bin < 2 or args.revs_per_bin % 2:
         raise ValueError(f"--revs-per-bin = {args.revs_per_bin} (allowed: an even number >= 2, "
                          "so that the half orders fall on a bin)")
     rig = load_rig(args.rig)
-    options = dict(rig=rig, dt_s=args.dt_s, reduction=reduction(args), hold_s=args.hold_s)
+    options = dict(rig=rig, dt_s=args.dt_s, reduction=reduction(args), hold_s=args.hold_s,
+                   **run_options(args))
+    if args.gap_mm is None and "faults" not in options:
+        raise ValueError("--gap-mm is missing (allowed: a gap for rub, or a fault option such "
+                         "as --crack-element or --misalignment-offset-mm for a run without rub)")
     if args.mu is not None:
-        if rig.contact is None:
+        if rig.contact is None or args.gap_mm is None:
             raise ValueError("--mu needs a rig with blade-casing contacts")
         options["contact"] = dataclasses.replace(rig.contact, friction_coefficient=args.mu)
     legs = [(args.from_rpm, args.to_rpm)]

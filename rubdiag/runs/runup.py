@@ -117,7 +117,7 @@ def runup_summary(result, point: str = DEFAULT_POINT, revs_per_bin: int = 4,
     table = runup_orders(result, point, (1.0,), revs_per_bin) if orders is None else orders
     amp = table[f"amp_{order_label(1.0)}"].to_numpy()
     k = int(np.argmax(amp))
-    episodes = result.system.episodes
+    episodes = result.contact_episodes()
     rpm = 30 / math.pi
     contact = len(episodes) > 0
     knots = run.speed_profile.knots()

@@ -221,9 +221,24 @@ class SimulationResult:
         before it was recorded."""
         return float(self.system.extra.get("linear_approach_m", float("nan")))
 
+    @property
+    def n_contacts(self) -> int:
+        """How many of the run's nonlinear elements are contacts (numbered first, from 1);
+        the fault elements (a breathing crack) follow them."""
+        faults = self.run.faults
+        n_faults = 0 if faults is None else len(faults.elements(self.run.rig))
+        return self.system.contact_fn.shape[1] - n_faults
+
+    def contact_episodes(self) -> EpisodeLog:
+        """The episodes of the contact elements (not those of fault elements)."""
+        ep = self.system.episodes
+        keep = ep.element <= self.n_contacts
+        return EpisodeLog(**{f.name: getattr(ep, f.name)[keep]
+                             for f in dataclasses.fields(EpisodeLog)})
+
     def window_episodes(self) -> EpisodeLog:
         """Contact episodes that start inside the analysis window."""
-        ep = self.system.episodes
+        ep = self.contact_episodes()
         keep = ep.t_start >= self.run.discard_s
         return EpisodeLog(**{f.name: getattr(ep, f.name)[keep]
                              for f in dataclasses.fields(EpisodeLog)})

@@ -45,3 +45,12 @@ def test_a_crack_off_the_shaft_is_one_line_and_exit_2(capsys):
     assert main([*RUN, "--crack-element", "99"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "faults.crack.element = 99" in err[0]
+
+
+def test_a_cracked_runup_without_rub_counts_no_contact(tmp_path, capsys):
+    """The crack is a nonlinear element of the run, not a contact: no contact episodes."""
+    assert main(["runup", "--case", "1", "--from-rpm", "700", "--to-rpm", "800",
+                 "--rate-rpm-s", "100", "--gravity-m-s2", "-9.81", "--crack-element", "10",
+                 "--out", str(tmp_path / "r"), "--json"]) == 0
+    (summary,) = json.loads(capsys.readouterr().out.splitlines()[-1])
+    assert summary["n_episodes"] == 0 and np.isnan(summary["first_contact_rpm"])
