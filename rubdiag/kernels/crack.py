@@ -53,8 +53,8 @@ KINEMATICS = True       # reads the shaft angle (records.RUN: kinematics)
 MAYES, GASCH = 0, 1     # breathing laws
 LAW, ANGLE, G0, DK0 = 0, 1, 2, 10       # parameters
 N_PAR = DK0 + 64
-F, PSI, X0 = 0, 1, 2                    # state
-N_STATE = X0 + 8
+F, PSI, X0, P0 = 0, 1, 2, 10            # state: f, ψ, x (8) and p (8) at the trial
+N_STATE = P0 + 8
 
 
 @njit(error_model="numpy", inline="always")
@@ -64,14 +64,6 @@ def _rot_wc(wc, r, j, c, s):
     if j % 2 == 0:
         return c * wc[D_NEW, r + j] + s * wc[D_NEW, r + j + 1]
     return -s * wc[D_NEW, r + j - 1] + c * wc[D_NEW, r + j]
-
-
-@njit(error_model="numpy", inline="always")
-def _rot_es(es, k, e, j, c, s):
-    """Component j of ``Q(ψ)ᵀ x`` for the x of element e's state ``es[k, e]``."""
-    if j % 2 == 0:
-        return c * es[k, e, X0 + j] + s * es[k, e, X0 + j + 1]
-    return -s * es[k, e, X0 + j - 1] + c * es[k, e, X0 + j]
 
 
 @njit(error_model="numpy", inline="always")
@@ -137,46 +129,37 @@ def law(e, el, wc, xs, par, es, track, trial, prog, jac):
     es[1, e, PSI] = psi
     for i in range(8):
         es[1, e, X0 + i] = wc[D_NEW, r + i]
-    _energy(e, par, es, trial, prog)
+        es[1, e, P0 + i] = wc[P_NEW, r + i]
+    _energy(e, es, trial, prog)
     return status
-
-
-@njit(error_model="numpy", inline="always")
-def _form(par, e, es, sa, sb, psi):
-    """``x_aᵀ Q(ψ) ΔK_open Q(ψ)ᵀ x_b`` for x_a, x_b the states ``es[sa]``, ``es[sb]`` of
-    element e (their x at ``X0 ..``) at the angle ψ."""
-    c = np.cos(psi)
-    s = np.sin(psi)
-    acc = 0.0
-    for i in range(8):
-        xa = _rot_es(es, sa, e, i, c, s)
-        row = 0.0
-        for j in range(8):
-            row += par[e, DK0 + 8 * i + j] * _rot_es(es, sb, e, j, c, s)
-        acc += xa * row
-    return acc
 
 
 @njit(error_model="numpy", inline="always")
 def books(e, el, par, es, track, trial, prog):
     """Nothing: the law keeps its books (:func:`_energy`). A books loop of its own in the
     seam made Numba count six arrays' references once per element solve (the seam's note on
-    reference counting); the energy terms cost ~400 flops per evaluation of a crack."""
+    reference counting); the energy terms cost 24 products per evaluation of a crack."""
 
 
 @njit(error_model="numpy", inline="always")
-def _energy(e, par, es, trial, prog):
+def _energy(e, es, trial, prog):
     """The energy terms of element e's trial state (written at every evaluation of the law:
-    the last one is the solution's)."""
-    f1 = es[1, e, F]
-    psi1 = es[1, e, PSI]
-    trial[e].elastic = 0.5 * f1 * _form(par, e, es, 1, 1, psi1)
+    the last one is the solution's), from the forces p = -S x, S = f Q ΔK_open Qᵀ
+    (symmetric), kept in the state: the elastic energy ``½ x₁ᵀ S₁ x₁ = -½ x₁·p₁`` and the
+    work of the turning, breathing stiffness over the step ``½ x_nᵀ (S₁ - S_n) x₁ = ½ (x₁·p_n
+    - x_n·p₁)`` (booked as ``w_ramp``, which the ledger subtracts: ``-½ (...)``; none at
+    rest, h = 0). 24 products instead of three turned 8 x 8 quadratic forms."""
+    elastic = 0.0
+    s1 = 0.0
+    s0 = 0.0
+    for i in range(8):
+        x1 = es[1, e, X0 + i]
+        p1 = es[1, e, P0 + i]
+        elastic += x1 * p1
+        s1 += es[0, e, X0 + i] * p1
+        s0 += x1 * es[0, e, P0 + i]
+    trial[e].elastic = -0.5 * elastic
     trial[e].dissipated = 0.0
-    # ½ x_nᵀ (S_1 - S_n) x_1, S = f Q ΔK Qᵀ (symmetric: x_nᵀ S x_1 = x_1ᵀ S x_n); none at
-    # rest (h = 0). Computed on both paths: an array read in a branch only brings reference
-    # counting into the caller
-    s1 = f1 * _form(par, e, es, 0, 1, psi1)
-    s0 = es[0, e, F] * _form(par, e, es, 0, 1, es[0, e, PSI])
-    trial[e].w_ramp = -0.5 * (s1 - s0) if prog[0].h > 0.0 else 0.0
+    trial[e].w_ramp = 0.5 * (s1 - s0) if prog[0].h > 0.0 else 0.0
     trial[e].w_surface = 0.0
     trial[e].cone = 0.0
