@@ -17,7 +17,8 @@ from rubdiag._version import __version__
 
 # Modules that register commands, in the order they appear in --help.
 _COMMAND_MODULES = ("rubdiag.cli.paper", "rubdiag.cli.linear", "rubdiag.cli.simulate",
-                    "rubdiag.cli.runup", "rubdiag.cli.signal", "rubdiag.cli.dataset",
+                    "rubdiag.cli.runup", "rubdiag.cli.faults", "rubdiag.cli.signal",
+                    "rubdiag.cli.dataset",
                     "rubdiag.cli.learn", "rubdiag.cli.cache")
 
 

@@ -54,3 +54,19 @@ def test_a_cracked_runup_without_rub_counts_no_contact(tmp_path, capsys):
                  "--out", str(tmp_path / "r"), "--json"]) == 0
     (summary,) = json.loads(capsys.readouterr().out.splitlines()[-1])
     assert summary["n_episodes"] == 0 and np.isnan(summary["first_contact_rpm"])
+
+
+def test_the_faults_figure_shows_each_fault_s_line(tmp_path, capsys):
+    """``rubdiag faults``: each fault's predicted line stands out of the healthy run's, and
+    the figure is drawn (not blank)."""
+    import matplotlib.image as mpimg
+
+    assert main(["faults", "--out", str(tmp_path), "--duration-s", "0.4", "--json"]) == 0
+    lines = json.loads(capsys.readouterr().out.splitlines()[-1])
+    healthy = lines["none"]
+    assert lines["crack"]["2x"] > 100 * healthy["2x"]
+    assert lines["crack"]["3x"] > 100 * healthy["3x"]
+    assert lines["misalignment"]["2x"] > 100 * healthy["2x"]
+    assert lines["rub"]["4x"] > 100 * healthy["4x"]
+    pixels = mpimg.imread(tmp_path / "faults.png")
+    assert min(pixels.shape[:2]) > 500 and pixels[..., :3].std() > 0.02
