@@ -104,9 +104,6 @@ PROGRESS = _record(
     ("cv", _F), ("cvv", _F), ("cva", _F),
 )
 
-#: The most step levels dt / 2^k of a run.
-MAX_LEVELS = 31
-
 #: One nonlinear element as the seam sees it: its kind, its local rows ``row .. row + n - 1``
 #: of the local vectors, the augmented Lagrangian (``aug`` 1: multiplier iterated into the
 #: band ``-eps < gap <= 0``) and the smallest step level it may be engaged at (``lev_req``:

@@ -60,7 +60,7 @@ __all__ = [
     "simulate_system",
 ]
 
-_MAX_LEVELS = records.MAX_LEVELS
+_MAX_LEVELS = 31      # step levels dt / 2^k at most (the tick count stays an int64)
 
 
 # --------------------------------------------------------------------------------------------
