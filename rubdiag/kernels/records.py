@@ -22,7 +22,6 @@ __all__ = [
     "ELEMENT",
     "ENERGY",
     "EPISODE",
-    "MAX_LEVELS",
     "OPEN",
     "PROGRESS",
     "P_NEW",
