@@ -6,7 +6,9 @@ The equations of motion at spin speed Ω are
 
 with C = α M + β K_s + C_d: Rayleigh damping on the structural stiffness K_s (shaft,
 blades, casing ring) plus the discrete dampers C_d of bearings and casing supports (which
-carry their own damping, so β does not act on their springs).
+carry their own damping, so β does not act on their springs). A bearing on a pedestal
+(:class:`~rubdiag.model.rig.Pedestal`) joins its shaft node to the pedestal's mass, whose
+support joins it to the ground; the pedestal's springs are discrete too.
 """
 
 from __future__ import annotations
@@ -160,6 +162,7 @@ def dof_map(rig: Rig) -> DofMap:
         n_blades=blades.count if blades else 0,
         n_blade_stations=blades.n_elements if blades else 0,
         n_casing=casing.n_elements if casing else 0,
+        pedestals=tuple(k for k, b in enumerate(rig.bearings) if b.pedestal is not None),
     )
 
 
@@ -175,7 +178,7 @@ def assemble(rig: Rig) -> Model:
     M, Ks, G, Kd, Cd = (_Triplets(n) for _ in range(5))
     _add_shaft(rig, dofs, M, Ks, G)
     _add_discs(rig, dofs, M, G)
-    _add_bearings(rig, dofs, Kd, Cd)
+    _add_bearings(rig, dofs, M, Kd, Cd)
     if blades is not None:
         _add_blades(rig, dofs, M, Ks)
     if casing is not None:
@@ -212,11 +215,23 @@ def _add_discs(rig, dofs, M, G) -> None:
         G.add(idx, gd)
 
 
-def _add_bearings(rig, dofs, K, C) -> None:
-    for b in rig.bearings:
+def _add_bearings(rig, dofs, M, K, C) -> None:
+    for k, b in enumerate(rig.bearings):
         idx = [dofs.index(b.node, "y"), dofs.index(b.node, "z")]
-        K.add(idx, np.diag([b.k_y_n_m, b.k_z_n_m]))
-        C.add(idx, np.diag([b.c_y_ns_m, b.c_z_ns_m]))
+        if b.pedestal is None:
+            K.add(idx, np.diag([b.k_y_n_m, b.k_z_n_m]))
+            C.add(idx, np.diag([b.c_y_ns_m, b.c_z_ns_m]))
+            continue
+        # shaft node -- bearing -- pedestal mass -- support -- ground, per direction
+        p = b.pedestal
+        ped = [dofs.index(f"pedestal {k}", "y"), dofs.index(f"pedestal {k}", "z")]
+        for i, (kb, cb) in enumerate(((b.k_y_n_m, b.c_y_ns_m), (b.k_z_n_m, b.c_z_ns_m))):
+            pair = [idx[i], ped[i]]
+            K.add(pair, kb * np.array([[1.0, -1.0], [-1.0, 1.0]]))
+            C.add(pair, cb * np.array([[1.0, -1.0], [-1.0, 1.0]]))
+        M.add(ped, p.mass_kg * np.eye(2))
+        K.add(ped, np.diag([p.k_y_n_m, p.k_z_n_m]))
+        C.add(ped, np.diag([p.c_y_ns_m, p.c_z_ns_m]))
 
 
 def _add_blades(rig, dofs, M, K) -> None:

@@ -2,7 +2,9 @@
 
 Node labels: ``"shaft N"`` (paper node number N), ``"blade B.S"`` (blade B, station S from
 root to tip, both 1-based; the root station 0 is tied to the disc and has no DOFs of its
-own) and ``"casing K"`` (1-based, node 1 on +y, counter-clockwise towards +z).
+own), ``"casing K"`` (1-based, node 1 on +y, counter-clockwise towards +z) and
+``"pedestal K"`` (the pedestal of bearing K, 0-based in ``Rig.bearings``; y and z only),
+numbered after every other node so a rig without pedestals keeps its numbering.
 
 Directions: ``y``, ``z`` (translations), ``ry``, ``rz`` (shaft rotations about y and z),
 ``rx`` (in-plane rotation of blade and casing nodes about x).
@@ -12,10 +14,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-__all__ = ["PLANAR_DIRECTIONS", "SHAFT_DIRECTIONS", "DofMap"]
+__all__ = ["PEDESTAL_DIRECTIONS", "PLANAR_DIRECTIONS", "SHAFT_DIRECTIONS", "DofMap"]
 
 SHAFT_DIRECTIONS = ("y", "z", "ry", "rz")
 PLANAR_DIRECTIONS = ("y", "z", "rx")
+PEDESTAL_DIRECTIONS = ("y", "z")
 
 
 @dataclass(frozen=True)
@@ -34,11 +37,14 @@ class DofMap:
         object.__setattr__(self, "_index", index)
 
     @classmethod
-    def build(cls, shaft_nodes, n_blades: int, n_blade_stations: int, n_casing: int):
+    def build(cls, shaft_nodes, n_blades: int, n_blade_stations: int, n_casing: int,
+              pedestals: tuple[int, ...] = ()):
+        """``pedestals``: the indices of the bearings that have a pedestal."""
         nodes = [(f"shaft {n}", SHAFT_DIRECTIONS) for n in shaft_nodes]
         nodes += [(f"blade {b}.{s}", PLANAR_DIRECTIONS) for b in range(1, n_blades + 1)
                   for s in range(1, n_blade_stations + 1)]
         nodes += [(f"casing {k}", PLANAR_DIRECTIONS) for k in range(1, n_casing + 1)]
+        nodes += [(f"pedestal {k}", PEDESTAL_DIRECTIONS) for k in pedestals]
         return cls(tuple(nodes))
 
     @property
@@ -59,8 +65,8 @@ class DofMap:
             raise ValueError(f"no DOF ({label!r}, {direction!r}) in this model") from None
 
     def component(self, name: str, directions: tuple[str, ...] | None = None) -> list[int]:
-        """DOF numbers of a component ("shaft", "blade" or "casing"), optionally only the
-        given directions, in order."""
+        """DOF numbers of a component ("shaft", "blade", "casing" or "pedestal"), optionally
+        only the given directions, in order."""
         return [k for (label, d), k in self._index.items()
                 if label.split(" ", 1)[0] == name and (directions is None or d in directions)]
 

@@ -6,6 +6,20 @@ A rig file has one table per :class:`~rubdiag.model.rig.Rig` field (``[shaft]``,
 dataclass field names, in SI units. At this edge a key may also be given in a named
 non-SI unit, converted on reading: ``…_mm`` for ``…_m``, ``…_deg`` for ``…_rad`` and
 ``…_rpm`` for ``…_rad_s``. Unknown keys and wrong types are errors. Files are written in SI.
+
+A bearing may sit on a pedestal (:class:`~rubdiag.model.rig.Pedestal`), a sub-table of its
+``[[bearings]]`` entry (absent: the bearing is grounded, as in the paper rig)::
+
+    [[bearings]]
+    node = 4
+    k_y_n_m = 500e6
+    k_z_n_m = 200e6
+    [bearings.pedestal]
+    mass_kg = 20.0
+    k_y_n_m = 50e6
+    k_z_n_m = 50e6
+    c_y_ns_m = 1e3
+    c_z_ns_m = 1e3
 """
 
 from __future__ import annotations

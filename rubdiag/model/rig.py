@@ -27,6 +27,7 @@ __all__ = [
     "Disc",
     "Loading",
     "Material",
+    "Pedestal",
     "Rig",
     "Shaft",
     "StatorContact",
@@ -153,14 +154,43 @@ class Disc:
 
 
 @dataclass(frozen=True)
+class Pedestal:
+    """A bearing's pedestal: a lumped mass (kg) between the bearing and the ground, on its
+    own support spring-dampers in y and z (N/m, N·s/m).
+
+    With a pedestal the bearing's spring-damper joins the shaft node to the pedestal's (y, z)
+    DOFs (node ``"pedestal K"``, K the bearing's 0-based index in ``Rig.bearings``), and the
+    support joins the pedestal to the ground. The support stiffnesses must be > 0 (a
+    pedestal free in a direction would leave the linear model singular); a loose pedestal
+    (:class:`rubdiag.simulate.faults.Looseness`) replaces one direction's support spring by
+    a seat that lifts off.
+    """
+
+    mass_kg: float
+    k_y_n_m: float
+    k_z_n_m: float
+    c_y_ns_m: float = 0.0
+    c_z_ns_m: float = 0.0
+
+    def __post_init__(self):
+        _check.positive("Pedestal.mass_kg", self.mass_kg)
+        _check.positive("Pedestal.k_y_n_m", self.k_y_n_m)
+        _check.positive("Pedestal.k_z_n_m", self.k_z_n_m)
+        _check.non_negative("Pedestal.c_y_ns_m", self.c_y_ns_m)
+        _check.non_negative("Pedestal.c_z_ns_m", self.c_z_ns_m)
+
+
+@dataclass(frozen=True)
 class Bearing:
-    """Linear bearing between a shaft node and the ground; cross terms neglected."""
+    """Linear bearing between a shaft node and the ground (or its ``pedestal``, when it has
+    one: :class:`Pedestal`); cross terms neglected."""
 
     node: int
     k_y_n_m: float
     k_z_n_m: float
     c_y_ns_m: float = 0.0
     c_z_ns_m: float = 0.0
+    pedestal: Pedestal | None = None
 
     def __post_init__(self):
         _check.integer("Bearing.node", self.node, lo=0)
@@ -168,6 +198,9 @@ class Bearing:
         _check.non_negative("Bearing.k_z_n_m", self.k_z_n_m)
         _check.non_negative("Bearing.c_y_ns_m", self.c_y_ns_m)
         _check.non_negative("Bearing.c_z_ns_m", self.c_z_ns_m)
+        if self.pedestal is not None and not isinstance(self.pedestal, Pedestal):
+            raise ValueError(f"Bearing.pedestal has the wrong type "
+                             f"({type(self.pedestal).__name__}; allowed: a Pedestal or None)")
 
 
 @dataclass(frozen=True)

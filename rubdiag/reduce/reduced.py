@@ -86,9 +86,10 @@ def contact_dofs(model) -> np.ndarray:
 
 def boundary_dofs(model, reduction: Reduction) -> np.ndarray:
     """The DOFs ``reduction`` keeps physical (ascending): :func:`contact_dofs`, with
-    ``tip_rotations`` the in-plane rotation of each contact blade's tip, and every DOF of its
-    ``shaft_nodes``."""
-    dofs = [contact_dofs(model)]
+    ``tip_rotations`` the in-plane rotation of each contact blade's tip, every DOF of its
+    ``shaft_nodes``, and every pedestal DOF of the rig (a pedestal may be loose: a nonlinear
+    element there needs the physical DOF; a rig without pedestals has none)."""
+    dofs = [contact_dofs(model), model.dofs.component("pedestal")]
     for node in reduction.shaft_nodes:
         try:
             dofs.append([model.dofs.index(node, d) for d in ("y", "z", "ry", "rz")])

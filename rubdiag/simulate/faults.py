@@ -7,11 +7,16 @@
 * ``crack`` — a breathing transverse crack in a shaft element (:class:`Crack`, placed as a
   :class:`~rubdiag.simulate.crack.BreathingCrack` element of the seam).
 
-Mechanical looseness (:class:`~rubdiag.simulate.pedestal.LoosePedestal`) needs a pedestal
-mass in the rig's model, which the rig description does not have yet: it is simulated
-through ``simulate_system`` only. A fault's severity is its own parameter (the crack's depth
-ratio, the coupling's offset and angle). Faults are part of the run's description only when
-set, so a run without them keeps its ids.
+* ``looseness`` — a bearing pedestal loose on its seat (:class:`Looseness`, placed as a
+  :class:`~rubdiag.simulate.pedestal.LoosePedestal` element on the pedestal's DOF): the
+  bearing must sit on a pedestal in the rig (:class:`~rubdiag.model.rig.Pedestal`). The
+  element takes over the support spring in its direction: the run's linear K loses it
+  (:meth:`Faults.removed_stiffness`), while the run starts from the seated (linear) steady
+  state, where the element's seat force equals the removed spring's.
+
+A fault's severity is its own parameter (the crack's depth ratio, the coupling's offset and
+angle, the pedestal's preload). Faults are part of the run's description only when set, so
+a run without them keeps its ids.
 """
 
 from __future__ import annotations
@@ -21,8 +26,12 @@ from dataclasses import dataclass
 from rubdiag import _check
 from rubdiag.simulate.crack import LAWS, BreathingCrack
 from rubdiag.simulate.misalignment import Misalignment
+from rubdiag.simulate.pedestal import LoosePedestal
 
-__all__ = ["Crack", "Faults"]
+__all__ = ["Crack", "Faults", "Looseness"]
+
+#: the directions a pedestal may be loose in
+DIRECTIONS = ("y", "z")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -57,14 +66,79 @@ class Crack:
 
 
 @dataclass(frozen=True, kw_only=True)
+class Looseness:
+    """The pedestal of bearing ``bearing`` (0-based in ``Rig.bearings``) loose on its seat
+    along ``direction`` ("y" or "z"): the seat is on the pedestal's negative side, so it
+    lifts off towards +direction (gravity along -direction presses it on). ``preload_n``
+    (N, >= 0): the dead load on the seat beyond the run's static load (0 when a
+    :class:`~rubdiag.simulate.static_load.StaticLoad` carries the weight); ``clearance_m``
+    (m, >= 0, only without a preload); ``loose_stiffness_n_m`` (N/m, >= 0 and at most the
+    support stiffness): a retaining spring once lifted. The seat stiffness is the pedestal's
+    support stiffness in ``direction``."""
+
+    bearing: int
+    preload_n: float
+    clearance_m: float = 0.0
+    loose_stiffness_n_m: float = 0.0
+    direction: str = "y"
+
+    def __post_init__(self):
+        _check.integer("looseness.bearing", self.bearing, lo=0)
+        _check.number("looseness.preload_n", self.preload_n, lo=0.0, allowed=">= 0 N")
+        _check.number("looseness.clearance_m", self.clearance_m, lo=0.0, allowed=">= 0 m")
+        if self.clearance_m > 0.0 and self.preload_n > 0.0:
+            raise _check.out_of_range("looseness.clearance_m", self.clearance_m,
+                                      "0 m when a preload is given")
+        _check.number("looseness.loose_stiffness_n_m", self.loose_stiffness_n_m, lo=0.0,
+                      allowed=">= 0 N/m")
+        _check.choice("looseness.direction", self.direction, DIRECTIONS)
+
+    def pedestal(self, rig):
+        """The loose bearing's :class:`~rubdiag.model.rig.Pedestal` (ValueError without)."""
+        if self.bearing >= len(rig.bearings):
+            raise _check.out_of_range("faults.looseness.bearing", self.bearing,
+                                      f"0 … {len(rig.bearings) - 1} (the rig's bearings)")
+        pedestal = rig.bearings[self.bearing].pedestal
+        if pedestal is None:
+            with_one = [k for k, b in enumerate(rig.bearings) if b.pedestal is not None]
+            raise _check.out_of_range("faults.looseness.bearing", self.bearing,
+                                      f"a bearing on a pedestal (rig {rig.name!r}: "
+                                      f"{with_one or 'none'})")
+        return pedestal
+
+    def seat_stiffness(self, rig) -> float:
+        """The seat spring (N/m): the pedestal's support stiffness in ``direction``."""
+        return getattr(self.pedestal(rig), f"k_{self.direction}_n_m")
+
+    def dof(self, dofs) -> int:
+        """The pedestal's DOF along ``direction`` in the DOF map ``dofs``."""
+        return dofs.index(f"pedestal {self.bearing}", self.direction)
+
+    def on(self, rig) -> LoosePedestal:
+        """The loose pedestal as an element of ``rig``'s model."""
+        from rubdiag.assembly import dof_map
+
+        k_s = self.seat_stiffness(rig)
+        if self.loose_stiffness_n_m > k_s:
+            raise _check.out_of_range("faults.looseness.loose_stiffness_n_m",
+                                      self.loose_stiffness_n_m,
+                                      f"<= the pedestal's support stiffness {k_s:g} N/m")
+        return LoosePedestal(dof=self.dof(dof_map(rig)), stiffness=k_s,
+                             preload=self.preload_n, clearance=self.clearance_m,
+                             loose_stiffness=self.loose_stiffness_n_m)
+
+
+@dataclass(frozen=True, kw_only=True)
 class Faults:
     """The faults of a run (module docstring); None: absent."""
 
     misalignment: Misalignment | None = None
     crack: Crack | None = None
+    looseness: Looseness | None = None
 
     def __post_init__(self):
-        for name, kind in (("misalignment", Misalignment), ("crack", Crack)):
+        for name, kind in (("misalignment", Misalignment), ("crack", Crack),
+                           ("looseness", Looseness)):
             value = getattr(self, name)
             if value is not None and not isinstance(value, kind):
                 raise _check.wrong_type(f"faults.{name}", type(value).__name__,
@@ -73,11 +147,23 @@ class Faults:
     @property
     def names(self) -> tuple[str, ...]:
         """The faults present, by name."""
-        return tuple(n for n in ("misalignment", "crack") if getattr(self, n) is not None)
+        return tuple(n for n in ("misalignment", "crack", "looseness")
+                     if getattr(self, n) is not None)
 
     def elements(self, rig) -> tuple:
         """The faults' nonlinear elements on ``rig``'s model (physical DOFs)."""
-        return () if self.crack is None else (self.crack.on(rig),)
+        out = () if self.crack is None else (self.crack.on(rig),)
+        if self.looseness is not None:
+            out += (self.looseness.on(rig),)
+        return out
+
+    def removed_stiffness(self, rig, dofs) -> tuple[tuple[int, float], ...]:
+        """``(dof, k)`` pairs: the diagonal springs to ground (N/m) the faults' elements take
+        over, to be taken out of the run's linear K (the loose pedestal's support, in its
+        direction); DOFs in the DOF map ``dofs``."""
+        if self.looseness is None:
+            return ()
+        return ((self.looseness.dof(dofs), self.looseness.seat_stiffness(rig)),)
 
     def shaft_nodes(self, rig) -> tuple[int, ...]:
         """The shaft nodes a reduced model must keep physical for these faults."""
@@ -93,3 +179,5 @@ class Faults:
             raise _check.out_of_range("faults.misalignment.node", self.misalignment.node,
                                       f"a shaft node of the rig ({min(rig.shaft.nodes)} … "
                                       f"{max(rig.shaft.nodes)})")
+        if self.looseness is not None:
+            self.looseness.on(rig)      # the bearing has a pedestal, the springs fit

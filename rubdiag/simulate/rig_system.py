@@ -33,8 +33,9 @@ class RigSystem:
     approach of that state at the contacts (m); ``recovery``: None (x is q) or T with
     ``q = T x``; ``linear_solver``: what the integrator uses ("sparse" or "dense");
     ``model``: "full" or "reduced"; ``extra``: diagnostics of the reduction;
-    ``fault_elements``: the run's fault elements (a breathing crack), in x's numbering; the
-    misaligned coupling's loads are in ``force``."""
+    ``fault_elements``: the run's fault elements (a breathing crack, a loose pedestal), in
+    x's numbering; the misaligned coupling's loads are in ``force``; ``K`` is without the
+    springs a fault element takes over (a loose pedestal's support in its direction)."""
 
     M: object
     C: object
@@ -99,17 +100,54 @@ def rig_system(run: Run, model) -> RigSystem:
         # the fault nodes are boundary coordinates: a load there is a load on its coordinate
         force = _with_fault_loads(force, run, model, speed, index)
         fault_elements = () if run.faults is None else tuple(
-            dataclasses.replace(e, element_dofs=tuple(int(i) for i in index(e.element_dofs)))
-            for e in run.faults.elements(run.rig))
+            _renumbered(e, index) for e in run.faults.elements(run.rig))
         parts = (reduced.M, reduced.C, reduced.K, reduced.G)
         recovery, solver = reduced.basis.T, "dense"
         extra = {"n_reduced": reduced.n_reduced, "cutoff_hz": run.reduction.cutoff_hz,
                  "reduction_seconds": reduced.build_seconds}
+    if run.faults is not None:
+        parts = (*parts[:2], _without_taken_springs(parts[2], run, model,
+                                                    None if recovery is None else index),
+                 parts[3])
     x0 = np.real(x_hat) if x_static is None else np.real(x_hat) + x_static
     return RigSystem(*parts, force=force, contacts=contacts, x0=x0,
                      v0=np.real(1j * speed * x_hat), approach=approach, recovery=recovery,
                      linear_solver=solver, model="full" if recovery is None else "reduced",
                      extra=extra, fault_elements=fault_elements)
+
+
+def _renumbered(element, index):
+    """A fault element with its physical DOFs renumbered to the reduced coordinates."""
+    if hasattr(element, "element_dofs"):        # a breathing crack
+        return dataclasses.replace(
+            element, element_dofs=tuple(int(i) for i in index(element.element_dofs)))
+    base = element.base_dof                     # a loose pedestal
+    return dataclasses.replace(element, dof=int(index([element.dof])[0]),
+                               base_dof=-1 if base < 0 else int(index([base])[0]))
+
+
+def _without_taken_springs(K, run: Run, model, index):
+    """``K`` without the springs to ground the run's fault elements take over (a loose
+    pedestal's support: the element is its seat). The steady state the run starts from is
+    that of the seated, linear model, where the element's force equals the spring's.
+
+    The DOF is physical in the reduced model too (a boundary coordinate of the
+    Craig–Bampton basis, whose row of T is a unit row), so the spring is the same diagonal
+    term there: removing it is exact. A new matrix: the cached model is shared."""
+    taken = run.faults.removed_stiffness(run.rig, model.dofs)
+    if not taken:
+        return K
+    dofs = np.array([d for d, _ in taken], dtype=np.int64)
+    k = np.array([v for _, v in taken])
+    if index is not None:
+        dofs = np.asarray(index(dofs), dtype=np.int64)
+    if hasattr(K, "tocsr"):
+        import scipy.sparse as sp
+
+        return (K - sp.csr_matrix((k, (dofs, dofs)), shape=K.shape)).tocsr()
+    K = np.array(K, copy=True)
+    K[dofs, dofs] -= k
+    return K
 
 
 def _static_deflection(K, f: np.ndarray) -> np.ndarray:

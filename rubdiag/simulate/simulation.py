@@ -32,7 +32,7 @@ from rubdiag._version import __version__
 from rubdiag.model.io import rig_from_dict, rig_to_dict
 from rubdiag.model.rig import BladeContact, Unbalance
 from rubdiag.reduce import Reduction
-from rubdiag.simulate.faults import Crack, Faults
+from rubdiag.simulate.faults import Crack, Faults, Looseness
 from rubdiag.simulate.misalignment import Misalignment
 from rubdiag.simulate.result import EpisodeLog, SimulationDiverged, StatusLog, SystemResult
 from rubdiag.simulate.rig_cache import damped_model
@@ -55,12 +55,16 @@ _LOGS = {"episodes": EpisodeLog, "status_segments": StatusLog}
 
 def response_points(rig) -> tuple[str, ...]:
     """Recorded DOFs: both directions of every disc node, and with blade contacts the casing
-    node of contact element 1 and the tip of its blade (the study's nodes 11, 1844, 39)."""
+    node of contact element 1 and the tip of its blade (the study's nodes 11, 1844, 39), and
+    both directions of every bearing pedestal (after the others: a rig without pedestals
+    records what it did before they existed)."""
     points = [f"shaft {d.node} {x}" for d in rig.discs for x in "yz"]
     if rig.contact is not None:
         casing = rig.contact_casing_node(1)
         tip = f"blade {rig.contact.blades[0]}.{rig.blades.n_elements}"
         points += [f"casing {casing} {x}" for x in "yz"] + [f"{tip} {x}" for x in "yz"]
+    points += [f"pedestal {k} {x}" for k, b in enumerate(rig.bearings)
+               if b.pedestal is not None for x in "yz"]
     return tuple(points)
 
 
@@ -428,6 +432,8 @@ def run_to_dict(run: Run) -> dict:
         if f.name in ("static_load", "faults"):     # written only when set, like the reduction
             if value is not None:
                 out[f.name] = dataclasses.asdict(value)
+                if f.name == "faults" and value.looseness is None:
+                    del out[f.name]["looseness"]    # a field added later: ids unchanged
             continue
         if f.name == "rig":
             value = rig_to_dict(value)
@@ -441,7 +447,7 @@ def run_to_dict(run: Run) -> dict:
 
 
 def _faults_from_dict(data: dict) -> Faults:
-    parts = {"misalignment": Misalignment, "crack": Crack}
+    parts = {"misalignment": Misalignment, "crack": Crack, "looseness": Looseness}
     return Faults(**{name: None if data.get(name) is None else kind(**data[name])
                      for name, kind in parts.items()})
 
