@@ -2,10 +2,13 @@
 whose bearing sits on a :class:`~rubdiag.model.rig.Pedestal`.
 
 The rig: the paper rig with bearing 0 (shaft node 4) on a 20 kg pedestal, support 20 MN/m and
-500 N·s/m in y and z. Below lift-off the loose pedestal is the linear support; at twice the
-first critical speed with a 4 N preload and no retaining spring it lifts off and rattles: a
-½× line (measured: 1.14 × the 1× at the pedestal, 5.4 % of 1× at disc node 11). The reduced
-model shows it too, with another amplitude (not held to 5 %: see the last test).
+500 N·s/m in y and z. Below lift-off the loose pedestal is the linear support. At twice the
+first critical speed with a 2 N preload and a 2 MN/m retaining spring it lifts off (70 % of
+the time) in a motion of period two revolutions: a steady ½× line (measured: 0.69 × the 1×
+at the pedestal, 1.6 % of 1× at disc node 11, the same over 0.5 and 0.75 s windows), the
+reduced model's equal to 2e-5.
+Without a retaining spring the lifted pedestal wanders (½× and ⅓× that change with the
+window and the preload): not the case tested.
 """
 
 from __future__ import annotations
@@ -95,37 +98,38 @@ def test_below_lift_off_the_run_is_the_linear_support(rig):
 
 @pytest.fixture(scope="module")
 def rattling(rig):
-    """Twice the first critical speed, 4 N preload, no retaining spring: lift-off."""
+    """Twice the first critical speed, a 2 MN/m retaining spring: ``run(preload_n)``."""
     rpm = 2.0 * forward_critical_speeds(rig, 1)[0] * 30.0 / math.pi
 
     def run(preload, **options):
+        looseness = Looseness(bearing=0, preload_n=preload, loose_stiffness_n_m=2e6)
         return Run.paper_case(1, gap_mm=50.0, speed_rpm=rpm, duration_s=1.0, discard_s=0.5,
-                              rig=rig, faults=Faults(looseness=Looseness(bearing=0,
-                                                                         preload_n=preload)),
-                              **options)
+                              rig=rig, faults=Faults(looseness=looseness), **options)
     return run
 
 
-def test_a_pedestal_that_lifts_off_makes_a_half_order_line(rattling):
-    tight, loose = simulate(rattling(50.0)), simulate(rattling(4.0))
+@pytest.fixture(scope="module")
+def lifting(rattling):
+    return simulate(rattling(2.0))
+
+
+def test_a_pedestal_that_lifts_off_makes_a_half_order_line(rattling, lifting):
+    tight = simulate(rattling(50.0))
     assert lift_off_fraction(tight.system, tight.n_contacts) == 0.0
-    assert lift_off_fraction(loose.system, loose.n_contacts) > 0.5
-    for point, fraction in (("pedestal 0 y", 0.5), ("shaft 11 y", 0.02)):
+    assert lift_off_fraction(lifting.system, lifting.n_contacts) > 0.5     # measured 0.70
+    for point, fraction in (("pedestal 0 y", 0.5), ("shaft 11 y", 0.01)):
         assert line(tight, point, 0.5) < 1e-3 * line(tight, point, 1.0), point
-        assert line(loose, point, 0.5) > fraction * line(loose, point, 1.0), point
+        assert line(lifting, point, 0.5) > fraction * line(lifting, point, 1.0), point
+    # period 2, not a wandering pedestal: no third order
+    assert line(lifting, "pedestal 0 y", 1 / 3) < 0.01 * line(lifting, "pedestal 0 y", 1.0)
 
 
-def test_the_reduced_model_keeps_the_pedestal_physical(rattling):
+def test_the_reduced_model_keeps_the_pedestal_physical_and_the_half_order_line(rattling,
+                                                                                 lifting):
     """The pedestal DOFs are boundary coordinates of the reduction, so the support spring
-    comes out of the reduced K exactly. Lifting off, the reduced model shows the ½× line too
-    and the 1× at disc node 11 within 5 %; the ½× amplitudes themselves differ (measured at
-    the pedestal: 1.8 against 3.7 um, a non-smooth response sensitive to the model): not held
-    to 5 % here."""
-    full = simulate(rattling(4.0))
-    reduced = simulate(rattling(4.0, reduction=Reduction()))
+    comes out of the reduced K exactly; the ½× lines agree within 5 % (measured: 2e-5)."""
+    reduced = simulate(rattling(2.0, reduction=Reduction()))
     assert reduced.system.extra["model"] == "reduced"
     for point in ("pedestal 0 y", "shaft 11 y"):
-        print(point, [(line(full, point, o), line(reduced, point, o)) for o in (0.5, 1.0)])
-    a, b = line(full, "shaft 11 y", 1.0), line(reduced, "shaft 11 y", 1.0)
-    assert abs(b - a) <= 0.05 * a
-    assert line(reduced, "pedestal 0 y", 0.5) > 0.2 * line(reduced, "pedestal 0 y", 1.0)
+        a, b = line(lifting, point, 0.5), line(reduced, point, 0.5)
+        assert abs(b - a) <= 0.05 * a, point
