@@ -1,4 +1,5 @@
-"""Options that put the faults that look like rub into a run: gravity, a crack, misalignment."""
+"""Options that put the faults that look like rub into a run: gravity, a crack, misalignment,
+a loose pedestal."""
 
 from __future__ import annotations
 
@@ -9,7 +10,8 @@ def add_fault_options(p) -> None:
     """Add the fault options to a command's parser (``simulate``, ``runup``)."""
     g = p.add_argument_group(
         "faults beside (or instead of) rub",
-        "a breathing crack or a misaligned coupling (README, Faults that look like rub); "
+        "a breathing crack, a misaligned coupling, a loose pedestal (README, Faults that "
+        "look like rub); "
         "without --gap-mm the run has no blade-casing contact")
     g.add_argument("--gravity-m-s2", type=float,
                    help="gravity along y (m/s^2; -9.81 pulls towards -y): the static load a "
@@ -31,12 +33,20 @@ def add_fault_options(p) -> None:
                    help="the coupling's drive torque (N m, default 20)")
     g.add_argument("--spacer-length-mm", type=float, default=50.0,
                    help="the coupling's spacer length (mm, default 50)")
+    g.add_argument("--loose-bearing", type=int,
+                   help="the bearing (0-based) whose pedestal is loose on its seat (the rig "
+                   "file must give that bearing a [bearings.pedestal])")
+    g.add_argument("--loose-preload-n", type=float, default=0.0,
+                   help="the dead load on the seat beyond the static load (N, default 0: "
+                   "--gravity-m-s2 carries the weight)")
+    g.add_argument("--loose-stiffness-n-m", type=float, default=0.0,
+                   help="a retaining spring once the pedestal lifts (N/m, default 0)")
 
 
 def run_options(args) -> dict:
     """The Run fields the fault options give: ``static_load`` and ``faults`` (only those
     asked for)."""
-    from rubdiag.simulate.faults import Crack, Faults
+    from rubdiag.simulate.faults import Crack, Faults, Looseness
     from rubdiag.simulate.misalignment import Misalignment
     from rubdiag.simulate.static_load import StaticLoad
 
@@ -53,6 +63,10 @@ def run_options(args) -> dict:
             spacer_length_m=args.spacer_length_mm * 1e-3,
             offset_m=args.misalignment_offset_mm * 1e-3,
             angle_rad=math.radians(args.misalignment_angle_deg))
+    if args.loose_bearing is not None:
+        faults["looseness"] = Looseness(bearing=args.loose_bearing,
+                                        preload_n=args.loose_preload_n,
+                                        loose_stiffness_n_m=args.loose_stiffness_n_m)
     if faults:
         out["faults"] = Faults(**faults)
     return out

@@ -70,3 +70,31 @@ def test_the_faults_figure_shows_each_fault_s_line(tmp_path, capsys):
     assert lines["rub"]["4x"] > 100 * healthy["4x"]
     pixels = mpimg.imread(tmp_path / "faults.png")
     assert min(pixels.shape[:2]) > 500 and pixels[..., :3].std() > 0.02
+
+
+def test_a_loose_pedestal_from_a_rig_file(tmp_path, capsys):
+    """--loose-bearing on a rig file whose bearing stands on a pedestal: the run's seat
+    lifts off above the threshold; on the paper rig (no pedestal) one line and exit 2."""
+    import dataclasses
+
+    from rubdiag.model import Pedestal, paper_rig, save_rig
+
+    rig = paper_rig()
+    pedestal = Pedestal(mass_kg=20.0, k_y_n_m=2e7, k_z_n_m=2e7, c_y_ns_m=500.0,
+                        c_z_ns_m=500.0)
+    bearings = (dataclasses.replace(rig.bearings[0], pedestal=pedestal), *rig.bearings[1:])
+    path = tmp_path / "rig.toml"
+    save_rig(dataclasses.replace(rig, bearings=bearings), path)
+    out = tmp_path / "loose.npz"
+    assert main(["simulate", "--case", "1", "--speed-rpm", "2999", "--duration-s", "0.2",
+                 "--discard-s", "0.1", "--rig", str(path), "--loose-bearing", "0",
+                 "--loose-preload-n", "2", "--loose-stiffness-n-m", "2e6",
+                 "--out", str(out)]) == 0
+    result = load_result(out)
+    assert result.run.faults.looseness.bearing == 0
+    status = result.system.contact_status[:, -1]     # the pedestal: the run's only element
+    assert result.system.contact_status.shape[1] == 1 and (status == 3).any()
+    capsys.readouterr()
+    assert main([*RUN, "--loose-bearing", "0"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "faults.looseness.bearing = 0" in err[0]
