@@ -107,6 +107,8 @@ def _executor(args):
 
 
 def _dry_run(design, args) -> int:
+    from collections import Counter
+
     from rubdiag.dataset import pending_runs
     from rubdiag.dataset.rows import make_row
     from rubdiag.dataset.store import DatasetFolder
@@ -120,12 +122,17 @@ def _dry_run(design, args) -> int:
     if unreadable:
         print(f"unreadable, to be moved into {args.out / 'broken'} (their runs are counted to "
               f"run): {', '.join(str(exc.path) for exc in unreadable)}")
+    if runs and "fault" in runs[0].point:
+        counts = Counter(item.point["fault"] for item in runs)
+        print("runs per fault level: " + ", ".join(f"{k} {v}" for k, v in counts.items()))
     example = runs[0]
-    point = ", ".join(f"{k} = {v:.6g}" for k, v in example.point.items())
+    point = ", ".join(f"{k} = {v}" if isinstance(v, str) else f"{k} = {v:.6g}"
+                      for k, v in example.point.items())
     run = example.run
     law = run.contact_law
-    print(f"example: point 0 ({point}), replicate 0 -> {run.speed_rpm:.1f} rpm, g0 = "
-          f"{run.gap_m * 1e3:.4g} mm, mu = {law.friction_coefficient:.4g}, "
+    contact = ("no contact" if law is None else f"g0 = {run.gap_m * 1e3:.4g} mm, mu = "
+               f"{law.friction_coefficient:.4g}")
+    print(f"example: point 0 ({point}), replicate 0 -> {run.speed_rpm:.1f} rpm, {contact}, "
           f"{run.duration_s:g} s simulated ({run.discard_s:g} s discarded), dt = "
           f"{run.dt_s:g} s, {run.model_kind} model; run_id {example.run_id}")
     if not todo:

@@ -15,6 +15,7 @@ import pandas as pd
 
 from rubdiag._version import __version__
 from rubdiag.dataset.factors import FACTORS
+from rubdiag.dataset.faults import FAULT_LABELS, FAULT_MEASURES
 from rubdiag.dataset.ids import SCHEMA_VERSION
 from rubdiag.dataset.labels import LABELS, MEASURES, RUB_STATES, SEVERITIES
 from rubdiag.dataset.rows import ID_COLUMNS, PROVENANCE, RAMP_COLUMNS, SEPARATOR
@@ -63,9 +64,9 @@ def column_map(columns, sensors=()) -> pd.DataFrame:
             group = "run"            # when a factor set it), its sweep, which model made it
         elif name in FACTORS:
             group = "factor"
-        elif name in MEASURES:
+        elif name in MEASURES or name in FAULT_MEASURES:
             group = "measure"
-        elif name in LABELS:
+        elif name in LABELS or name in FAULT_LABELS:
             group = "label"
         elif name in PROVENANCE:
             group = "provenance"
@@ -76,8 +77,13 @@ def column_map(columns, sensors=()) -> pd.DataFrame:
             group = "feature"
         unit = "" if name in _NO_UNIT else _unit(feature, signal_units.get(channel, ""))
         if name in ("case", "replicate", "interference_ratio", "contact_time_fraction",
-                    "sticking_share", "n_rub_episodes") or name.endswith("_scale"):
+                    "sticking_share", "n_rub_episodes", "crack_open_fraction",
+                    "crack_depth_ratio") or name.endswith("_scale"):
             unit = "1"
+        if name in ("fault", "faults"):            # text: the faults by name
+            unit = ""
+        elif name.endswith("_mrad"):
+            unit = "mrad"
         rows.append({"column": name, "group": group, "channel": channel, "feature": feature,
                      "unit": unit})
     return pd.DataFrame(rows)
@@ -146,7 +152,7 @@ share of {design.labels.full_contact_share:g}.
 Stored: {n_done} of {design.n_runs} runs; status: {_status(status)}.
 Among the ok runs: rub {_counts(rows, 'rub', (True, False)) if n_done else '-'};
 rub_state {_counts(rows, 'rub_state', RUB_STATES) if n_done else '-'};
-severity {_counts(rows, 'severity', SEVERITIES) if n_done else '-'}.
+severity {_counts(rows, 'severity', SEVERITIES) if n_done else '-'}.{_fault_counts(rows)}
 
 Wall time per run: {wall_text}.
 
@@ -207,6 +213,18 @@ def _model(design) -> str:
             f"{design.reduction.cutoff_hz:g} Hz)")
 
 
+def _fault_counts(rows: pd.DataFrame) -> str:
+    """The fault labels' counts (rubdiag.dataset.faults), for a design with a fault factor."""
+    if "faults" not in rows:
+        return ""
+    ok = rows[rows["status"] == "ok"]
+    acted = ", ".join(f"{k} {int(v)}" for k, v in ok["faults"].value_counts().items())
+    return (f"\nFaults that acted (`faults`): {acted}; fault_crack "
+            f"{_counts(rows, 'fault_crack', (True, False))}; fault_misalignment "
+            f"{_counts(rows, 'fault_misalignment', (True, False))} (thresholds: "
+            "rubdiag.dataset.faults).")
+
+
 def _status(counts: pd.Series) -> str:
     if counts.empty:
         return "none"
@@ -215,6 +233,7 @@ def _status(counts: pd.Series) -> str:
 
 def _spec(factor) -> str:
     if factor.levels is not None:
-        return "levels " + ", ".join(f"{v:g}" for v in factor.levels)
+        return "levels " + ", ".join(v if isinstance(v, str) else f"{v:g}"
+                                     for v in factor.levels)
     n = f", {factor.n} grid levels" if factor.n is not None else ""
     return f"{factor.low:g} … {factor.high:g}{n}"

@@ -8,6 +8,8 @@ A design file has three tables::
     discard_s = 0.3           # Run.discard_s (default 0.3)
     reduced = false           # true: every run simulates the reduced-order model
     reduction_cutoff_hz = 2000.0  # optional, implies reduced: the Craig–Bampton cutoff (Hz)
+    gravity_m_s2 = 9.81       # optional: gravity along -y in every run (default 0: none);
+                              # with the fault settings (rubdiag.dataset.faults.FaultSettings)
 
     [ramp]                    # optional: every run sweeps its speed (rubdiag.dataset.ramp)
     rate_rpm_s = 300          # > 0
@@ -36,6 +38,8 @@ A design file has three tables::
     case = [1, 2]                              # a list: levels
     speed_ratio = {low = 0.8, high = 1.2}      # a table: a continuous range
     gap_mm = {low = 0.5, high = 4.0, n = 8}    # n: the grid's levels of a range
+    fault = ["none", "rub", "crack"]           # optional: rubdiag.dataset.faults
+    crack_depth_ratio = {low = 0.2, high = 0.4}  # a fault's severity: only its runs
 
 The factors, their physical ranges and the exclusive pairs are listed in
 :mod:`rubdiag.dataset.factors`. A design needs an unbalance pattern (``case`` or
@@ -105,6 +109,14 @@ from pathlib import Path
 
 from rubdiag import _check
 from rubdiag.dataset.factors import EXCLUSIVE, FACTORS, Factor
+from rubdiag.dataset.faults import KEYS as FAULT_KEYS
+from rubdiag.dataset.faults import (
+    NO_RUB_GAP_M,
+    FaultSettings,
+    check_factors,
+    faults_in,
+    shown_point,
+)
 from rubdiag.dataset.ids import point_id, run_id
 from rubdiag.dataset.labels import LabelRules
 from rubdiag.dataset.noise import NoiseFloors
@@ -132,7 +144,7 @@ DEFAULT_DURATION_S = 2.3
 
 _SECTIONS = {
     "base": ("rig", "duration_s", "discard_s", "reduced", "reduction_cutoff_hz",
-             "critical_speeds_rad_s"),
+             "critical_speeds_rad_s", *FAULT_KEYS),
     "ramp": RAMP_KEYS,
     "sampling": ("method", "n", "seed", "replicates"),
     "factors": tuple(FACTORS),
@@ -193,6 +205,7 @@ class Design:
     sensors: tuple[Sensor, ...] | None = None
     reduction: Reduction | None = None
     ramp: SpeedRamp | None = None
+    fault_settings: FaultSettings = field(default_factory=FaultSettings)
 
     def __post_init__(self):
         def set_(name, value):
@@ -230,6 +243,12 @@ class Design:
         set_("factors", _factors(self.factors))
         names = {f.name for f in self.factors}
         _check_combination(names)
+        if isinstance(self.fault_settings, Mapping):
+            set_("fault_settings", FaultSettings(**self.fault_settings))
+        if not isinstance(self.fault_settings, FaultSettings):
+            raise _check.wrong_type("fault_settings", self.fault_settings,
+                                    "a FaultSettings or a table")
+        check_factors(names, next((f.levels for f in self.factors if f.name == "fault"), None))
         set_("method", _check.choice("sampling.method", self.method, METHODS))
         set_("seed", _check.integer("sampling.seed", self.seed, lo=0))
         set_("replicates", _check.integer("sampling.replicates", self.replicates, lo=1,
@@ -348,6 +367,8 @@ class Design:
         base["reduction"] = _reduction(base.pop("reduced", None),
                                        base.pop("reduction_cutoff_hz", None))
         factors = tuple(Factor.from_spec(k, v) for k, v in data.get("factors", {}).items())
+        base["fault_settings"] = FaultSettings(**{k: base.pop(k) for k in FAULT_KEYS
+                                                  if k in base})
         sensors = data.get("sensors")
         if isinstance(sensors, Mapping):
             sensors = [sensors]
@@ -365,6 +386,7 @@ class Design:
         if self.reduction is not None:
             base["reduced"] = True
             base["reduction_cutoff_hz"] = float(self.reduction.cutoff_hz)
+        base.update(self.fault_settings.to_dict())     # only what differs from the defaults
         if self.critical_speeds_rad_s is not None:
             base["critical_speeds_rad_s"] = list(self.critical_speeds_rad_s)
         base["rig"] = rig_to_dict(self.rig)
@@ -426,7 +448,7 @@ class Design:
                     run = self.run_for(point, replicate)
                 except ValueError as exc:
                     raise ValueError(f"point {index} ({_describe(point)}): {exc}") from None
-                item = DesignRun(dict(point), replicate, run, point_id(run), run_id(run),
+                item = DesignRun(shown_point(point), replicate, run, point_id(run), run_id(run),
                                  self._speed_rad_s(point) * 30.0 / math.pi, self.ramp)
                 if item.run_id in seen:
                     raise ValueError(f"the design repeats a run: point {index} is point "
@@ -459,8 +481,15 @@ class Design:
         speed = self._speed_rad_s(point)
         if "casing_stiffness_scale" in point:
             rig = _scaled_casing(rig, point["casing_stiffness_scale"])
-        gap = point.get("gap_mm")
+        rub = "rub" in faults_in(point.get("fault", "rub"))
+        gap = point.get("gap_mm") if rub else NO_RUB_GAP_M * 1e3   # the casing out of reach
         options = {}
+        faults = self.fault_settings.faults(point)
+        if faults is not None:
+            options["faults"] = faults
+        static_load = self.fault_settings.static_load()
+        if static_load is not None:
+            options["static_load"] = static_load
         _check_revolutions(self.duration_s, self.discard_s, self.ramp, speed)
         duration = self.duration_s
         if self.ramp is not None:
@@ -469,9 +498,10 @@ class Design:
             options["speed_profile"] = profile
         run = Run(rig=rig, speed_rad_s=speed, unbalance=Unbalance(magnitudes, phases),
                   gap_m=None if gap is None else gap * 1e-3, duration_s=duration,
-                  discard_s=self.discard_s, contact=_contact(rig, point), gap_ramp_s=ramp_s,
+                  discard_s=self.discard_s, contact=_contact(rig, point) if rub else None,
+                  gap_ramp_s=ramp_s,
                   sensors=self.sensors, reduction=self.reduction,
-                  label=f"{_describe(point)}, replicate {replicate}", **options)
+                  label=f"{_describe(shown_point(point))}, replicate {replicate}", **options)
         if self.ramp is not None:
             _check_top_speed(run)
         return run
@@ -624,7 +654,8 @@ def _scaled_casing(rig: Rig, s: float) -> Rig:
 
 
 def _describe(point: Mapping) -> str:
-    return ", ".join(f"{k} = {v:.6g}" for k, v in point.items())
+    return ", ".join(f"{k} = {v}" if isinstance(v, str) else f"{k} = {v:.6g}"
+                     for k, v in point.items() if not (isinstance(v, float) and math.isnan(v)))
 
 
 def _toml_value(value) -> str:

@@ -21,6 +21,12 @@ Factors (``FACTORS``, in their canonical order) and their physical ranges:
 - ``contact_stiffness_scale``: times the rig's contact stiffnesses k_N and k_T. > 0.
 - ``casing_stiffness_scale``: times the casing support stiffnesses (k_y, k_z, and k_rx when
   the rig sets it; not the dampers). > 0.
+- ``fault``: the faults a run carries (:data:`rubdiag.dataset.faults.FAULT_LEVELS`: ``none``,
+  ``rub``, ``misalignment``, ``crack``, ``rub+misalignment``, ``rub+crack``); levels only
+  (:mod:`rubdiag.dataset.faults`).
+- ``crack_depth_ratio``: the crack's depth a/D, > 0 … 0.5; only in runs with a crack.
+- ``misalignment_angle_mrad``: the coupling's angular misalignment α₀ (mrad), 0 … 200;
+  only in runs with a misalignment.
 
 Exclusive pairs (``EXCLUSIVE``): ``case``/``phase_diff_deg``, ``speed_ratio``/``speed_rpm``,
 ``normal_stiffness_n_m``/``contact_stiffness_scale``.
@@ -34,6 +40,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 from rubdiag import _check
+from rubdiag.dataset.faults import fault_level
 
 __all__ = ["EXCLUSIVE", "FACTORS", "Factor"]
 
@@ -62,6 +69,9 @@ FACTORS: dict[str, Callable] = {
     "normal_stiffness_n_m": _range(0.0, None, lo_open=True, unit="N/m"),
     "contact_stiffness_scale": _range(0.0, None, lo_open=True),
     "casing_stiffness_scale": _range(0.0, None, lo_open=True),
+    "fault": fault_level,
+    "crack_depth_ratio": _range(0.0, 0.5, lo_open=True),
+    "misalignment_angle_mrad": _range(0.0, 200.0, lo_open=False, unit="mrad"),
 }
 
 #: Factors that say the same thing two ways: a design gives at most one of each pair.
@@ -69,7 +79,7 @@ EXCLUSIVE = (("case", "phase_diff_deg"), ("speed_ratio", "speed_rpm"),
              ("normal_stiffness_n_m", "contact_stiffness_scale"))
 
 #: Factors that take levels only (a range of them means nothing).
-_LEVELS_ONLY = ("case",)
+_LEVELS_ONLY = ("case", "fault")
 _RANGE_KEYS = ("low", "high", "n")
 
 

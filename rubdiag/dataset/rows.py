@@ -14,7 +14,9 @@ across runs).
 Columns, in order: :data:`ID_COLUMNS`, the design point's factors (as the design names
 them), ``speed_rpm`` (the run's speed; the design point's), for a design with a speed ramp
 :data:`RAMP_COLUMNS`, ``model`` (``"full"`` or ``"reduced"``: which model
-the run simulated, in every row, failed ones included), the measures and labels, the sensor features
+the run simulated, in every row, failed ones included), the measures and labels (with a
+``fault`` factor also :data:`rubdiag.dataset.faults.FAULT_MEASURES` and ``FAULT_LABELS``),
+the sensor features
 ``CHANNEL__FEATURE`` (e.g. ``shaft11_y_disp__amp_1x``, :mod:`rubdiag.signal.table`), the
 ground truth a plant cannot measure — contact statistics ``contact<k>__…`` and
 ``contacts__…`` (:mod:`rubdiag.runs.contact_stats`) and ``truth__casing_max_y_m`` — then
@@ -107,6 +109,7 @@ def make_row_and_waveforms(item, rules: LabelRules | None = None,
 def _simulate_and_describe(item, rules, noise, run_timeout_s,
                            start) -> tuple[dict, dict]:
     from rubdiag.dataset.approach import sweep_linear_approach_m
+    from rubdiag.dataset.faults import fault_labels
     from rubdiag.runs import contact_statistics
     from rubdiag.runs.features import order_tracked_features
     from rubdiag.signal.table import prefixed_features
@@ -123,6 +126,8 @@ def _simulate_and_describe(item, rules, noise, run_timeout_s,
     result = simulate(run, progress=None if run_timeout_s is None else watchdog)
     labelled = label_run(result, rules,
                          sweep_linear_approach_m(run) if varying else None)
+    if "fault" in item.point:           # a design with a fault factor: each fault's labels
+        labelled.update(fault_labels(result, labelled["rub"]))
     # noise over the whole record (what --waveforms stores), features over the window
     measured = add_noise(result.sensor_signals(),
                          {s.name: noise.floor(s.quantity) for s in run.sensors},

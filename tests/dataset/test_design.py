@@ -349,12 +349,14 @@ BAD = [
     (edit("factors", speed={"low": 1, "high": 2}),
      r"unknown factor 'factors.speed' \(allowed: case, phase_diff_deg, speed_ratio, speed_rpm, "
      r"gap_mm, mu, unbalance_scale, normal_stiffness_n_m, contact_stiffness_scale, "
-     r"casing_stiffness_scale\)"),
+     r"casing_stiffness_scale, fault, crack_depth_ratio, "
+     r"misalignment_angle_mrad\)"),
     (edit("sampling", replicate=2),
      r"unknown key 'sampling.replicate' \(allowed: method, n, seed, replicates\)"),
     (edit("base", duration=2.3),
      r"unknown key 'base.duration' \(allowed: rig, duration_s, discard_s, reduced, "
-     r"reduction_cutoff_hz, critical_speeds_rad_s\)"),
+     r"reduction_cutoff_hz, critical_speeds_rad_s, gravity_m_s2, crack_element, "
+     r"crack_law, coupling_node, drive_torque_n_m, spacer_length_m, misalignment_offset_m\)"),
     ({**GOOD, "noises": {}},
      r"unknown table \[noises\] \(allowed: base, ramp, sampling, factors, labels, noise, "
      r"sensors\)"),

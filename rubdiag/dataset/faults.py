@@ -1,0 +1,229 @@
+"""The ``fault`` factor of a design: which faults a run carries, their fixed settings, and
+the labels each fault's own element gives.
+
+Levels (:data:`FAULT_LEVELS`): ``none``, ``rub``, ``misalignment``, ``crack``,
+``rub+misalignment``, ``rub+crack``. A level names the faults present, joined by ``+``;
+adding a fault (``looseness``) is one entry in :data:`FAULT_KINDS` and its levels.
+
+* Levels without ``rub`` have no blade–casing contact: their runs keep the rig as it is
+  (its contact elements, so the same model, reduced model and sensors as the rub runs: the
+  rig never gives the class away) with the gap at :data:`NO_RUB_GAP_M` (50 mm, 25 times
+  the study's gaps: the paper rig's linear orbit at its critical speeds reaches about 2 mm)
+  and the rig's own contact law, so the gap, friction and contact-stiffness factors do not
+  enter them (nor their run ids), and their rows show those factors as NaN. (A rig without
+  contact elements, ``Run.paper_case(gap_mm=None)``, is not used: the reduced model
+  refuses a rig without contact DOFs.) ``rub`` is then False from the episodes, as
+  always: no episode closes.
+* A severity factor applies only to the runs where its fault is present
+  (:data:`SEVERITY_FACTORS`: ``crack_depth_ratio`` a/D, ``misalignment_angle_mrad`` α₀);
+  in the other runs it is ignored — not in the run, not in its id, NaN in its row.
+  The coupling's severity is its angular misalignment α₀: in the kinematic coupling model
+  (:mod:`rubdiag.simulate.misalignment`) a parallel offset alone bends both joints alike,
+  their 2× forces cancel and only a 2× moment is left (0.08 N·m at 0.4 mm, T = 20 N·m,
+  L = 5 cm), while α₀ makes a 2× force ≈ T α₀ / (2 L) (2 N at 10 mrad); a fixed offset
+  is a ``[base]`` option.
+* The rest of each fault is fixed by ``[base]`` options (:class:`FaultSettings`).
+
+Labels (:func:`fault_labels`), from what each fault's element or model did, never a
+probe's spectrum:
+
+``crack_open_fraction``
+    The share of the analysis window during which the crack element is engaged (status
+    not OPEN: its breathing function f > 0), from the per-step status log of the element
+    that follows the contact elements. NaN without a crack.
+``misalignment_2x_force_n``
+    The 2× line of the coupling's force on the rotor (N): the larger of the y and z force
+    amplitudes of :meth:`~rubdiag.simulate.misalignment.Misalignment.lines` (the model's
+    law is "constant": the same at every speed, so this is its value at the run's speed).
+    NaN without a misalignment.
+``fault_crack``, ``fault_misalignment``
+    The measure at or above :data:`CRACK_OPEN_THRESHOLD` / :data:`MISALIGNMENT_2X_THRESHOLD_N`.
+``faults``
+    The faults that acted, ``rub`` first, joined by ``+`` (``"none"`` when none did).
+
+Both thresholds are CALIBRATIONS: a crack engaged during under 5 % of the window hardly
+breathes; a 2× coupling force under 0.5 N is small beside the paper rig's unbalance forces at half
+its first critical speed; with the default coupling (T = 20 N·m, L = 5 cm) it is α₀ ≈ 2.5
+mrad.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from rubdiag import _check
+
+__all__ = ["CRACK_OPEN_THRESHOLD", "FAULT_KINDS", "FAULT_LABELS", "FAULT_LEVELS",
+           "FAULT_MEASURES",
+           "MISALIGNMENT_2X_THRESHOLD_N", "NO_RUB_GAP_M", "SEVERITY_FACTORS", "FaultSettings",
+           "fault_labels", "fault_level", "faults_in"]
+
+#: the faults beside rub a level may name (looseness: one more entry, with its levels)
+FAULT_KINDS = ("misalignment", "crack")
+FAULT_LEVELS = ("none", "rub", "misalignment", "crack", "rub+misalignment", "rub+crack")
+#: severity factor -> the fault whose runs it applies to
+SEVERITY_FACTORS = {"crack_depth_ratio": "crack", "misalignment_angle_mrad": "misalignment"}
+#: the raw measures and the labels (their columns, in this order)
+FAULT_MEASURES = ("crack_open_fraction", "misalignment_2x_force_n")
+FAULT_LABELS = ("fault_crack", "fault_misalignment", "faults")
+#: the gap of the runs without rub (m): far beyond any orbit of the rig (module docstring)
+NO_RUB_GAP_M = 0.05
+#: the factors a run without rub ignores
+CONTACT_FACTORS = ("gap_mm", "mu", "normal_stiffness_n_m", "contact_stiffness_scale")
+CRACK_OPEN_THRESHOLD = 0.05
+MISALIGNMENT_2X_THRESHOLD_N = 0.5
+
+
+def fault_level(name: str, value) -> str:
+    """Check one level of the ``fault`` factor."""
+    if not isinstance(value, str) or value not in FAULT_LEVELS:
+        raise ValueError(f"{name} = {value!r} is not a fault level (allowed: "
+                         f"{', '.join(FAULT_LEVELS)})")
+    return value
+
+
+def faults_in(level: str) -> tuple[str, ...]:
+    """The faults a level names (``"none"``: none)."""
+    return () if level == "none" else tuple(level.split("+"))
+
+
+@dataclass(frozen=True)
+class FaultSettings:
+    """The fixed settings of the faults in a design (``[base]`` keys, SI units):
+
+    ``gravity_m_s2``: gravity along -y (m/s², >= 0; 0: no static load, the default, so a
+    design without it makes the runs it made before) — every run gets
+    ``StaticLoad(direction="y", gravity_m_s2=-gravity_m_s2)``; the crack needs it to breathe
+    as a real one does. ``crack_element`` (default 10: next to the paper rig's disc),
+    ``crack_law`` ("gasch", default: it breathes with the bending moment, so gravity
+    matters; or "mayes", whose f > 0 at every angle but one, so that its open fraction is
+    1); ``coupling_node`` (default 3), ``drive_torque_n_m`` (default 20 N·m),
+    ``spacer_length_m`` (default 0.05 m) and ``misalignment_offset_m`` (default 0 m) of the
+    misaligned coupling.
+    """
+
+    gravity_m_s2: float = 0.0
+    crack_element: int = 10
+    crack_law: str = "gasch"
+    coupling_node: int = 3
+    drive_torque_n_m: float = 20.0
+    spacer_length_m: float = 0.05
+    misalignment_offset_m: float = 0.0
+
+    def __post_init__(self):
+        object.__setattr__(self, "gravity_m_s2", _check.number(
+            "base.gravity_m_s2", self.gravity_m_s2, lo=0.0, hi=1e3, unit="m/s²"))
+        object.__setattr__(self, "crack_element", _check.integer(
+            "base.crack_element", self.crack_element, lo=0))
+        _check.choice("base.crack_law", self.crack_law, ("gasch", "mayes"))
+        object.__setattr__(self, "coupling_node", _check.integer(
+            "base.coupling_node", self.coupling_node, lo=0))
+        object.__setattr__(self, "drive_torque_n_m", _check.number(
+            "base.drive_torque_n_m", self.drive_torque_n_m, lo=-1e6, hi=1e6, unit="N·m"))
+        object.__setattr__(self, "spacer_length_m", _check.number(
+            "base.spacer_length_m", self.spacer_length_m, lo=0.0, hi=10.0, lo_open=True,
+            unit="m"))
+        object.__setattr__(self, "misalignment_offset_m", _check.number(
+            "base.misalignment_offset_m", self.misalignment_offset_m, lo=0.0, hi=0.05,
+            unit="m"))
+
+    def to_dict(self) -> dict:
+        """The non-default settings (a design that sets none writes none)."""
+        default = FaultSettings()
+        return {k: getattr(self, k) for k in KEYS if getattr(self, k) != getattr(default, k)}
+
+    def static_load(self):
+        from rubdiag.simulate.static_load import StaticLoad
+
+        if self.gravity_m_s2 == 0.0:
+            return None
+        return StaticLoad(direction="y", gravity_m_s2=-self.gravity_m_s2)
+
+    def faults(self, point) -> object:
+        """The :class:`~rubdiag.simulate.faults.Faults` of a design point, or None."""
+        from rubdiag.simulate.faults import Crack, Faults
+        from rubdiag.simulate.misalignment import Misalignment
+
+        present = faults_in(point.get("fault", "none"))
+        parts = {}
+        if "crack" in present:
+            parts["crack"] = Crack(element=self.crack_element,
+                                   depth_ratio=point["crack_depth_ratio"], law=self.crack_law)
+        if "misalignment" in present:
+            parts["misalignment"] = Misalignment(
+                node=self.coupling_node, drive_torque_n_m=self.drive_torque_n_m,
+                spacer_length_m=self.spacer_length_m, offset_m=self.misalignment_offset_m,
+                angle_rad=point["misalignment_angle_mrad"] * 1e-3)
+        return Faults(**parts) if parts else None
+
+
+KEYS = ("gravity_m_s2", "crack_element", "crack_law", "coupling_node", "drive_torque_n_m",
+        "spacer_length_m", "misalignment_offset_m")
+
+
+def check_factors(names: set[str], levels: tuple[str, ...] | None) -> None:
+    """A severity factor needs the ``fault`` factor, and each fault level its severity."""
+    for severity, fault in SEVERITY_FACTORS.items():
+        if severity in names and levels is None:
+            raise ValueError(f"factors.{severity} needs factors.fault (it applies to the "
+                             f"runs with a {fault})")
+    for level in levels or ():
+        for fault in faults_in(level):
+            severity = next((s for s, f in SEVERITY_FACTORS.items() if f == fault), None)
+            if severity is not None and severity not in names:
+                raise ValueError(f"factors.fault level {level!r} needs factors.{severity} "
+                                 f"(the {fault}'s severity)")
+
+
+def shown_point(point: dict) -> dict:
+    """The point as its row shows it: what its run ignores NaN (the severities of absent
+    faults; without rub, the contact factors)."""
+    if "fault" not in point:
+        return dict(point)
+    present = faults_in(point["fault"])
+
+    def ignored(name: str) -> bool:
+        if name in SEVERITY_FACTORS:
+            return SEVERITY_FACTORS[name] not in present
+        return name in CONTACT_FACTORS and "rub" not in present
+
+    return {k: math.nan if ignored(k) else v for k, v in point.items()}
+
+
+def fault_labels(result, rub: bool) -> dict:
+    """The measures and labels of the module docstring for a simulated run (``rub``: the
+    run's rub label, which ``faults`` joins first)."""
+    run = result.run
+    faults = run.faults
+    open_fraction = misalignment_2x = math.nan
+    if faults is not None and faults.crack is not None:
+        open_fraction = _engaged_fraction(result, result.n_contacts + 1)
+    if faults is not None and faults.misalignment is not None:
+        lines = faults.misalignment.lines()
+        misalignment_2x = float(np.max(np.abs(lines[2][:2]))) if 2 in lines else 0.0
+    crack = bool(open_fraction >= CRACK_OPEN_THRESHOLD)
+    misaligned = bool(misalignment_2x >= MISALIGNMENT_2X_THRESHOLD_N)
+    acted = [n for n, on in (("rub", rub), ("misalignment", misaligned), ("crack", crack))
+             if on]
+    return {"crack_open_fraction": open_fraction, "misalignment_2x_force_n": misalignment_2x,
+            "fault_crack": crack, "fault_misalignment": misaligned,
+            "faults": "+".join(acted) if acted else "none"}
+
+
+def _engaged_fraction(result, element: int) -> float:
+    """The share of the window element ``element`` (from 1) is not OPEN, from the per-step
+    status log (segments clipped to the window)."""
+    from rubdiag.kernels.records import OPEN
+
+    start = result.run.discard_s
+    end = float(result.t[-1]) if result.t.size else start
+    if end <= start:
+        return math.nan
+    seg = result.system.status_segments
+    keep = (seg.element == element) & (seg.status != OPEN)
+    lo = np.clip(seg.t_start[keep], start, end)
+    hi = np.clip(seg.t_end[keep], start, end)
+    return float(np.sum(hi - lo) / (end - start))

@@ -1,0 +1,163 @@
+"""The ``fault`` factor of dataset designs and the labels each fault's element gives
+(issue 26, parts 5 and 6: rubdiag.dataset.faults)."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from rubdiag.dataset import Design
+from rubdiag.dataset.factors import Factor
+from rubdiag.dataset.faults import (
+    FAULT_LEVELS,
+    NO_RUB_GAP_M,
+    fault_labels,
+)
+from rubdiag.dataset.labels import label_run
+from rubdiag.kernels.records import OPEN
+from rubdiag.reduce import Reduction
+from rubdiag.simulate import Run, simulate
+from rubdiag.simulate.faults import Crack, Faults
+from rubdiag.simulate.misalignment import Misalignment
+from rubdiag.simulate.static_load import StaticLoad
+
+DESIGNS = Path(__file__).parents[2] / "data" / "designs"
+SMALL = DESIGNS / "faults_small.toml"
+
+BASE = """
+[base]
+critical_speeds_rad_s = [157.0, 597.0]
+duration_s = 1.2
+gravity_m_s2 = 9.81
+[sampling]
+method = "lhs"
+n = 12
+seed = 1
+[factors]
+case = [1]
+speed_ratio = {low = 0.45, high = 0.55}
+gap_mm = [0.3]
+"""
+FAULT_FACTORS = ("fault = " + str(list(FAULT_LEVELS)).replace("'", '"') + "\n"
+                 "crack_depth_ratio = {low = 0.2, high = 0.45}\n"
+                 "misalignment_angle_mrad = {low = 3.0, high = 10.0}\n")
+
+
+class TestFactor:
+    def test_an_unknown_level_is_refused_with_the_allowed_list(self):
+        with pytest.raises(ValueError, match=r"factors\.fault\[1\] = 'whirl'.*allowed: none, "
+                                             r"rub, misalignment, crack, rub\+misalignment"):
+            Factor("fault", levels=("rub", "whirl"))
+
+    def test_a_range_of_faults_is_refused(self):
+        with pytest.raises(ValueError, match=r"factors\.fault.*a list of levels"):
+            Factor.from_spec("fault", {"low": 0, "high": 1})
+
+    def test_a_severity_needs_the_fault_factor(self):
+        with pytest.raises(ValueError, match=r"factors\.crack_depth_ratio needs factors\.fault"):
+            Design.from_toml(BASE + "crack_depth_ratio = {low = 0.2, high = 0.4}\n")
+
+    def test_a_fault_level_needs_its_severity(self):
+        with pytest.raises(ValueError, match=r"level 'rub\+crack' needs "
+                                             r"factors\.crack_depth_ratio"):
+            Design.from_toml(BASE + 'fault = ["none", "rub+crack"]\n')
+
+    def test_a_depth_beyond_half_the_diameter_is_refused(self):
+        with pytest.raises(ValueError, match=r"factors\.crack_depth_ratio\.high"):
+            Factor("crack_depth_ratio", low=0.2, high=0.6)
+
+    def test_a_wrong_base_setting_is_refused_by_name(self):
+        with pytest.raises(ValueError, match=r"base\.crack_law"):
+            Design.from_toml(BASE.replace("[sampling]", 'crack_law = "x"\n[sampling]')
+                             + FAULT_FACTORS)
+
+
+@pytest.fixture(scope="module")
+def design():
+    return Design.from_toml(BASE + FAULT_FACTORS)
+
+
+def test_each_level_has_the_same_number_of_runs(design):
+    runs = design.runs()
+    assert Counter(r.point["fault"] for r in runs) == {level: 2 for level in FAULT_LEVELS}
+    small = Design.from_toml(SMALL)
+    assert Counter(r.point["fault"] for r in small.runs()) == {lv: 4 for lv in FAULT_LEVELS}
+
+
+def test_runs_carry_only_their_faults_and_every_run_is_on_the_same_rig(design):
+    for item in design.runs():
+        run, present = item.run, item.point["fault"].split("+")
+        assert run.rig == design.rig and run.contact_law == design.rig.contact
+        assert run.static_load == StaticLoad(direction="y", gravity_m_s2=-9.81)
+        names = () if run.faults is None else run.faults.names
+        assert set(names) == set(present) - {"rub", "none"}
+        if "rub" in present:
+            assert run.gap_m == pytest.approx(0.3e-3)
+        else:                               # the casing out of reach, the row says NaN
+            assert run.gap_m == NO_RUB_GAP_M and math.isnan(item.point["gap_mm"])
+        if "crack" not in present:
+            assert math.isnan(item.point["crack_depth_ratio"])
+        else:
+            assert run.faults.crack.depth_ratio == item.point["crack_depth_ratio"]
+
+
+def test_a_run_ignores_the_severities_of_absent_faults_and_its_ids_too(design):
+    point = {"case": 1, "speed_ratio": 0.5, "gap_mm": 0.3, "fault": "misalignment",
+             "crack_depth_ratio": 0.2, "misalignment_angle_mrad": 5.0}
+    run = design.run_for(point)
+    assert run == design.run_for({**point, "crack_depth_ratio": 0.4, "gap_mm": 2.0})
+    assert run.faults.misalignment.angle_rad == pytest.approx(5e-3)
+    healthy = design.run_for({**point, "fault": "none", "misalignment_angle_mrad": 9.0})
+    assert healthy == design.run_for({**point, "fault": "none"}) and healthy.faults is None
+
+
+def test_a_design_without_fault_settings_writes_none_and_round_trips(design):
+    text = (DESIGNS / "rub_lhs200.toml").read_text()
+    assert "gravity" not in Design.from_toml(text).to_toml()
+    assert Design.from_toml(design.to_toml()) == design
+    assert "gravity_m_s2 = 9.81" in design.to_toml()
+
+
+def quick_run(**options) -> Run:
+    """Case 1 at half its first critical speed under gravity, casing out of reach, 0.3 s."""
+    return Run.paper_case(1, gap_mm=NO_RUB_GAP_M * 1e3, speed_rpm=750.0, duration_s=0.3,
+                          discard_s=0.1, static_load=StaticLoad(gravity_m_s2=-9.81),
+                          reduction=Reduction(), **options)
+
+
+def test_a_healthy_run_far_from_the_casing_does_not_rub():
+    result = simulate(quick_run())
+    labels = {**label_run(result), **fault_labels(result, rub=False)}
+    assert len(result.system.episodes) == 0 and labels["rub"] is False
+    assert labels["faults"] == "none" and math.isnan(labels["crack_open_fraction"])
+
+
+def test_the_crack_label_is_the_share_of_the_window_its_element_is_engaged():
+    result = simulate(quick_run(faults=Faults(crack=Crack(element=10, depth_ratio=0.4,
+                                                          law="gasch"))))
+    labels = {**label_run(result), **fault_labels(result, rub=label_run(result)["rub"])}
+    crack = result.n_contacts                 # 0-based column: after the contacts
+    status = result.system.contact_status[result.window, crack]
+    sampled = np.mean(status != OPEN)         # the element's sampled status
+    assert labels["crack_open_fraction"] == pytest.approx(sampled, abs=0.01)
+    assert 0.2 < labels["crack_open_fraction"] < 0.8       # it breathes under gravity
+    assert labels["fault_crack"] is True and labels["rub"] is False     # not a rub
+    assert labels["faults"] == "crack" and labels["n_rub_episodes"] == 0
+
+
+def test_the_misalignment_label_is_the_coupling_models_2x_force():
+    coupling = Misalignment(node=3, drive_torque_n_m=20.0, spacer_length_m=0.05,
+                            angle_rad=0.01)
+    result = simulate(quick_run(faults=Faults(misalignment=coupling)))
+    labels = fault_labels(result, rub=False)
+    # small angles: the 2× force ≈ T α₀ / (2 L) (rubdiag.dataset.faults)
+    assert labels["misalignment_2x_force_n"] == pytest.approx(20.0 * 0.01 / 0.1, rel=0.01)
+    assert labels["fault_misalignment"] is True and labels["faults"] == "misalignment"
+    weak = dataclasses.replace(coupling, angle_rad=1e-3)     # 0.2 N: under the threshold
+    labels = fault_labels(simulate(quick_run(faults=Faults(misalignment=weak))), rub=True)
+    assert labels["fault_misalignment"] is False and labels["faults"] == "rub"
