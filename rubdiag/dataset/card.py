@@ -15,7 +15,7 @@ import pandas as pd
 
 from rubdiag._version import __version__
 from rubdiag.dataset.factors import FACTORS
-from rubdiag.dataset.faults import FAULT_LABELS, FAULT_MEASURES
+from rubdiag.dataset.fault_levels import FAULT_LABELS, FAULT_MEASURES
 from rubdiag.dataset.ids import SCHEMA_VERSION
 from rubdiag.dataset.labels import LABELS, MEASURES, RUB_STATES, SEVERITIES
 from rubdiag.dataset.rows import ID_COLUMNS, PROVENANCE, RAMP_COLUMNS, SEPARATOR

@@ -40,7 +40,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 from rubdiag import _check
-from rubdiag.dataset.faults import fault_level
+from rubdiag.dataset.fault_levels import fault_level
 
 __all__ = ["EXCLUSIVE", "FACTORS", "Factor"]
 

@@ -1,0 +1,40 @@
+"""The levels of a design's ``fault`` factor and the names of the fault labels: data only.
+
+Kept apart from :mod:`rubdiag.dataset.faults` (which builds the runs and reads the labels
+from a simulation) so that what reads stored datasets — the classifiers, the store — may
+import the names without reaching the simulator (the import contract in pyproject.toml).
+"""
+
+from __future__ import annotations
+
+__all__ = ["CONTACT_FACTORS", "CRACK_OPEN_THRESHOLD", "FAULT_KINDS", "FAULT_LABELS",
+           "FAULT_LEVELS", "FAULT_MEASURES", "MISALIGNMENT_2X_THRESHOLD_N", "NO_RUB_GAP_M",
+           "SEVERITY_FACTORS", "fault_level", "faults_in"]
+
+#: the faults beside rub a level may name (looseness: one more entry, with its levels)
+FAULT_KINDS = ("misalignment", "crack")
+FAULT_LEVELS = ("none", "rub", "misalignment", "crack", "rub+misalignment", "rub+crack")
+#: severity factor -> the fault whose runs it applies to
+SEVERITY_FACTORS = {"crack_depth_ratio": "crack", "misalignment_angle_mrad": "misalignment"}
+#: the raw measures and the labels (their columns, in this order)
+FAULT_MEASURES = ("crack_open_fraction", "misalignment_2x_force_n")
+FAULT_LABELS = ("fault_crack", "fault_misalignment", "faults")
+#: the gap of the runs without rub (m): far beyond any orbit of the rig (module docstring)
+NO_RUB_GAP_M = 0.05
+#: the factors a run without rub ignores
+CONTACT_FACTORS = ("gap_mm", "mu", "normal_stiffness_n_m", "contact_stiffness_scale")
+CRACK_OPEN_THRESHOLD = 0.05
+MISALIGNMENT_2X_THRESHOLD_N = 0.5
+
+
+def fault_level(name: str, value) -> str:
+    """Check one level of the ``fault`` factor."""
+    if not isinstance(value, str) or value not in FAULT_LEVELS:
+        raise ValueError(f"{name} = {value!r} is not a fault level (allowed: "
+                         f"{', '.join(FAULT_LEVELS)})")
+    return value
+
+
+def faults_in(level: str) -> tuple[str, ...]:
+    """The faults a level names (``"none"``: none)."""
+    return () if level == "none" else tuple(level.split("+"))
