@@ -3,7 +3,9 @@
 Runs case 1 at 750 rpm (half the first critical speed) far from the casing with gravity,
 once without any element and once with each fault (a breathing crack by each law, a
 misaligned coupling: loads only); and case 1 at the first critical speed with rub (the 8
-point contacts) beside the same run without contacts, for scale. Prints the kernel's µs per
+point contacts) beside the same run without contacts, for scale; and the paper rig with
+bearing 0 on a pedestal at twice the first critical speed, linear and loose (lifting off).
+Prints the kernel's µs per
 step (median of ``--repeat`` runs) and the difference to the first run.
 
 Usage::
@@ -20,8 +22,11 @@ import statistics
 import rubdiag  # noqa: F401  first: it pins OpenBLAS's kernels before numpy loads them
 
 # isort: split
+import dataclasses
+
+from rubdiag.model import Pedestal, paper_rig
 from rubdiag.simulate import Run, simulate
-from rubdiag.simulate.faults import Crack, Faults
+from rubdiag.simulate.faults import Crack, Faults, Looseness
 from rubdiag.simulate.misalignment import Misalignment
 from rubdiag.simulate.static_load import StaticLoad
 
@@ -32,6 +37,11 @@ def cases(duration: float) -> dict[str, Run]:
     base = dict(speed_rpm=750.0, duration_s=duration, discard_s=0.0, static_load=GRAVITY)
     coupling = Misalignment(node=3, drive_torque_n_m=20.0, spacer_length_m=0.05,
                             offset_m=5e-4)
+    rig = paper_rig()       # bearing 0 on a 20 kg pedestal (tests/simulate/test_looseness…)
+    seat = Pedestal(mass_kg=20.0, k_y_n_m=2e7, k_z_n_m=2e7, c_y_ns_m=500.0, c_z_ns_m=500.0)
+    pedestal = dataclasses.replace(
+        rig, bearings=(dataclasses.replace(rig.bearings[0], pedestal=seat), *rig.bearings[1:]))
+    fast = dict(speed_rpm=2999.0, duration_s=duration, discard_s=0.0)
     return {
         "no element": Run.paper_case(1, None, **base),
         "crack (Mayes)": Run.paper_case(1, None, faults=Faults(
@@ -42,6 +52,11 @@ def cases(duration: float) -> dict[str, Run]:
                                                **base),
         "no element, 1st critical, no gravity": Run.paper_case(1, None, duration_s=duration,
                                                                discard_s=0.0),
+        "pedestal rig, linear, 2x 1st critical": Run.paper_case(
+            1, None, rig=pedestal, **fast),
+        "pedestal rig, loose (lifting off), 2x 1st critical": Run.paper_case(
+            1, None, rig=pedestal, faults=Faults(looseness=Looseness(
+                bearing=0, preload_n=2.0, loose_stiffness_n_m=2e6)), **fast),
         "8 point contacts rubbing, 1st critical": Run.paper_case(1, 1.9, duration_s=duration,
                                                                  discard_s=0.0,
                                                                  gap_ramp_s=0.0),
