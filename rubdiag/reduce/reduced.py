@@ -71,16 +71,13 @@ class ReducedModel:
 
 
 def contact_dofs(model) -> np.ndarray:
-    """Every DOF a contact element of ``model``'s rig acts on (ascending)."""
-    dofs = []
+    """Every DOF a contact element of ``model``'s rig acts on (ascending; empty without)."""
+    dofs = [np.zeros(0, np.int64)]
     geo = model.blade_contacts
     if geo is not None:
         dofs += [geo.tip_dofs.ravel(), geo.casing_dofs.ravel()]
     for sc in model.rig.stator_contacts:
         dofs.append([model.dofs.index(sc.node, "y"), model.dofs.index(sc.node, "z")])
-    if not dofs:
-        raise ValueError(f"rig {model.rig.name!r} has no contact element: a reduction keeps "
-                         "the contact DOFs physical, and there are none")
     return np.unique(np.concatenate(dofs).astype(np.int64))
 
 
@@ -99,7 +96,12 @@ def boundary_dofs(model, reduction: Reduction) -> np.ndarray:
     if reduction.tip_rotations and model.rig.contact is not None:
         tip = model.rig.blades.n_elements
         dofs.append([model.dofs.index(f"blade {b}.{tip}", "rx") for b in model.rig.contact.blades])
-    return np.unique(np.concatenate(dofs).astype(np.int64))
+    boundary = np.unique(np.concatenate(dofs).astype(np.int64))
+    if not boundary.size:
+        raise ValueError(f"rig {model.rig.name!r} has no nonlinear element: a reduction keeps "
+                         "the DOFs of its contacts, pedestals and fault nodes physical, and "
+                         "there are none")
+    return boundary
 
 
 def reduced_model(rig, reduction: Reduction | None = None) -> ReducedModel:

@@ -21,7 +21,7 @@ with
   most the run's ``contact_stiffness_ratio`` (0: any step);
 * ``multiplier_stiffness(w, boost)`` → the multiplier update stiffness (N/m; 0 without one);
 * ``dofs()`` → every DOF it acts on (checked against the system; a reduced model keeps them
-  physical: :func:`rubdiag.reduce.contact_dofs` lists those of the rig's elements).
+  physical: :func:`rubdiag.reduce.boundary_dofs` lists those of the rig's elements).
 
 ``tests/simulate/test_element_seam.py`` (with ``tests/ground_spring_kind.py``) adds a linear
 spring and dashpot to ground this way, outside the package, and checks them against the same

@@ -40,3 +40,17 @@ def test_without_shaft_nodes_the_description_is_what_it_was():
 def test_a_node_off_the_shaft_is_refused_by_name():
     with pytest.raises(ValueError, match=r"reduction\.shaft_nodes: 999"):
         reduced_model(paper_rig(), Reduction(shaft_nodes=(999,)))
+
+
+def test_a_rig_without_contacts_reduces_about_its_fault_nodes():
+    """No blade-casing contact (a run with faults only): the named nodes are the boundary;
+    with nothing nonlinear at all the reduction says so by name."""
+    import dataclasses
+
+    rig = dataclasses.replace(paper_rig(), contact=None)
+    model = assemble(rig)
+    reduced = reduced_model(rig, Reduction(shaft_nodes=(10, 11), tip_rotations=False))
+    expected = sorted(model.dofs.index(n, d) for n in (10, 11) for d in ("y", "z", "ry", "rz"))
+    np.testing.assert_array_equal(reduced.basis.boundary, expected)
+    with pytest.raises(ValueError, match="has no nonlinear element"):
+        reduced_model(rig, Reduction(tip_rotations=False))
