@@ -40,6 +40,11 @@ def output_folder(path, option: str = "--out") -> Path:
     return path
 
 
+#: the help of every ``--rig`` option
+RIG_HELP = ("rig TOML file or preset (paper, paper-pedestal; default: the study's paper "
+            "rig)")
+
+
 def input_file(path, option: str | None, what: str) -> Path:
     """A file the command will read (``option`` None: a positional argument): it must exist
     and not be a folder."""
@@ -53,11 +58,17 @@ def input_file(path, option: str | None, what: str) -> Path:
 
 
 def load_rig(path):
-    """The rig of a ``--rig FILE`` option (None: the study's paper rig)."""
-    from rubdiag.model import load_rig, paper_rig
+    """The rig of a ``--rig FILE|PRESET`` option (None: the study's paper rig); a preset
+    name (:data:`rubdiag.model.PRESETS`) that is not a file is the preset."""
+    from rubdiag.model import PRESETS, load_rig, paper_rig, preset_rig
 
     if path is None:
         return paper_rig()
+    if not Path(path).exists():
+        if str(path) in PRESETS:
+            return preset_rig(str(path))
+        raise FileNotFoundError(f"--rig {path}: no such file or preset (presets: "
+                                f"{', '.join(PRESETS)})")
     return load_rig(input_file(path, "--rig", "a rig TOML file"))
 
 

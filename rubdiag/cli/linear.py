@@ -6,11 +6,13 @@ import json
 import sys
 from pathlib import Path
 
+from rubdiag.cli._paths import RIG_HELP
+
 RPM = 3.141592653589793 / 30.0   # rad/s per rpm
 
 
 def register(sub) -> None:
-    rig_help = "rig TOML file (default: the study's paper rig)"
+    rig_help = RIG_HELP
 
     p = sub.add_parser("modal", help="critical speeds, natural frequencies, Rayleigh damping",
                        description="Print the forward critical speeds (rpm), the natural "

@@ -6,6 +6,7 @@ import sys
 from pathlib import Path
 
 from rubdiag.cli._model import add_model_options, reduction
+from rubdiag.cli._paths import RIG_HELP
 
 
 def register(sub) -> None:
@@ -22,7 +23,7 @@ def register(sub) -> None:
                    help="total simulated time per case (s, default 2.3)")
     p.add_argument("--discard-s", type=float, default=0.3,
                    help="start left out of the statistics (s, default 0.3)")
-    p.add_argument("--rig", type=Path, help="rig TOML file (default: the study's paper rig)")
+    p.add_argument("--rig", type=Path, help=RIG_HELP)
     p.add_argument("--no-figures", action="store_true", help="write the tables only")
     add_model_options(p)
     p.set_defaults(func=_table2)

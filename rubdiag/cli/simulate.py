@@ -9,6 +9,7 @@ from pathlib import Path
 
 from rubdiag.cli._faults import add_fault_options, run_options
 from rubdiag.cli._model import add_model_options, reduction
+from rubdiag.cli._paths import RIG_HELP
 
 
 def register(sub) -> None:
@@ -36,7 +37,7 @@ def register(sub) -> None:
                    "integer); contact events are logged at every step whatever the rate")
     p.add_argument("--mu", type=float,
                    help="friction coefficient (default: the rig's; 0.4 for the paper rig)")
-    p.add_argument("--rig", type=Path, help="rig TOML file (default: the study's paper rig)")
+    p.add_argument("--rig", type=Path, help=RIG_HELP)
     p.add_argument("--out", type=Path, help="save the result (.npz) here; the folder must "
                    "exist")
     add_model_options(p)

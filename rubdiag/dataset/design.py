@@ -585,7 +585,7 @@ def _check_combination(names: set[str]) -> None:
 
 
 def _rig(value, root) -> Rig:
-    from rubdiag.model import load_rig, paper_rig, rig_from_dict
+    from rubdiag.model import PRESETS, load_rig, preset_rig, rig_from_dict
 
     if isinstance(value, Rig):
         return value
@@ -596,12 +596,12 @@ def _rig(value, root) -> Rig:
             raise ValueError(f"base.rig: {exc}") from None
     if not isinstance(value, str):
         raise _check.wrong_type("base.rig", value, "a preset name, a rig TOML path or a table")
-    if value == "paper":
-        return paper_rig()
+    if value in PRESETS:
+        return preset_rig(value)
     path = Path(value) if root is None else Path(root) / value
     if not path.is_file():
         raise ValueError(f"base.rig = {value!r} is neither a preset nor a file (allowed: "
-                         "\"paper\" or a rig TOML path)")
+                         f"{', '.join(map(repr, PRESETS))} or a rig TOML path)")
     try:
         return load_rig(path)
     except ValueError as exc:

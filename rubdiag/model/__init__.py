@@ -1,6 +1,7 @@
 """Model description layer: what the rig is, in frozen SI dataclasses, and its TOML files."""
 
 from rubdiag.model.io import load_rig, paper_rig, rig_from_dict, rig_to_dict, save_rig
+from rubdiag.model.presets import PRESETS, preset_rig
 from rubdiag.model.rig import (
     Bearing,
     BladeContact,
@@ -18,6 +19,7 @@ from rubdiag.model.rig import (
 )
 
 __all__ = [
+    "PRESETS",
     "Bearing",
     "BladeContact",
     "Blades",
@@ -33,6 +35,7 @@ __all__ = [
     "Unbalance",
     "load_rig",
     "paper_rig",
+    "preset_rig",
     "rig_from_dict",
     "rig_to_dict",
     "save_rig",
