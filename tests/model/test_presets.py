@@ -42,8 +42,8 @@ def test_the_pedestal_leaves_the_rotor_critical_speeds_within_a_tenth_of_a_perce
 
 @pytest.mark.parametrize("name", list(PRESETS))
 def test_the_cli_takes_a_preset_name_for_rig(name):
-    out = subprocess.run([sys.executable, "-m", "rubdiag", "modal", "--rig", name, "--n-modes", "2"],
-                         capture_output=True, text=True, timeout=300)
+    command = [sys.executable, "-m", "rubdiag", "modal", "--rig", name, "--n-modes", "2"]
+    out = subprocess.run(command, capture_output=True, text=True, timeout=300)
     assert out.returncode == 0, out.stderr
     first = forward_critical_speeds(preset_rig(name), 1)[0] * 30.0 / math.pi
     assert f"{first:.1f}" in out.stdout
