@@ -123,8 +123,11 @@ def _dry_run(design, args) -> int:
         print(f"unreadable, to be moved into {args.out / 'broken'} (their runs are counted to "
               f"run): {', '.join(str(exc.path) for exc in unreadable)}")
     if runs and "fault" in runs[0].point:
+        from rubdiag.dataset.fault_levels import FAULT_LEVELS
+
         counts = Counter(item.point["fault"] for item in runs)
-        print("runs per fault level: " + ", ".join(f"{k} {v}" for k, v in counts.items()))
+        print("runs per fault level: " + ", ".join(f"{k} {counts[k]}" for k in FAULT_LEVELS
+                                                   if k in counts))
     example = runs[0]
     point = ", ".join(f"{k} = {v}" if isinstance(v, str) else f"{k} = {v:.6g}"
                       for k, v in example.point.items())

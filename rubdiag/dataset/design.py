@@ -3,7 +3,8 @@
 A design file has three tables::
 
     [base]
-    rig = "paper"             # preset name, a rig TOML path, or a rig table (the resolved form)
+    rig = "paper"             # preset ("paper", "paper-pedestal"), a rig TOML path, or a rig
+                              # table (the resolved form)
     duration_s = 2.3          # Run.duration_s (default 2.3; not with [ramp])
     discard_s = 0.3           # Run.discard_s (default 0.3)
     reduced = false           # true: every run simulates the reduced-order model
@@ -39,7 +40,7 @@ A design file has three tables::
     speed_ratio = {low = 0.8, high = 1.2}      # a table: a continuous range
     gap_mm = {low = 0.5, high = 4.0, n = 8}    # n: the grid's levels of a range
     fault = ["none", "rub", "crack"]           # optional: rubdiag.dataset.faults
-    crack_depth_ratio = {low = 0.2, high = 0.4}  # a fault's severity: only its runs
+    crack_depth_ratio = [0.25, 0.45]           # a fault's severity: only its runs
 
 The factors, their physical ranges and the exclusive pairs are listed in
 :mod:`rubdiag.dataset.factors`. A design needs an unbalance pattern (``case`` or

@@ -2,8 +2,9 @@
 the labels each fault's own element gives.
 
 Levels (:data:`FAULT_LEVELS`): ``none``, ``rub``, ``misalignment``, ``crack``,
-``rub+misalignment``, ``rub+crack``. A level names the faults present, joined by ``+``;
-adding a fault (``looseness``) is one entry in :data:`FAULT_KINDS` and its levels.
+``looseness``, ``rub+misalignment``, ``rub+crack``, ``rub+looseness``. A level names the
+faults present, joined by ``+``; adding a fault is one entry in :data:`FAULT_KINDS` and its
+levels.
 
 * Levels without ``rub`` have no blade–casing contact: their runs keep the rig as it is
   (its contact elements, so the same model, reduced model and sensors as the rub runs: the
@@ -15,13 +16,23 @@ adding a fault (``looseness``) is one entry in :data:`FAULT_KINDS` and its level
   refuses a rig without contact DOFs.) ``rub`` is then False from the episodes, as
   always: no episode closes.
 * A severity factor applies only to the runs where its fault is present
-  (:data:`SEVERITY_FACTORS`: ``crack_depth_ratio`` a/D, ``misalignment_angle_mrad`` α₀);
+  (:data:`SEVERITY_FACTORS`: ``crack_depth_ratio`` a/D, ``misalignment_angle_mrad`` α₀,
+  ``looseness_preload_n`` F₀);
   in the other runs it is ignored — not in the run, not in its id, NaN in its row.
   The coupling's severity is its angular misalignment α₀: in the kinematic coupling model
   (:mod:`rubdiag.simulate.misalignment`) a parallel offset alone bends both joints alike,
   their 2× forces cancel and only a 2× moment is left (0.08 N·m at 0.4 mm, T = 20 N·m,
   L = 5 cm), while α₀ makes a 2× force ≈ T α₀ / (2 L) (2 N at 10 mrad); a fixed offset
   is a ``[base]`` option.
+* The loose pedestal's severity is the force F₀ still pressing it onto its seat (what is
+  left of the bolts' clamping: smaller is looser). It lifts off where the bearing's dynamic
+  force exceeds F₀. Its direction is z by default, across gravity (along -y): under gravity
+  the seat also carries the weight (204 N on ``paper-pedestal``: the pedestal's own 196 N
+  and the rotor's share), which no unbalance force of the rig lifts (measured: no time
+  lifted at case 1's critical speed, 1500 rpm). Across gravity,
+  the paper rig's 1× bearing force at half a critical speed is about 0.5 N (case 1) and
+  5 N (case 2): F₀ of a fraction of a newton lifts the pedestal in both cases. The rig must
+  have that bearing on a pedestal: the preset ``paper-pedestal``.
 * The rest of each fault is fixed by ``[base]`` options (:class:`FaultSettings`).
 
 Labels (:func:`fault_labels`), from what each fault's element or model did, never a
@@ -36,15 +47,19 @@ probe's spectrum:
     amplitudes of :meth:`~rubdiag.simulate.misalignment.Misalignment.lines` (the model's
     law is "constant": the same at every speed, so this is its value at the run's speed).
     NaN without a misalignment.
-``fault_crack``, ``fault_misalignment``
-    The measure at or above :data:`CRACK_OPEN_THRESHOLD` / :data:`MISALIGNMENT_2X_THRESHOLD_N`.
+``lift_off_fraction``
+    The share of the analysis window during which the loose pedestal is off its seat (its
+    element's status not SEATED), from the same status log. NaN without a looseness.
+``fault_crack``, ``fault_misalignment``, ``fault_looseness``
+    The measure at or above :data:`CRACK_OPEN_THRESHOLD` / :data:`MISALIGNMENT_2X_THRESHOLD_N`
+    / :data:`LIFT_OFF_THRESHOLD`.
 ``faults``
     The faults that acted, ``rub`` first, joined by ``+`` (``"none"`` when none did).
 
-Both thresholds are CALIBRATIONS: a crack engaged during under 5 % of the window hardly
+The thresholds are CALIBRATIONS: a crack engaged during under 5 % of the window hardly
 breathes; a 2× coupling force under 0.5 N is small beside the paper rig's unbalance forces at half
 its first critical speed; with the default coupling (T = 20 N·m, L = 5 cm) it is α₀ ≈ 2.5
-mrad.
+mrad; a pedestal off its seat during under 5 % of the window only taps it.
 """
 
 from __future__ import annotations
@@ -62,6 +77,7 @@ from rubdiag.dataset.fault_levels import (
     FAULT_LABELS,
     FAULT_LEVELS,
     FAULT_MEASURES,
+    LIFT_OFF_THRESHOLD,
     MISALIGNMENT_2X_THRESHOLD_N,
     NO_RUB_GAP_M,
     SEVERITY_FACTORS,
@@ -70,7 +86,7 @@ from rubdiag.dataset.fault_levels import (
 )
 
 __all__ = ["CRACK_OPEN_THRESHOLD", "FAULT_KINDS", "FAULT_LABELS", "FAULT_LEVELS",
-           "FAULT_MEASURES",
+           "FAULT_MEASURES", "LIFT_OFF_THRESHOLD",
            "MISALIGNMENT_2X_THRESHOLD_N", "NO_RUB_GAP_M", "SEVERITY_FACTORS", "FaultSettings",
            "fault_labels", "fault_level", "faults_in"]
 
@@ -87,7 +103,9 @@ class FaultSettings:
     matters; or "mayes", whose f > 0 at every angle but one, so that its open fraction is
     1); ``coupling_node`` (default 3), ``drive_torque_n_m`` (default 20 N·m),
     ``spacer_length_m`` (default 0.05 m) and ``misalignment_offset_m`` (default 0 m) of the
-    misaligned coupling.
+    misaligned coupling; ``loose_bearing`` (default 0: the drive end), ``loose_direction``
+    ("z", default: across gravity; or "y") and ``loose_stiffness_n_m`` (default 0 N/m: no
+    retaining spring once lifted) of the loose pedestal.
     """
 
     gravity_m_s2: float = 0.0
@@ -97,6 +115,9 @@ class FaultSettings:
     drive_torque_n_m: float = 20.0
     spacer_length_m: float = 0.05
     misalignment_offset_m: float = 0.0
+    loose_bearing: int = 0
+    loose_direction: str = "z"
+    loose_stiffness_n_m: float = 0.0
 
     def __post_init__(self):
         object.__setattr__(self, "gravity_m_s2", _check.number(
@@ -114,6 +135,12 @@ class FaultSettings:
         object.__setattr__(self, "misalignment_offset_m", _check.number(
             "base.misalignment_offset_m", self.misalignment_offset_m, lo=0.0, hi=0.05,
             unit="m"))
+        object.__setattr__(self, "loose_bearing", _check.integer(
+            "base.loose_bearing", self.loose_bearing, lo=0))
+        _check.choice("base.loose_direction", self.loose_direction, ("y", "z"))
+        object.__setattr__(self, "loose_stiffness_n_m", _check.number(
+            "base.loose_stiffness_n_m", self.loose_stiffness_n_m, lo=0.0, hi=1e12,
+            unit="N/m"))
 
     def to_dict(self) -> dict:
         """The non-default settings (a design that sets none writes none)."""
@@ -129,7 +156,7 @@ class FaultSettings:
 
     def faults(self, point) -> object:
         """The :class:`~rubdiag.simulate.faults.Faults` of a design point, or None."""
-        from rubdiag.simulate.faults import Crack, Faults
+        from rubdiag.simulate.faults import Crack, Faults, Looseness
         from rubdiag.simulate.misalignment import Misalignment
 
         present = faults_in(point.get("fault", "none"))
@@ -142,11 +169,16 @@ class FaultSettings:
                 node=self.coupling_node, drive_torque_n_m=self.drive_torque_n_m,
                 spacer_length_m=self.spacer_length_m, offset_m=self.misalignment_offset_m,
                 angle_rad=point["misalignment_angle_mrad"] * 1e-3)
+        if "looseness" in present:
+            parts["looseness"] = Looseness(
+                bearing=self.loose_bearing, preload_n=point["looseness_preload_n"],
+                loose_stiffness_n_m=self.loose_stiffness_n_m, direction=self.loose_direction)
         return Faults(**parts) if parts else None
 
 
 KEYS = ("gravity_m_s2", "crack_element", "crack_law", "coupling_node", "drive_torque_n_m",
-        "spacer_length_m", "misalignment_offset_m")
+        "spacer_length_m", "misalignment_offset_m", "loose_bearing", "loose_direction",
+        "loose_stiffness_n_m")
 
 
 def check_factors(names: set[str], levels: tuple[str, ...] | None) -> None:
@@ -181,34 +213,43 @@ def shown_point(point: dict) -> dict:
 def fault_labels(result, rub: bool) -> dict:
     """The measures and labels of the module docstring for a simulated run (``rub``: the
     run's rub label, which ``faults`` joins first)."""
-    run = result.run
-    faults = run.faults
-    open_fraction = misalignment_2x = math.nan
-    if faults is not None and faults.crack is not None:
-        open_fraction = _engaged_fraction(result, result.n_contacts + 1)
-    if faults is not None and faults.misalignment is not None:
+    from rubdiag.kernels import pedestal
+    from rubdiag.kernels.records import SLIDING, STICKING
+
+    faults = result.run.faults
+    present = () if faults is None else faults.names
+    # the fault elements follow the contacts, in Faults.elements' order: crack, pedestal
+    element = result.n_contacts + 1
+    open_fraction = misalignment_2x = lifted = math.nan
+    if "crack" in present:
+        open_fraction = _fraction_in(result, element, (SLIDING, STICKING))   # not OPEN
+        element += 1
+    if "looseness" in present:
+        lifted = 1.0 - _fraction_in(result, element, (pedestal.SEATED,))
+    if "misalignment" in present:
         lines = faults.misalignment.lines()
         misalignment_2x = float(np.max(np.abs(lines[2][:2]))) if 2 in lines else 0.0
-    crack = bool(open_fraction >= CRACK_OPEN_THRESHOLD)
-    misaligned = bool(misalignment_2x >= MISALIGNMENT_2X_THRESHOLD_N)
-    acted = [n for n, on in (("rub", rub), ("misalignment", misaligned), ("crack", crack))
-             if on]
+    acted = {"rub": rub,
+             "misalignment": bool(misalignment_2x >= MISALIGNMENT_2X_THRESHOLD_N),
+             "crack": bool(open_fraction >= CRACK_OPEN_THRESHOLD),
+             "looseness": bool(lifted >= LIFT_OFF_THRESHOLD)}
+    names = [n for n in ("rub", *FAULT_KINDS) if acted[n]]
     return {"crack_open_fraction": open_fraction, "misalignment_2x_force_n": misalignment_2x,
-            "fault_crack": crack, "fault_misalignment": misaligned,
-            "faults": "+".join(acted) if acted else "none"}
+            "lift_off_fraction": lifted, "fault_crack": acted["crack"],
+            "fault_misalignment": acted["misalignment"], "fault_looseness": acted["looseness"],
+            "faults": "+".join(names) if names else "none"}
 
 
-def _engaged_fraction(result, element: int) -> float:
-    """The share of the window element ``element`` (from 1) is not OPEN, from the per-step
+def _fraction_in(result, element: int, statuses: tuple[int, ...]) -> float:
+    """The share of the analysis window element ``element`` (from 1) spends in one of the
+    closed ``statuses`` (2, 3: the status log keeps closed statuses only), from the per-step
     status log (segments clipped to the window)."""
-    from rubdiag.kernels.records import OPEN
-
     start = result.run.discard_s
     end = float(result.t[-1]) if result.t.size else start
     if end <= start:
         return math.nan
     seg = result.system.status_segments
-    keep = (seg.element == element) & (seg.status != OPEN)
+    keep = (seg.element == element) & np.isin(seg.status, statuses)
     lo = np.clip(seg.t_start[keep], start, end)
     hi = np.clip(seg.t_end[keep], start, end)
     return float(np.sum(hi - lo) / (end - start))

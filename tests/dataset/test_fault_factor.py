@@ -11,18 +11,22 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from rubdiag.cli import main
 from rubdiag.dataset import Design
 from rubdiag.dataset.factors import Factor
 from rubdiag.dataset.faults import (
     FAULT_LEVELS,
     NO_RUB_GAP_M,
+    SEVERITY_FACTORS,
     fault_labels,
 )
 from rubdiag.dataset.labels import label_run
+from rubdiag.kernels import pedestal
 from rubdiag.kernels.records import OPEN
+from rubdiag.model import preset_rig
 from rubdiag.reduce import Reduction
 from rubdiag.simulate import Run, simulate
-from rubdiag.simulate.faults import Crack, Faults
+from rubdiag.simulate.faults import Crack, Faults, Looseness
 from rubdiag.simulate.misalignment import Misalignment
 from rubdiag.simulate.static_load import StaticLoad
 
@@ -31,12 +35,13 @@ SMALL = DESIGNS / "faults_small.toml"
 
 BASE = """
 [base]
+rig = "paper-pedestal"
 critical_speeds_rad_s = [157.0, 597.0]
 duration_s = 1.2
 gravity_m_s2 = 9.81
 [sampling]
 method = "lhs"
-n = 12
+n = 16
 seed = 1
 [factors]
 case = [1]
@@ -45,13 +50,15 @@ gap_mm = [0.3]
 """
 FAULT_FACTORS = ("fault = " + str(list(FAULT_LEVELS)).replace("'", '"') + "\n"
                  "crack_depth_ratio = {low = 0.2, high = 0.45}\n"
-                 "misalignment_angle_mrad = {low = 3.0, high = 10.0}\n")
+                 "misalignment_angle_mrad = {low = 3.0, high = 10.0}\n"
+                 "looseness_preload_n = {low = 0.1, high = 1.0}\n")
 
 
 class TestFactor:
     def test_an_unknown_level_is_refused_with_the_allowed_list(self):
         with pytest.raises(ValueError, match=r"factors\.fault\[1\] = 'whirl'.*allowed: none, "
-                                             r"rub, misalignment, crack, rub\+misalignment"):
+                                             r"rub, misalignment, crack, looseness, "
+                                             r"rub\+misalignment"):
             Factor("fault", levels=("rub", "whirl"))
 
     def test_a_range_of_faults_is_refused(self):
@@ -86,7 +93,22 @@ def test_each_level_has_the_same_number_of_runs(design):
     runs = design.runs()
     assert Counter(r.point["fault"] for r in runs) == {level: 2 for level in FAULT_LEVELS}
     small = Design.from_toml(SMALL)
-    assert Counter(r.point["fault"] for r in small.runs()) == {lv: 4 for lv in FAULT_LEVELS}
+    assert Counter(r.point["fault"] for r in small.runs()) == {lv: 8 for lv in FAULT_LEVELS}
+
+
+def test_the_shipped_design_has_both_cases_and_two_severities_of_each_fault():
+    runs = Design.from_toml(SMALL).runs()
+    for severity, fault in SEVERITY_FACTORS.items():
+        for level in (fault, f"rub+{fault}"):
+            mine = [r.point for r in runs if r.point["fault"] == level]
+            assert len({p[severity] for p in mine}) == 2, (level, severity)
+            assert {p["case"] for p in mine} == {1, 2}, level
+
+
+def test_the_dry_run_counts_the_runs_of_each_level_in_the_levels_order(capsys, tmp_path):
+    assert main(["dataset", str(SMALL), "--out", str(tmp_path / "d"), "--dry-run"]) == 0
+    line = next(x for x in capsys.readouterr().out.splitlines() if x.startswith("runs per"))
+    assert line == "runs per fault level: " + ", ".join(f"{lv} 8" for lv in FAULT_LEVELS)
 
 
 def test_runs_carry_only_their_faults_and_every_run_is_on_the_same_rig(design):
@@ -104,6 +126,12 @@ def test_runs_carry_only_their_faults_and_every_run_is_on_the_same_rig(design):
             assert math.isnan(item.point["crack_depth_ratio"])
         else:
             assert run.faults.crack.depth_ratio == item.point["crack_depth_ratio"]
+        if "looseness" not in present:
+            assert math.isnan(item.point["looseness_preload_n"])
+        else:           # across gravity, on the drive-end pedestal: FaultSettings' defaults
+            loose = run.faults.looseness
+            assert loose.preload_n == item.point["looseness_preload_n"]
+            assert (loose.bearing, loose.direction, loose.loose_stiffness_n_m) == (0, "z", 0.0)
 
 
 def test_a_run_ignores_the_severities_of_absent_faults_and_its_ids_too(design):
@@ -161,3 +189,45 @@ def test_the_misalignment_label_is_the_coupling_models_2x_force():
     weak = dataclasses.replace(coupling, angle_rad=1e-3)     # 0.2 N: under the threshold
     labels = fault_labels(simulate(quick_run(faults=Faults(misalignment=weak))), rub=True)
     assert labels["fault_misalignment"] is False and labels["faults"] == "rub"
+
+
+def loose_run(preload_n: float, **faults) -> Run:
+    """``quick_run`` on the pedestal rig with the drive-end pedestal loose across gravity."""
+    loose = Looseness(bearing=0, preload_n=preload_n, direction="z")
+    return quick_run(rig=preset_rig("paper-pedestal"),
+                     faults=Faults(looseness=loose, **faults))
+
+
+def sampled_share(result, column: int, statuses) -> float:
+    """The share of the window's output samples in which element column ``column`` (0-based)
+    is in one of ``statuses``: an estimate independent of the status log."""
+    status = result.system.contact_status[result.window, column]
+    return float(np.mean(np.isin(status, statuses)))
+
+
+def test_the_looseness_label_is_the_share_of_the_window_the_pedestal_is_lifted():
+    """At half the first critical speed the drive-end bearing's 1× force across gravity is
+    about 0.5 N: a 0.2 N preload lets the pedestal lift, a 5 N one keeps it seated."""
+    loose = simulate(loose_run(0.2))
+    labels = fault_labels(loose, rub=False)
+    column = loose.n_contacts                   # the only fault element
+    lifted = 1.0 - sampled_share(loose, column, [pedestal.SEATED])
+    assert labels["lift_off_fraction"] == pytest.approx(lifted, abs=0.01)
+    assert labels["lift_off_fraction"] > 0.5 and labels["fault_looseness"] is True
+    assert labels["faults"] == "looseness" and label_run(loose)["rub"] is False
+    assert math.isnan(labels["crack_open_fraction"])
+    tight = fault_labels(simulate(loose_run(5.0)), rub=False)
+    assert tight["lift_off_fraction"] == 0.0
+    assert tight["fault_looseness"] is False and tight["faults"] == "none"
+
+
+def test_with_a_crack_and_a_loose_pedestal_each_label_reads_its_own_element():
+    """The fault elements follow the contacts in the order crack, pedestal."""
+    result = simulate(loose_run(0.2, crack=Crack(element=10, depth_ratio=0.4, law="gasch")))
+    labels = fault_labels(result, rub=False)
+    crack, foot = result.n_contacts, result.n_contacts + 1
+    assert labels["crack_open_fraction"] == pytest.approx(
+        1.0 - sampled_share(result, crack, [OPEN]), abs=0.01)
+    assert labels["lift_off_fraction"] == pytest.approx(
+        1.0 - sampled_share(result, foot, [pedestal.SEATED]), abs=0.01)
+    assert labels["faults"] == "crack+looseness"
