@@ -24,9 +24,11 @@ def add_fault_options(p) -> None:
                    help="breathing law: Mayes (cosine of the angle) or Gasch (switch on the "
                    "bending moment); default mayes")
     g.add_argument("--misalignment-offset-mm", type=float,
-                   help="parallel offset of the coupling at the driven end (mm)")
-    g.add_argument("--misalignment-angle-deg", type=float, default=0.0,
-                   help="angular misalignment of the coupling (deg, default 0)")
+                   help="parallel offset of the coupling at the driven end (mm; with "
+                   "--misalignment-angle-deg alone: 0)")
+    g.add_argument("--misalignment-angle-deg", type=float,
+                   help="angular misalignment of the coupling (deg; with "
+                   "--misalignment-offset-mm alone: 0)")
     g.add_argument("--coupling-node", type=int, default=3,
                    help="the shaft node of the coupling's rotor-side flex plane (default 3)")
     g.add_argument("--drive-torque-nm", type=float, default=20.0,
@@ -41,6 +43,9 @@ def add_fault_options(p) -> None:
                    "--gravity-m-s2 carries the weight)")
     g.add_argument("--loose-stiffness-n-m", type=float, default=0.0,
                    help="a retaining spring once the pedestal lifts (N/m, default 0)")
+    g.add_argument("--loose-direction", choices=("y", "z"), default="y",
+                   help="the direction the pedestal lifts off in, towards + (default y; z: "
+                   "across gravity along y, which then does not press it on its seat)")
 
 
 def run_options(args) -> dict:
@@ -57,16 +62,17 @@ def run_options(args) -> dict:
     if args.crack_element is not None:
         faults["crack"] = Crack(element=args.crack_element, depth_ratio=args.crack_depth,
                                 law=args.crack_law)
-    if args.misalignment_offset_mm is not None:
+    if args.misalignment_offset_mm is not None or args.misalignment_angle_deg is not None:
         faults["misalignment"] = Misalignment(
             node=args.coupling_node, drive_torque_n_m=args.drive_torque_nm,
             spacer_length_m=args.spacer_length_mm * 1e-3,
-            offset_m=args.misalignment_offset_mm * 1e-3,
-            angle_rad=math.radians(args.misalignment_angle_deg))
+            offset_m=(args.misalignment_offset_mm or 0.0) * 1e-3,
+            angle_rad=math.radians(args.misalignment_angle_deg or 0.0))
     if args.loose_bearing is not None:
         faults["looseness"] = Looseness(bearing=args.loose_bearing,
                                         preload_n=args.loose_preload_n,
-                                        loose_stiffness_n_m=args.loose_stiffness_n_m)
+                                        loose_stiffness_n_m=args.loose_stiffness_n_m,
+                                        direction=args.loose_direction)
     if faults:
         out["faults"] = Faults(**faults)
     return out

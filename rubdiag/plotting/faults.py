@@ -1,9 +1,9 @@
 """The faults that look like rub, beside rub: one row per run (waveform, orbit, spectrum).
 
-Each row shows a shaft point's displacement over its last revolutions, its orbit, and the
-amplitude spectrum of the analysis window against the order of the running speed, with the
-lines the fault's model predicts marked (``PREDICTED``): what an analyst compares when the
-question is "rub, or something that also makes harmonics?".
+Each row shows a shaft point's displacement in one direction over its last revolutions, its
+orbit, and the amplitude spectrum of the analysis window against the order of the running
+speed, with the lines the fault's model predicts marked (``PREDICTED``): what an analyst
+compares when the question is "rub, or something that also makes harmonics?".
 """
 
 from __future__ import annotations
@@ -12,17 +12,18 @@ import numpy as np
 
 #: the orders each fault's reference predicts at the shaft (rub: the study's 1×, 2×, 4× and
 #: half orders; a breathing crack: 2× and 3× (Gasch 1993, Mayes & Davies 1984); a misaligned
-#: coupling: 2× (and 4×, weak); a loose pedestal: ½× and its multiples)
+#: coupling: 2× (and 4×, weak); a loose pedestal: ½× or ⅓× and their multiples (Muszynska &
+#: Goldman 1995))
 PREDICTED = {"rub": (1.0, 1.5, 2.0, 3.5, 4.0), "crack": (1.0, 2.0, 3.0),
-             "misalignment": (1.0, 2.0, 4.0), "looseness": (0.5, 1.0, 1.5, 2.0, 3.0),
-             "none": (1.0,)}
+             "misalignment": (1.0, 2.0, 4.0),
+             "looseness": (1 / 3, 0.5, 2 / 3, 1.0, 1.5, 2.0, 3.0), "none": (1.0,)}
 REVOLUTIONS = 4     # the waveform panel's length
 MAX_ORDER = 5.0
 
 
 def _window_signal(result, point: str):
     t = result.t[result.window]
-    return t, result.displacement(f"{point} y", True), result.displacement(f"{point} z", True)
+    return t, {d: result.displacement(f"{point} {d}", True) for d in "yz"}
 
 
 def _spectrum(t, x, speed_rad_s: float):
@@ -34,11 +35,13 @@ def _spectrum(t, x, speed_rad_s: float):
     return f / (speed_rad_s / (2 * np.pi)), amp
 
 
-def faults_figure(results: dict, point: str = "shaft 11", kinds: dict | None = None):
+def faults_figure(results: dict, point: str = "shaft 11", kinds: dict | None = None,
+                  direction: str = "y"):
     """One row per run of ``results`` (name -> SimulationResult): the last
-    :data:`REVOLUTIONS` revolutions of ``point``'s y displacement, its orbit over the window,
-    and its y spectrum against the order, the fault's predicted lines marked (``kinds``:
-    name -> a key of :data:`PREDICTED`; default the name itself)."""
+    :data:`REVOLUTIONS` revolutions of ``point``'s displacement along ``direction`` ("y" or
+    "z"), its orbit over the window, and the spectrum along ``direction`` against the order,
+    the fault's predicted lines marked (``kinds``: name -> a key of :data:`PREDICTED`;
+    default the name itself)."""
     import matplotlib.pyplot as plt
 
     kinds = {} if kinds is None else kinds
@@ -46,18 +49,19 @@ def faults_figure(results: dict, point: str = "shaft 11", kinds: dict | None = N
     fig, axes = plt.subplots(n, 3, figsize=(13, 2.9 * n), squeeze=False,
                              gridspec_kw={"width_ratios": (2.2, 1, 2.2)})
     for row, (name, result) in zip(axes, results.items(), strict=True):
-        t, y, z = _window_signal(result, point)
+        t, x = _window_signal(result, point)
+        y, z, u = x["y"], x["z"], x[direction]
         speed = result.run.speed_rad_s
         period = 2 * np.pi / speed
         last = t >= t[-1] - REVOLUTIONS * period
         wave, orbit, spec = row
-        wave.plot(t[last], 1e6 * (y[last] - y.mean()), lw=0.9, color="C0")
-        wave.set(ylabel=f"{point} y (µm)", title=f"{name}: {point} y, last {REVOLUTIONS} "
-                 f"revolutions at {result.run.speed_rpm:.0f} rpm")
+        wave.plot(t[last], 1e6 * (u[last] - u.mean()), lw=0.9, color="C0")
+        wave.set(ylabel=f"{point} {direction} (µm)", title=f"{name}: {point} {direction}, "
+                 f"last {REVOLUTIONS} revolutions at {result.run.speed_rpm:.0f} rpm")
         orbit.plot(1e6 * (y - y.mean()), 1e6 * (z - z.mean()), lw=0.5, color="C0")
         orbit.set(xlabel="y (µm)", ylabel="z (µm)", title="orbit over the window",
                   aspect="equal")
-        orders, amp = _spectrum(t, y, speed)
+        orders, amp = _spectrum(t, u, speed)
         keep = (orders > 0.2) & (orders <= MAX_ORDER)
         spec.semilogy(orders[keep], 1e6 * amp[keep], lw=0.8, color="C0")
         predicted = PREDICTED.get(kinds.get(name, name), ())
@@ -66,7 +70,7 @@ def faults_figure(results: dict, point: str = "shaft 11", kinds: dict | None = N
                          label="lines its model predicts" if k == 0 else None)
         top = float(1e6 * amp[keep].max())
         spec.set(xlim=(0.2, MAX_ORDER), ylim=(top * 1e-5, top * 3),
-                 ylabel="amplitude (µm)", title=f"{point} y spectrum")
+                 ylabel="amplitude (µm)", title=f"{point} {direction} spectrum")
         if predicted:
             spec.legend(loc="upper right", fontsize="small")
         for ax in row:

@@ -118,7 +118,10 @@ class _Contact:
 class PointContact(_Contact):
     """A point–point contact (:mod:`rubdiag.kernels.point_contact`): body a's DOFs
     ``dof_a`` (y, z), body b's ``dof_b`` (-1: ground), the unit normal from a towards b and
-    the tangent (orthonormal, fixed), the initial gap (m, >= 0), the normal and tangential
+    the tangent (orthonormal, fixed), the gap at the coordinates' origin x = 0 (m; negative
+    when the origin lies inside the contact: coordinates measured from elsewhere than the
+    contact's rest, such as a rig run's gaps set at its static deflection), the normal and
+    tangential
     stiffness (N/m), the Coulomb coefficient, and the augmented Lagrangian with its band
     ``eps`` (m)."""
 
@@ -139,8 +142,7 @@ class PointContact(_Contact):
         if abs(np.dot(self.normal, self.tangent)) > 1e-9:
             raise _check.out_of_range("PointContact.normal/tangent",
                                       (self.normal, self.tangent), "orthonormal unit vectors")
-        _check.number("PointContact.gap", self.gap, lo=0.0,
-                      allowed=">= 0 m (a negative initial gap is a penetration)")
+        _check.number("PointContact.gap", self.gap, allowed="a finite gap (m)")
         self._check_law()
 
     def pack(self, omega: float, ramp=None) -> Packed:

@@ -35,7 +35,10 @@ class RigSystem:
     ``model``: "full" or "reduced"; ``extra``: diagnostics of the reduction;
     ``fault_elements``: the run's fault elements (a breathing crack, a loose pedestal), in
     x's numbering; the misaligned coupling's loads are in ``force``; ``K`` is without the
-    springs a fault element takes over (a loose pedestal's support in its direction)."""
+    springs a fault element takes over (a loose pedestal's support in its direction);
+    ``gap_shift`` (n_c,): what each contact's gap was raised by so that it is the run's gap
+    at the static equilibrium (its static approach, m; zeros without a static load or with
+    its clearances ``"unloaded"``), over which ``approach`` is measured."""
 
     M: object
     C: object
@@ -51,6 +54,7 @@ class RigSystem:
     model: str
     extra: dict
     fault_elements: tuple = ()
+    gap_shift: np.ndarray | None = None
 
     def damping(self, speed: float):
         """``C + Ω G`` at spin speed Ω (rad/s)."""
@@ -75,7 +79,7 @@ def rig_system(run: Run, model) -> RigSystem:
         if f_static is not None:
             x_static = q_static = _static_deflection(model.K, f_static)
             force = force + _static_force(f_static, speed)
-        contacts, approach = _contacts(run, model, q_hat, q_static)
+        contacts, approach, shift = _contacts(run, model, q_hat, q_static)
         force = _with_fault_loads(force, run, model, speed, lambda dofs: dofs)
         fault_elements = () if run.faults is None else run.faults.elements(run.rig)
         parts = (model.M, model.C, model.K, model.G)
@@ -93,7 +97,7 @@ def rig_system(run: Run, model) -> RigSystem:
             x_static = np.linalg.solve(reduced.K, f_r)
             q_static = reduced.basis.T @ x_static
             force = force + _static_force(f_r, speed)
-        contacts, approach = _contacts(run, model, q_hat, q_static)
+        contacts, approach, shift = _contacts(run, model, q_hat, q_static)
         index = reduced.basis.boundary_index
         contacts = dataclasses.replace(contacts, dof_a=index(contacts.dof_a),
                                        dof_b=index(contacts.dof_b))
@@ -113,7 +117,7 @@ def rig_system(run: Run, model) -> RigSystem:
     return RigSystem(*parts, force=force, contacts=contacts, x0=x0,
                      v0=np.real(1j * speed * x_hat), approach=approach, recovery=recovery,
                      linear_solver=solver, model="full" if recovery is None else "reduced",
-                     extra=extra, fault_elements=fault_elements)
+                     extra=extra, fault_elements=fault_elements, gap_shift=shift)
 
 
 def _renumbered(element, index):
@@ -184,13 +188,17 @@ def _with_fault_loads(force: HarmonicForce, run: Run, model, speed: float,
                                                               dtype=np.int64))
 
 
-def _contacts(run: Run, model, linear, static=None) -> tuple[Contacts, float]:
-    """Contact elements of the run (physical DOFs) and the largest radial approach of the
-    linear response ``linear`` (complex amplitudes of every DOF) at them (m), plus the
-    static deflection ``static`` (real, every DOF; None: none) where there is one: an
-    upper bound, |static| + the harmonic's largest excursion."""
+def _contacts(run: Run, model, linear, static=None) -> tuple[Contacts, float, np.ndarray]:
+    """Contact elements of the run (physical DOFs), the largest radial approach of the
+    linear response ``linear`` (complex amplitudes of every DOF) at them (m), and each
+    contact's gap shift (m). With a static deflection ``static`` (real, every DOF; None:
+    none) and clearances "loaded", each blade contact's gap is raised by its static approach
+    (its shift) and the approach is the harmonic's alone; with "unloaded", the approach is
+    an upper bound, |static| + the harmonic's largest excursion."""
     contacts = Contacts.empty()
     start = 0.0
+    shifts = []
+    loaded = static is not None and run.static_load.clearances == "loaded"
     law = run.contact_law
     if law is not None:
         geo = model.blade_contacts
@@ -205,11 +213,22 @@ def _contacts(run: Run, model, linear, static=None) -> tuple[Contacts, float]:
                                   eps=law.penetration_tolerance_m)
         rel = linear[geo.tip_dofs] - linear[geo.casing_dofs]          # (n, 2) complex
         approach = np.abs(np.sum(rel * geo.normal, axis=1))
+        shift = np.zeros(n)
         if static is not None:
-            shift = static[geo.tip_dofs] - static[geo.casing_dofs]
-            approach = approach + np.abs(np.sum(shift * geo.normal, axis=1))
+            sag = np.sum((static[geo.tip_dofs] - static[geo.casing_dofs]) * geo.normal, axis=1)
+            if loaded:      # the gap is the clearance at the static state (g = g0 - x)
+                shift = sag
+                contacts = dataclasses.replace(contacts, gap=contacts.gap + shift)
+            else:
+                approach = approach + np.abs(sag)
         start = float(approach.max())
+        shifts.append(shift)
+    if loaded and run.rig.stator_contacts:
+        raise ValueError("static_load.clearances = 'loaded' with the rig's stator contacts "
+                         "(allowed: 'unloaded': an annular clearance stays about the bearing "
+                         "line)")
     for sc in run.rig.stator_contacts:
+        shifts.append(np.zeros(1))
         dofs = [[model.dofs.index(sc.node, "y"), model.dofs.index(sc.node, "z")]]
         radius = sc.shaft_radius_m
         if radius is None:
@@ -224,4 +243,4 @@ def _contacts(run: Run, model, linear, static=None) -> tuple[Contacts, float]:
         if static is not None:
             orbit = orbit + np.hypot(static[dofs[0][0]], static[dofs[0][1]])
         start = max(start, float(orbit))
-    return contacts, start
+    return contacts, start, np.concatenate(shifts) if shifts else np.zeros(0)

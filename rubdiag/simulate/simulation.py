@@ -102,7 +102,8 @@ def _simulate(run: Run, progress, raise_on_failure: bool) -> SimulationResult:
     gap_ramp = None
     if len(rs.contacts) and run.gap_ramp_s > 0:
         g0 = rs.contacts.gap
-        g_start = np.maximum(g0, _RAMP_MARGIN * rs.approach)
+        # the approach is over each gap's static shift (zero unless gaps are "loaded")
+        g_start = np.maximum(g0, rs.gap_shift + _RAMP_MARGIN * rs.approach)
         # the fault elements have no gap: their entries are not read
         g_start = np.r_[g_start, np.full(len(rs.fault_elements), np.nan)]
         gap_ramp = (run.gap_ramp_s, g_start if rs.fault_elements else g_start[: len(g0)])

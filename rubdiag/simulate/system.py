@@ -76,7 +76,8 @@ class Contacts:
       b (casing / stator node); -1 in ``dof_b`` means ground.
     * ``normal``, ``tangent`` (n_c, 2): unit normal from a towards b (radial outward) and
       tangent, kind 1 only (kind 2 ignores them).
-    * ``gap`` (n_c,) m: initial gap g0 (kind 1) or radial clearance c (kind 2), >= 0.
+    * ``gap`` (n_c,) m: the gap g0 at the coordinates' origin (kind 1; finite, negative
+      when the origin lies inside the contact) or the radial clearance c (kind 2, >= 0).
     * ``k_n``, ``k_t`` (n_c,) N/m: normal penalty and tangential (stick) stiffness.
     * ``mu`` (n_c,): Coulomb coefficient (>= 0; 0 = frictionless).
     * ``radius`` (n_c,) m: kind 2 shaft surface radius R (slip includes Ω R); 0 for kind 1.
@@ -242,7 +243,7 @@ def _check_contacts(ct: Contacts, n: int) -> None:
             e = int(np.argmax(~np.isfinite(arr).reshape(ct.n_c, -1).all(axis=1)))
             raise _bad(f"contacts.{name}[{e}]", arr[e].tolist(), "finite")
     checks = (
-        ("gap", ct.gap < 0, ">= 0 m (a negative initial gap is a penetration)"),
+        ("gap", (ct.kind == KIND_ANNULAR) & (ct.gap < 0), ">= 0 m for an annular clearance"),
         ("k_n", ct.k_n <= 0, "> 0 N/m"),
         ("k_t", ct.k_t <= 0, "> 0 N/m"),
         ("mu", ct.mu < 0, ">= 0"),

@@ -3,9 +3,11 @@ without rub needs no --gap-mm; bad fault options get one line and exit 2."""
 
 from __future__ import annotations
 
+import dataclasses
 import json
 
 import numpy as np
+import pytest
 
 from rubdiag.cli import main
 from rubdiag.simulate import load_result
@@ -56,20 +58,50 @@ def test_a_cracked_runup_without_rub_counts_no_contact(tmp_path, capsys):
     assert summary["n_episodes"] == 0 and np.isnan(summary["first_contact_rpm"])
 
 
-def test_the_faults_figure_shows_each_fault_s_line(tmp_path, capsys):
-    """``rubdiag faults``: each fault's predicted line stands out of the healthy run's, and
-    the figure is drawn (not blank)."""
+def test_the_faults_figures_show_each_fault_s_lines_beside_rub(tmp_path, capsys):
+    """``rubdiag faults``: each fault's predicted lines stand out of the healthy run's at its
+    speed (crack 2x and 3x, coupling 2x at 750 rpm; the loose pedestal's 1/3x and 1/2x
+    across gravity at 1450 rpm), the rub runs rub at the stated interference and show 4x,
+    and one figure per fault is drawn (not blank)."""
     import matplotlib.image as mpimg
 
-    assert main(["faults", "--out", str(tmp_path), "--duration-s", "0.4", "--json"]) == 0
+    assert main(["faults", "--out", str(tmp_path), "--duration-s", "1.0", "--json"]) == 0
     lines = json.loads(capsys.readouterr().out.splitlines()[-1])
-    healthy = lines["none"]
-    assert lines["crack"]["2x"] > 100 * healthy["2x"]
-    assert lines["crack"]["3x"] > 100 * healthy["3x"]
-    assert lines["misalignment"]["2x"] > 100 * healthy["2x"]
-    assert lines["rub"]["4x"] > 100 * healthy["4x"]
-    pixels = mpimg.imread(tmp_path / "faults.png")
-    assert min(pixels.shape[:2]) > 500 and pixels[..., :3].std() > 0.02
+    slow, fast = lines["none 750"]["y"], lines["none 1450"]["z"]
+    assert lines["crack"]["y"]["2x"] > 100 * slow["2x"]
+    assert lines["crack"]["y"]["3x"] > 100 * slow["3x"]
+    assert lines["misalignment"]["y"]["2x"] > 100 * slow["2x"]
+    assert lines["rub 750"]["y"]["4x"] > 100 * slow["4x"]
+    loose = lines["looseness"]
+    assert max(loose["z"]["0.333x"], loose["z"]["0.5x"]) > 20 * max(fast["0.333x"],
+                                                                     fast["0.5x"])
+    # across gravity: the subharmonic is in z, the loose direction
+    assert loose["z"]["0.333x"] > 10 * loose["y"]["0.333x"]
+    for fault in ("crack", "misalignment", "looseness"):
+        pixels = mpimg.imread(tmp_path / f"faults_{fault}.png")
+        assert min(pixels.shape[:2]) > 400 and pixels[..., :3].std() > 0.02
+
+
+def test_the_faults_rub_runs_take_their_gap_from_the_interference():
+    """The rub run's gap is its linear blade-tip approach over --interference."""
+    import argparse
+
+    from rubdiag.cli.faults import runs
+    from rubdiag.dataset.approach import sweep_linear_approach_m
+
+    args = argparse.Namespace(speed_rpm=None, interference=2.0, crack_depth=0.4,
+                              misalignment_angle_mrad=10.0, loose_preload_n=5.0,
+                              duration_s=1.0)
+    made = runs(args)
+    for rpm in (750, 1450):
+        rub = made[f"rub {rpm}"]
+        far = dataclasses.replace(rub, gap_m=0.05)
+        assert rub.gap_m == pytest.approx(sweep_linear_approach_m(far) / 2.0, rel=1e-12)
+        assert rub.static_load is not None and rub.faults is None
+    assert made["crack"].contact_law is None        # the faults' runs do not rub
+    args.interference = 0.0
+    with pytest.raises(ValueError, match="--interference"):
+        runs(args)
 
 
 def test_a_loose_pedestal_from_a_rig_file(tmp_path, capsys):
@@ -98,3 +130,27 @@ def test_a_loose_pedestal_from_a_rig_file(tmp_path, capsys):
     assert main([*RUN, "--loose-bearing", "0"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "faults.looseness.bearing = 0" in err[0]
+
+
+def test_a_pedestal_loose_across_gravity_on_the_preset_rig(tmp_path):
+    """--rig paper-pedestal --loose-direction z: gravity along y no longer presses the seat,
+    so 0.2 N lets it lift at 750 rpm (the 1x bearing force is about 0.5 N); along y the
+    pedestal's weight holds it."""
+    from rubdiag.kernels import pedestal
+
+    def lifted(direction):
+        out = tmp_path / f"loose-{direction}.npz"
+        assert main([*RUN, "--rig", "paper-pedestal", "--gravity-m-s2", "-9.81",
+                     "--loose-bearing", "0", "--loose-preload-n", "0.2", "--loose-direction",
+                     direction, "--out", str(out)]) == 0
+        result = load_result(out)
+        assert result.run.faults.looseness.direction == direction
+        return np.mean(result.system.contact_status[:, -1] != pedestal.SEATED)
+    assert lifted("z") > 0.5 and lifted("y") == 0.0
+
+
+def test_an_angular_misalignment_alone_makes_a_coupling(tmp_path):
+    out = tmp_path / "angle.npz"
+    assert main([*RUN, "--misalignment-angle-deg", "0.5", "--out", str(out)]) == 0
+    coupling = load_result(out).run.faults.misalignment
+    assert coupling.offset_m == 0.0 and coupling.angle_rad == pytest.approx(np.radians(0.5))

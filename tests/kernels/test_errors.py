@@ -42,7 +42,7 @@ def _contacts(**kw):
         (dict(dt_min=0.0), r"dt_min = 0\.0"),
         (dict(duration=5e-5), r"duration = 5e-05 .*>= one step dt = 0\.0001"),
         (dict(output_dt=1.5e-4), r"output_dt = 0\.00015 .*integer multiple of dt"),
-        (dict(contacts=_contacts(gap=-1e-6)), r"contacts\.gap\[0\] = -1e-06 .*>= 0"),
+        (dict(contacts=_contacts(gap=np.nan)), r"contacts\.gap\[0\] = nan .*finite"),
         (dict(contacts=_contacts(mu=-0.1)), r"contacts\.mu\[0\] = -0\.1 .*>= 0"),
         (dict(contacts=_contacts(k_n=0.0)), r"contacts\.k_n\[0\] = 0\.0 .*> 0 N/m"),
         (dict(contacts=_contacts(k_n=-5.0)), r"contacts\.k_n\[0\] = -5\.0"),
@@ -134,3 +134,24 @@ def test_non_finite_state_stops_with_status_2():
     assert res.status == 2
     assert 0 < res.failure_time <= 1e-2
     assert np.all(np.isfinite(res.q))  # what was kept is the last finite state
+
+
+def test_a_negative_gap_is_the_gap_at_the_origin_a_shift_of_the_coordinates():
+    """A point contact's g0 is its gap at x = 0, not a penetration: g0 = -1e-4 m started at
+    q0 = -2e-4 m along the normal (1e-4 m outside the contact) is the base system (g0 =
+    +1e-4 m from q0 = 0) moved by -2e-4 m, at every sample (it closes and reopens)."""
+    M, C, K, _ = _base()
+    K = sp.diags([1e4, 1e4, 1e4]).tocsr()       # grounded DOFs: a shift is a static state
+    shift = np.array([-2e-4, 0.0, 0.0])
+    force = HarmonicForce([0], [10.0], [150.0])  # drives the DOF through its gap
+
+    def run(gap, q0):
+        # the shifted system's static load holds it at its shifted rest: K shift
+        f = force + HarmonicForce([0], [K[0, 0] * q0[0]], [150.0], order=0.0,
+                                  law="constant")
+        return simulate_system(M, C, K, f, _contacts(gap=gap), q0, np.zeros(3),
+                               duration=0.05, dt=1e-5)
+    base, moved = run(1e-4, np.zeros(3)), run(-1e-4, shift)
+    assert base.contact_fn.max() > 0.0                       # the contact closes
+    np.testing.assert_allclose(moved.q - shift, base.q, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(moved.contact_fn, base.contact_fn, rtol=1e-9, atol=1e-9)

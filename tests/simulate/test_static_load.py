@@ -159,7 +159,7 @@ def test_a_run_without_a_static_load_is_described_and_identified_as_before(paper
     loaded = dataclasses.replace(paper, static_load=StaticLoad(gravity_m_s2=-9.81))
     data = run_to_dict(loaded)
     assert data["static_load"] == {"direction": "y", "gravity_m_s2": -9.81, "force_n": 0.0,
-                                   "node": None}
+                                   "node": None, "clearances": "loaded"}
     assert run_from_dict(data) == loaded
     assert pickle.loads(pickle.dumps(loaded)) == loaded
     assert run_id(loaded) != run_id(paper) and point_id(loaded) != point_id(paper)
@@ -215,3 +215,66 @@ def test_a_reduced_run_starts_from_the_reduced_static_deflection(paper):
     points = [model.dofs.index(*p.rsplit(" ", 1)) for p in response_points(paper.rig)]
     assert np.abs((T @ x_static - full)[points]).max() < 1e-4 * np.abs(full[points]).max()
     assert sorted(set(loaded.force.order.tolist())) == [0.0, 1.0]
+
+
+def mean_gaps(result) -> np.ndarray:
+    """Each contact's gap averaged over the run's whole revolutions (m): the static part of
+    a linear run's gap, the harmonic averaging out."""
+    t = result.t
+    revolution = 2 * np.pi / result.run.speed_rad_s
+    keep = t < t[0] + np.floor((t[-1] - t[0]) / revolution) * revolution
+    return result.system.contact_gap[keep].mean(axis=0)
+
+
+def test_loaded_clearances_are_the_gap_at_the_static_state_and_unloaded_ones_close():
+    """Under gravity the paper rig's discs sag 0.41 mm. "loaded" (default): every blade sees
+    the run's gap at the static state; "unloaded": the casing stays where it was, so each
+    blade's mean gap is the run's gap less its tip's static approach, computed here from
+    K⁻¹f. At 0.45 mm and half the critical speed (linear orbit 80 um) the loaded rig does
+    not rub; the unloaded one rubs on its sag."""
+    def run(gap_mm, clearances):
+        return Run.paper_case(1, gap_mm, speed_rpm=750.0, duration_s=0.16, discard_s=0.0,
+                              gap_ramp_s=0.0, static_load=StaticLoad(
+                                  gravity_m_s2=-9.81, clearances=clearances))
+    model = damped_model(run(0.6, "loaded").rig)
+    f = run(0.6, "loaded").static_load.vector(model.M, model.dofs)
+    sag = np.linalg.solve(model.K.toarray(), f)
+    geo = model.blade_contacts
+    approach = np.sum((sag[geo.tip_dofs] - sag[geo.casing_dofs]) * geo.normal, axis=1)
+    assert approach.max() > 0.4e-3                  # the bottom blades: the sag
+    for clearances, expected in (("loaded", 0.6e-3), ("unloaded", 0.6e-3 - approach)):
+        result = simulate(run(0.6, clearances))     # linear: no blade touches
+        assert result.system.contact_fn.max() == 0.0
+        assert np.abs(mean_gaps(result) - expected).max() < 1e-3 * 0.6e-3, clearances
+    assert simulate(run(0.45, "loaded")).system.contact_fn.max() == 0.0
+    assert simulate(run(0.45, "unloaded")).system.contact_fn.max() > 0.0
+
+
+def test_the_loaded_gaps_hold_in_the_reduced_model_and_the_ramp_starts_above_the_orbit():
+    from rubdiag.reduce import Reduction
+
+    run = Run.paper_case(1, 0.45, speed_rpm=750.0, duration_s=0.16, discard_s=0.08,
+                         static_load=StaticLoad(gravity_m_s2=-9.81), reduction=Reduction())
+    model = damped_model(run.rig)
+    system = rig_system(run, model)
+    assert np.abs(system.contacts.gap - system.gap_shift - 0.45e-3).max() < 1e-15
+    assert 60e-6 < system.approach < 100e-6          # the harmonic orbit alone, not the sag
+    result = simulate(run)                            # with the default gap ramp
+    assert result.system.contact_fn.max() == 0.0
+    late = result.t > run.gap_ramp_s
+    assert np.abs(result.system.contact_gap[late].mean(axis=0) - 0.45e-3).max() < 2e-6
+
+
+def test_loaded_clearances_are_refused_with_annular_stator_contacts():
+    from rubdiag.model import StatorContact, paper_rig
+
+    rig = dataclasses.replace(paper_rig(), stator_contacts=(StatorContact(
+        node=11, clearance_m=1e-3, stiffness_n_m=1e7),))
+    run = Run.paper_case(1, 50.0, speed_rpm=750.0, duration_s=0.01, discard_s=0.0, rig=rig,
+                         gap_ramp_s=0.0, static_load=StaticLoad(gravity_m_s2=-9.81))
+    with pytest.raises(ValueError, match=r"static_load.clearances = 'loaded'.*allowed: "
+                                         r"'unloaded'"):
+        rig_system(run, damped_model(rig))
+    unloaded = dataclasses.replace(run, static_load=StaticLoad(gravity_m_s2=-9.81,
+                                                               clearances="unloaded"))
+    assert rig_system(unloaded, damped_model(rig)).gap_shift.tolist() == [0.0] * 9
