@@ -231,3 +231,28 @@ def test_with_a_crack_and_a_loose_pedestal_each_label_reads_its_own_element():
     assert labels["lift_off_fraction"] == pytest.approx(
         1.0 - sampled_share(result, foot, [pedestal.SEATED]), abs=0.01)
     assert labels["faults"] == "crack+looseness"
+
+
+def test_in_the_shipped_design_each_level_s_faults_act():
+    """One run of each level of faults_small.toml: the rub levels rub (their gaps are the
+    clearances at the static state, 1.0 or 1.4 mm, against a linear approach of 1.6–3 mm
+    near the critical speeds), the no-rub levels do not, the loose pedestal lifts and the
+    coupling's 2x force is over its threshold. (The crack may stay closed: near a critical
+    the shaft whirls synchronously and a Gasch crack keeps the state the whirl gives it.)"""
+    from rubdiag.dataset.rows import make_row
+
+    design = Design.from_toml(SMALL)
+    first = {}
+    for item in design.runs():
+        first.setdefault(item.point["fault"], item)
+    for level, item in first.items():
+        row = make_row(item, design.labels, design.noise)
+        present = set(level.split("+"))
+        assert row["rub"] is ("rub" in present), level
+        if "looseness" in present:
+            assert row["fault_looseness"] is True and row["lift_off_fraction"] > 0.5, level
+        if "misalignment" in present:
+            assert row["fault_misalignment"] is True, level
+        if "crack" in present:
+            assert 0.0 <= row["crack_open_fraction"] <= 1.0, level
+        assert set(row["faults"].split("+")) <= present | {"none"}, level
