@@ -83,25 +83,20 @@ def test_the_faults_figures_show_each_fault_s_lines_beside_rub(tmp_path, capsys)
 
 
 def test_the_faults_rub_runs_take_their_gap_from_the_interference():
-    """The rub run's gap is its linear blade-tip approach over --interference."""
-    import argparse
-
-    from rubdiag.cli.faults import runs
+    """The rub run's gap is its linear blade-tip approach over ``interference``; bad
+    input: the CLI's one line, exit 2."""
     from rubdiag.dataset.approach import sweep_linear_approach_m
+    from rubdiag.runs import fault_runs
 
-    args = argparse.Namespace(speed_rpm=None, interference=2.0, crack_depth=0.4,
-                              misalignment_angle_mrad=10.0, loose_preload_n=5.0,
-                              duration_s=1.0)
-    made = runs(args)
+    made = fault_runs(interference=2.0, duration_s=1.0)
     for rpm in (750, 1450):
         rub = made[f"rub {rpm}"]
         far = dataclasses.replace(rub, gap_m=0.05)
         assert rub.gap_m == pytest.approx(sweep_linear_approach_m(far) / 2.0, rel=1e-12)
         assert rub.static_load is not None and rub.faults is None
     assert made["crack"].contact_law is None        # the faults' runs do not rub
-    args.interference = 0.0
-    with pytest.raises(ValueError, match="--interference"):
-        runs(args)
+    with pytest.raises(ValueError, match="interference"):
+        fault_runs(interference=0.0)
 
 
 def test_a_loose_pedestal_from_a_rig_file(tmp_path, capsys):
