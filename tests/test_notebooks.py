@@ -61,3 +61,11 @@ def test_notebook_runs_and_draws(path, tmp_path, monkeypatch):
         # the tacho path (a measured record's) gives the exact angle's 1× track
         line = re.search(r"exact angle: largest difference ([\d.]+) %", _text(outputs))
         assert float(line.group(1)) < 0.5
+    if path.stem == "10_faults":
+        # each fault stands out of the healthy run at its speed by the line its model
+        # predicts: the crack and the coupling by 2x, the loose pedestal by a subharmonic
+        found = {fault: order for fault, order, _ in re.findall(
+            r"(\w+): strongest line over the healthy run's: (\S+) x(\d+)", _text(outputs))}
+        assert found.keys() == {"crack", "misalignment", "looseness"}
+        assert found["crack"] == "2x" and found["misalignment"] == "2x"
+        assert found["looseness"] in ("0.333x", "0.5x")

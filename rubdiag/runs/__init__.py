@@ -19,5 +19,5 @@ from rubdiag.runs.features import features, is_result, run_features, run_points,
 from rubdiag.runs.runup import linear_response, ramp_run, runup_orders, runup_summary
 
 __all__ = ["CONTACT_STAT_NAMES", "FIGURE_FAULTS", "contact_statistics", "fault_runs",
-           "features", "is_result", "line_amplitudes", "linear_response", "ramp_run", "run_features", "run_points", "run_signals",
-           "runup_orders", "runup_summary"]
+           "features", "is_result", "line_amplitudes", "linear_response", "ramp_run",
+           "run_features", "run_points", "run_signals", "runup_orders", "runup_summary"]
