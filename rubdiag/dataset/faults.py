@@ -12,9 +12,10 @@ levels.
   the study's gaps: the paper rig's linear orbit at its critical speeds reaches about 2 mm)
   and the rig's own contact law, so the gap, friction and contact-stiffness factors do not
   enter them (nor their run ids), and their rows show those factors as NaN. (A rig without
-  contact elements, ``Run.paper_case(gap_mm=None)``, is not used: the reduced model
-  refuses a rig without contact DOFs.) ``rub`` is then False from the episodes, as
-  always: no episode closes.
+  contact elements, ``Run.paper_case(gap_mm=None)``, is not used: its reduced model would
+  keep other boundary DOFs than the rub runs'.) ``rub`` is then False from the episodes, as
+  always: no episode closes. The gap is the clearance at the static state under gravity
+  (:class:`~rubdiag.simulate.static_load.StaticLoad`, ``clearances = "loaded"``).
 * A severity factor applies only to the runs where its fault is present
   (:data:`SEVERITY_FACTORS`: ``crack_depth_ratio`` a/D, ``misalignment_angle_mrad`` α₀,
   ``looseness_preload_n`` F₀);
