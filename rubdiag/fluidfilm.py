@@ -43,7 +43,7 @@ import numpy as np
 
 from rubdiag._numba import njit
 
-__all__ = ["N_GAUSS", "attitude_angle", "eccentricity_for_load", "film_force",
+__all__ = ["N_GAUSS", "attitude_angle", "eccentricity_for_load", "film_force", "film_terms",
            "linearised_coefficients", "load_capacity"]
 
 #: quadrature points over the half circle of positive pressure
@@ -51,23 +51,21 @@ N_GAUSS = 64
 _T, _W = np.polynomial.legendre.leggauss(N_GAUSS)
 
 
-@njit(error_model="numpy")
-def film_force(x, y, vx, vy, omega, mu, radius, length, clearance, out):
-    """The film force on the journal at (x, y) (m) moving at (vx, vy) (m/s), the journal
-    turning at ``omega`` (rad/s, from x towards y): writes ``out`` (2, 5) with ``out[:, 0]``
-    the force (Fx, Fy) (N) and ``out[:, 1:5]`` its derivatives by x, y, vx, vy (N/m, N s/m).
-    Returns the smallest film thickness over the half circle of pressure over c (<= 0: the
-    journal touches or leaves its clearance; the force is then not physical)."""
+@njit(error_model="numpy", inline="always")
+def film_terms(x, y, vx, vy, omega, mu, radius, length, clearance):
+    """The film force and its Jacobian as a tuple of floats, nothing allocated (for the
+    element's law, which runs at every Newton iteration): ``(Fx, Fy, ∂Fx/∂x, ∂Fy/∂x,
+    ∂Fx/∂y, ∂Fy/∂y, ∂Fx/∂vx, ∂Fy/∂vx, ∂Fx/∂vy, ∂Fy/∂vy, thinnest)`` (:func:`film_force`)."""
     a = omega * x - 2.0 * vy
     b = omega * y + 2.0 * vx
-    out[:, :] = 0.0
+    fx = fy = fxx = fyx = fxy = fyy = fxu = fyu = fxv = fyv = 0.0
     if a == 0.0 and b == 0.0:
-        return 1.0 - math.hypot(x, y) / clearance
+        return fx, fy, fxx, fyx, fxy, fyy, fxu, fyu, fxv, fyv, 1.0 - math.hypot(x, y) / clearance
     alpha = math.atan2(-a, b)
     half = 0.5 * math.pi
     scale = 0.5 * mu * radius * length ** 3 * half   # (μ R L³ / 2) dθ/dt of the map
     thinnest = 1.0
-    for k in range(_T.size):
+    for k in range(N_GAUSS):
         theta = alpha + half * _T[k]
         cs = math.cos(theta)
         sn = math.sin(theta)
@@ -77,21 +75,35 @@ def film_force(x, y, vx, vy, omega, mu, radius, length, clearance, out):
         w = scale * _W[k]
         h3 = h * h * h
         f = w * g / h3                       # the force's weight at θ
-        dfx = w * (omega * sn / h3 + 3.0 * g * cs / (h3 * h))
-        dfy = w * (-omega * cs / h3 + 3.0 * g * sn / (h3 * h))
-        dfvx = w * (-2.0 * cs / h3)
-        dfvy = w * (-2.0 * sn / h3)
-        out[0, 0] += f * cs
-        out[1, 0] += f * sn
-        out[0, 1] += dfx * cs
-        out[1, 1] += dfx * sn
-        out[0, 2] += dfy * cs
-        out[1, 2] += dfy * sn
-        out[0, 3] += dfvx * cs
-        out[1, 3] += dfvx * sn
-        out[0, 4] += dfvy * cs
-        out[1, 4] += dfvy * sn
-    return thinnest
+        dx = w * (omega * sn / h3 + 3.0 * g * cs / (h3 * h))
+        dy = w * (-omega * cs / h3 + 3.0 * g * sn / (h3 * h))
+        du = w * (-2.0 * cs / h3)
+        dv = w * (-2.0 * sn / h3)
+        fx += f * cs
+        fy += f * sn
+        fxx += dx * cs
+        fyx += dx * sn
+        fxy += dy * cs
+        fyy += dy * sn
+        fxu += du * cs
+        fyu += du * sn
+        fxv += dv * cs
+        fyv += dv * sn
+    return fx, fy, fxx, fyx, fxy, fyy, fxu, fyu, fxv, fyv, thinnest
+
+
+@njit(error_model="numpy")
+def film_force(x, y, vx, vy, omega, mu, radius, length, clearance, out):
+    """The film force on the journal at (x, y) (m) moving at (vx, vy) (m/s), the journal
+    turning at ``omega`` (rad/s, from x towards y): writes ``out`` (2, 5) with ``out[:, 0]``
+    the force (Fx, Fy) (N) and ``out[:, 1:5]`` its derivatives by x, y, vx, vy (N/m, N s/m).
+    Returns the smallest film thickness over the half circle of pressure over c (<= 0: the
+    journal touches or leaves its clearance; the force is then not physical)."""
+    t = film_terms(x, y, vx, vy, omega, mu, radius, length, clearance)
+    for j in range(5):
+        out[0, j] = t[2 * j]
+        out[1, j] = t[2 * j + 1]
+    return t[10]
 
 
 def load_capacity(eccentricity_ratio: float, omega: float, mu: float, radius: float,

@@ -19,7 +19,8 @@ ledger, and the trial state is committed. Kinds:
 * :mod:`rubdiag.kernels.point_contact` (1) — point–point contact;
 * :mod:`rubdiag.kernels.annular_contact` (2) — shaft–stator annular clearance;
 * :mod:`rubdiag.kernels.crack` (3) — a breathing transverse crack in a shaft element;
-* :mod:`rubdiag.kernels.pedestal` (4) — a loose bearing pedestal on its seat.
+* :mod:`rubdiag.kernels.pedestal` (4) — a loose bearing pedestal on its seat;
+* :mod:`rubdiag.kernels.journal` (5) — a plain journal bearing's oil film.
 
 Adding a kind
 -------------
@@ -54,7 +55,7 @@ from __future__ import annotations
 import numpy as np
 
 from rubdiag._numba import njit
-from rubdiag.kernels import annular_contact, crack, pedestal, point_contact
+from rubdiag.kernels import annular_contact, crack, journal, pedestal, point_contact
 from rubdiag.kernels.records import D_LIN, D_NEW, OPEN, P_NEW, SLIDING, STICKING, V2, V
 
 __all__ = [
@@ -78,7 +79,7 @@ __all__ = [
 
 #: the built-in kinds by code
 KINDS = {point_contact.KIND: point_contact, annular_contact.KIND: annular_contact,
-         crack.KIND: crack, pedestal.KIND: pedestal}
+         crack.KIND: crack, pedestal.KIND: pedestal, journal.KIND: journal}
 #: the most local coordinates of one element (a cracked shaft element has 8)
 N_LOCAL_MAX = 8
 
@@ -131,6 +132,7 @@ _point_laws = laws_of(point_contact)
 _annular_laws = laws_of(annular_contact)
 _crack_laws = laws_of(crack)
 _pedestal_laws = laws_of(pedestal)
+_journal_laws = laws_of(journal)
 _point_books = books_of(point_contact)
 _annular_books = books_of(annular_contact)
 
@@ -144,14 +146,16 @@ def element_laws(el, wc, xs, par, es, track, trial, prog, jac):
     _annular_laws(el, wc, xs, par, es, track, trial, prog, jac)
     _crack_laws(el, wc, xs, par, es, track, trial, prog, jac)
     _pedestal_laws(el, wc, xs, par, es, track, trial, prog, jac)
+    _journal_laws(el, wc, xs, par, es, track, trial, prog, jac)
 
 
 @njit(error_model="numpy")
 def element_books(el, par, es, track, trial, prog):
     """Every element's books of its trial state, kind by kind: its energy terms and cone
-    excess into ``trial`` (records.TRIAL). The crack and the pedestal keep theirs in their
-    laws: a third books loop here made Numba count six arrays' references per call (its
-    pruning gives up on the larger function), 0.07 µs per step in rub."""
+    excess into ``trial`` (records.TRIAL). The crack, the pedestal and the journal bearing
+    keep theirs in their laws: a third books loop here made Numba count six arrays'
+    references per call (its pruning gives up on the larger function), 0.07 µs per step in
+    rub."""
     _point_books(el, par, es, track, trial, prog)
     _annular_books(el, par, es, track, trial, prog)
 

@@ -732,10 +732,12 @@ def _packed(elements, omega: float, ramps) -> list[Packed]:
     return [el.pack(omega, ramp) for el, ramp in zip(elements, ramps, strict=True)]
 
 
-def _state(M, K, q0, v0, B, bundle: Elements, packed, at_rest) -> tuple[State, float]:
+def _state(M, K, q0, v0, B, bundle: Elements, packed, at_rest,
+           omega: float = 0.0) -> tuple[State, float]:
     """The kernel's state at t = 0 (copies: the inputs stay as they are) — the elements'
-    laws evaluated at q0, committed — and the elements' elastic energy there. The local
-    acceleration is set with a0 (:func:`_with_acceleration`). ``at_rest``: the kernel's
+    laws evaluated at q0 and the shaft speed ``omega`` (rad/s), committed — and the
+    elements' elastic energy there. The local acceleration is set with a0
+    (:func:`_with_acceleration`). ``at_rest``: the kernel's
     (:func:`rubdiag.kernels.elements.at_rest`, or the one of an extended kernel)."""
     ne = len(packed)
     n_state = max((p.state.size for p in packed), default=0)
@@ -749,6 +751,7 @@ def _state(M, K, q0, v0, B, bundle: Elements, packed, at_rest) -> tuple[State, f
     track = np.zeros(ne, records.TRACK)
     prog = np.zeros(1, records.PROGRESS)       # h = 0: at rest, where ẋ = ẋ_n
     prog["cvv"] = 1.0
+    prog["omega"] = omega                      # a journal bearing's film turns at it
     wc = np.zeros((WC_SIZE, B.shape[0]))
     wc[records.D_NEW] = xs[records.X_N]
     e_c0 = at_rest(bundle.el, wc, xs, bundle.par, es, track, np.zeros(ne, records.TRIAL), prog,
@@ -903,7 +906,7 @@ def _simulate(system: LinearSystem, elements, grid: TimeGrid, outputs: Recording
     ratio = None if fixed_step else settings.contact_stiffness_ratio
     ops = _level_operators(M, C, K, B, elements, ticks, settings, ratio, dense)
     bundle = _element_bundle(packed, ops.lev_req, ops.aug_k)
-    state, _ = _state(M, K, q0, v0, B, bundle, packed, kernel.at_rest)
+    state, _ = _state(M, K, q0, v0, B, bundle, packed, kernel.at_rest, settings.omega)
     a0 = _initial_acceleration(M, C, K, load_vector(force, speed_profile, 0.0, n), B, state.pc,
                                q0, v0, system.a0)
     _with_acceleration(state, a0, B)
