@@ -110,6 +110,38 @@ class Model:
         alpha, beta = self.rayleigh
         return (alpha * self.M + beta * self.K_structural + self.C_discrete).tocsr()
 
+    @property
+    def journal_bearings(self) -> tuple[int, ...]:
+        """The indices (in ``rig.bearings``) of the plain journal bearings."""
+        return tuple(k for k, b in enumerate(self.rig.bearings) if b.journal is not None)
+
+    def bearing_matrices(self, speed: float) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+        """The journal bearings' film linearised at their static load at spin speed Ω
+        (rad/s, > 0): stiffness and damping (N/m, N·s/m; n×n, non-symmetric, zeros without
+        journal bearings), between the shaft node and the ground or the bearing's pedestal
+        (:func:`rubdiag.fluidfilm.linearised_coefficients`: the Jacobian of the same film
+        force the time integrator uses). The linear analysis adds them to K and C."""
+        from rubdiag.fluidfilm import linearised_coefficients
+
+        K, C = _Triplets(self.n_dof), _Triplets(self.n_dof)
+        if self.journal_bearings and not (np.isfinite(speed) and speed > 0.0):
+            raise ValueError(f"speed = {speed!r} is out of range (allowed: > 0 rad/s: a journal "
+                             "bearing's film has no stiffness at rest)")
+        for k in self.journal_bearings:
+            b = self.rig.bearings[k]
+            f = b.journal
+            kb, cb, _ = linearised_coefficients(f.load_n, speed, f.viscosity_pa_s, f.radius_m,
+                                                f.length_m, f.clearance_m, f.load_vector)
+            idx = [self.dofs.index(b.node, "y"), self.dofs.index(b.node, "z")]
+            if b.pedestal is not None:      # the film between journal and pedestal
+                idx += [self.dofs.index(f"pedestal {k}", "y"),
+                        self.dofs.index(f"pedestal {k}", "z")]
+                kb = np.block([[kb, -kb], [-kb, kb]])
+                cb = np.block([[cb, -cb], [-cb, cb]])
+            K.add(idx, kb)
+            C.add(idx, cb)
+        return K.csr(), C.csr()
+
     @functools.cached_property
     def shaft_x_m(self) -> np.ndarray:
         """Axial position of every shaft node (m)."""

@@ -5,10 +5,13 @@ A synchronous solution q = q̂ e^{iΩt} of M q'' + Ω G q' + K q = 0 exists wher
     K q̂ = Ω² (M − iG) q̂,
 
 a linear (Hermitian-pencil) eigenproblem in Ω², so the crossings of the Campbell diagram
-with the 1× line are found directly, without sweeping speeds. Each solution is classified
-by the whirl of q̂ (forward when the orbit turns with the rotor); only modes whose kinetic
-energy lies mostly in the shaft and discs count as rotor critical speeds (a stationary
-casing ring or a blade's own bending is not one).
+with the 1× line are found directly, without sweeping speeds. Journal bearings make K
+depend on Ω: their critical speeds are those of the undamped critical speed map — the films'
+direct stiffness (y–y and z–z terms of :meth:`Model.bearing_matrices`, cross-coupling and
+damping left out) at the critical speed itself, found by fixed-point iteration. Each
+solution is classified by the whirl of q̂ (forward when the orbit turns with the rotor);
+only modes whose kinetic energy lies mostly in the shaft and discs count as rotor critical
+speeds (a stationary casing ring or a blade's own bending is not one).
 """
 
 from __future__ import annotations
@@ -23,7 +26,8 @@ import scipy.sparse.linalg as spla
 from rubdiag.assembly import rayleigh_coefficients
 from rubdiag.modal.shapes import energy_shares, whirl_ratio
 
-__all__ = ["CriticalSpeeds", "critical_speeds", "synchronous_modes", "with_rayleigh"]
+__all__ = ["CriticalSpeeds", "critical_speeds", "direct_film_stiffness", "synchronous_modes",
+           "with_rayleigh"]
 
 _MIN_SHAFT_SHARE = 0.25
 
@@ -49,8 +53,9 @@ class CriticalSpeeds:
         return self.speeds[mask]
 
 
-def synchronous_modes(model, n_solutions: int = 12) -> CriticalSpeeds:
-    """The ``n_solutions`` lowest synchronous solutions (forward and backward).
+def synchronous_modes(model, n_solutions: int = 12, stiffness=None) -> CriticalSpeeds:
+    """The ``n_solutions`` lowest synchronous solutions (forward and backward), of
+    ``model.K`` plus ``stiffness`` (sparse n×n, N/m; None: nothing) when given.
 
     Solved on one BLAS thread: multithreaded BLAS sums in another order, and the critical
     speeds (which define runs through ``speed_ratio`` and the Rayleigh damping) would then
@@ -58,11 +63,12 @@ def synchronous_modes(model, n_solutions: int = 12) -> CriticalSpeeds:
     from threadpoolctl import threadpool_limits  # installed with scikit-learn
 
     with threadpool_limits(limits=1):
-        return _synchronous_modes(model, n_solutions)
+        return _synchronous_modes(model, n_solutions, stiffness)
 
 
-def _synchronous_modes(model, n_solutions: int) -> CriticalSpeeds:
-    K, B = model.K.tocsc(), (model.M - 1j * model.G).tocsc()
+def _synchronous_modes(model, n_solutions: int, stiffness=None) -> CriticalSpeeds:
+    K = model.K if stiffness is None else model.K + stiffness
+    K, B = K.tocsc(), (model.M - 1j * model.G).tocsc()
     n = model.n_dof
     if n <= 120:
         lam, vec = sla.eig(K.toarray(), B.toarray())
@@ -92,13 +98,57 @@ def critical_speeds(model, n: int = 2, whirl: str = "forward") -> np.ndarray:
         raise ValueError(f"whirl = {whirl!r} is not allowed (allowed: forward, backward)")
     if n < 1:
         raise ValueError(f"n = {n!r} is out of range (allowed: >= 1)")
+    if model.journal_bearings:
+        return _with_films(model, n, whirl)
+    return _lowest(model, n, whirl)
+
+
+def _lowest(model, n: int, whirl: str, stiffness=None) -> np.ndarray:
     k = 4 * n + 8
     while True:
-        found = synchronous_modes(model, n_solutions=k)
+        found = synchronous_modes(model, n_solutions=k, stiffness=stiffness)
         speeds = found.forward if whirl == "forward" else found.backward
         if len(speeds) >= n or k >= model.n_dof - 2:
             return speeds[:n]
         k = min(2 * k, model.n_dof - 2)
+
+
+#: the fixed-point iteration of the critical speed map: start, tolerance, most iterations
+_MAP_START_RAD_S = 100.0
+_MAP_RTOL = 1e-12
+_MAP_ITERATIONS = 200
+
+
+def direct_film_stiffness(model, speed: float):
+    """The journal bearings' direct stiffness at Ω (rad/s): the y–y and z–z terms of
+    :meth:`Model.bearing_matrices` (N/m), what an undamped critical speed map uses."""
+    Kb, _ = model.bearing_matrices(speed)
+    Kb = Kb.tocoo()
+    direction = np.array([label.rsplit(" ", 1)[1] for label in model.dofs.labels])
+    keep = direction[Kb.row] == direction[Kb.col]
+    import scipy.sparse as sp
+
+    return sp.csr_matrix((Kb.data[keep], (Kb.row[keep], Kb.col[keep])), shape=Kb.shape)
+
+
+def _with_films(model, n: int, whirl: str) -> np.ndarray:
+    """Each of the ``n`` lowest critical speeds Ω_j = ω_j(Ω_j) of the map (module
+    docstring), by fixed-point iteration from the map at :data:`_MAP_START_RAD_S`."""
+    start = _lowest(model, n, whirl, direct_film_stiffness(model, _MAP_START_RAD_S))
+    out = []
+    for j, omega in enumerate(start):
+        for _ in range(_MAP_ITERATIONS):
+            found = _lowest(model, j + 1, whirl, direct_film_stiffness(model, omega))
+            if len(found) <= j:
+                break
+            new, omega = omega, float(found[j])
+            if abs(omega - new) <= _MAP_RTOL * omega:
+                break
+        else:
+            raise ValueError(f"the critical speed map did not converge for mode {j + 1} "
+                             f"(last {omega:.6g} rad/s)")
+        out.append(omega)
+    return np.array(out)
 
 
 def with_rayleigh(model):

@@ -91,7 +91,10 @@ def modes(model, speed: float = 0.0, n_modes: int = 10, damped: bool = True) -> 
     """The ``n_modes`` lowest oscillating modes of ``model`` at spin speed Ω (rad/s).
 
     ``damped=False`` leaves out C (gyroscopic effects stay), giving the undamped natural
-    frequencies. Overdamped (non-oscillating) roots are left out.
+    frequencies. Overdamped (non-oscillating) roots are left out. Journal bearings add their
+    films' stiffness and (when damped) damping at Ω (:meth:`Model.bearing_matrices`):
+    speed-dependent and cross-coupled, so a mode's damping ratio may be negative (unstable)
+    above the threshold of instability (:func:`rubdiag.modal.stability_threshold`).
     """
     if not np.isfinite(speed) or speed < 0:
         raise ValueError(f"speed = {speed!r} is out of range (allowed: >= 0 rad/s)")
@@ -99,7 +102,11 @@ def modes(model, speed: float = 0.0, n_modes: int = 10, damped: bool = True) -> 
         raise ValueError(f"n_modes = {n_modes!r} is out of range (allowed: >= 1)")
     n = model.n_dof
     D = with_rayleigh(model).C + speed * model.G if damped else speed * model.G
-    lam, vec = _quadratic_eigs(model.M, D, model.K, min(n_modes, n))
+    K = model.K
+    if model.journal_bearings:      # the films' coefficients at this speed
+        Kb, Cb = model.bearing_matrices(speed)
+        K, D = K + Kb, (D + Cb if damped else D)
+    lam, vec = _quadratic_eigs(model.M, D, K, min(n_modes, n))
     keep = lam.imag > 1e-9 * np.maximum(1.0, np.abs(lam))
     lam, vec = lam[keep], vec[:, keep]
     order = np.argsort(lam.imag)[:n_modes]

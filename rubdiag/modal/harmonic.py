@@ -25,7 +25,11 @@ def _check_speed(speed: float) -> float:
 
 def _solve(model, unbalance: Unbalance, speed: float) -> np.ndarray:
     C = with_rayleigh(model).C
-    Z = (model.K - speed**2 * model.M + 1j * speed * (C + speed * model.G)).tocsc()
+    K = model.K
+    if model.journal_bearings:      # the films linearised at this speed
+        Kb, Cb = model.bearing_matrices(speed)
+        K, C = K + Kb, C + Cb
+    Z = (K - speed**2 * model.M + 1j * speed * (C + speed * model.G)).tocsc()
     return spla.splu(Z).solve(model.unbalance_force(unbalance, speed))
 
 

@@ -25,6 +25,7 @@ __all__ = [
     "Casing",
     "Damping",
     "Disc",
+    "JournalFilm",
     "Loading",
     "Material",
     "Pedestal",
@@ -180,10 +181,49 @@ class Pedestal:
         _check.non_negative("Pedestal.c_z_ns_m", self.c_z_ns_m)
 
 
+#: the directions a journal bearing's static load may act along
+LOAD_DIRECTIONS = ("-y", "+y", "-z", "+z")
+
+
+@dataclass(frozen=True)
+class JournalFilm:
+    """The oil film of a plain journal bearing (:mod:`rubdiag.fluidfilm`: the short-bearing
+    π-film force): oil viscosity (Pa·s), journal radius, bearing length and radial clearance
+    (m), all > 0 with the clearance below the radius, and the static load the bearing
+    carries (N, > 0) along ``load_direction`` (default "-y": gravity along -y). The load
+    sets the static eccentricity at which the linear analysis linearises the film; a run
+    applies its own static load (:class:`rubdiag.simulate.static_load.StaticLoad`), which
+    should give the bearing the same reaction."""
+
+    viscosity_pa_s: float
+    radius_m: float
+    length_m: float
+    clearance_m: float
+    load_n: float
+    load_direction: str = "-y"
+
+    def __post_init__(self):
+        for name in ("viscosity_pa_s", "radius_m", "length_m", "clearance_m", "load_n"):
+            _check.positive(f"JournalFilm.{name}", getattr(self, name))
+        if not self.clearance_m < self.radius_m:
+            raise _check.out_of_range("JournalFilm.clearance_m", self.clearance_m,
+                                      f"< radius_m = {_check.plain(self.radius_m)} m")
+        _check.choice("JournalFilm.load_direction", self.load_direction, LOAD_DIRECTIONS)
+
+    @property
+    def load_vector(self) -> tuple[float, float]:
+        """The unit (y, z) direction of the static load on the journal."""
+        sign = -1.0 if self.load_direction[0] == "-" else 1.0
+        return (sign, 0.0) if self.load_direction[1] == "y" else (0.0, sign)
+
+
 @dataclass(frozen=True)
 class Bearing:
     """Linear bearing between a shaft node and the ground (or its ``pedestal``, when it has
-    one: :class:`Pedestal`); cross terms neglected."""
+    one: :class:`Pedestal`); cross terms neglected. A plain journal bearing (``journal``: a
+    :class:`JournalFilm`) has no fixed stiffness: its springs and dampers are 0 and its film
+    gives speed-dependent, cross-coupled coefficients to the linear analysis
+    (:meth:`rubdiag.assembly.Model.bearing_matrices`) and a nonlinear element to a run."""
 
     node: int
     k_y_n_m: float
@@ -191,6 +231,7 @@ class Bearing:
     c_y_ns_m: float = 0.0
     c_z_ns_m: float = 0.0
     pedestal: Pedestal | None = None
+    journal: JournalFilm | None = None
 
     def __post_init__(self):
         _check.integer("Bearing.node", self.node, lo=0)
@@ -201,6 +242,15 @@ class Bearing:
         if self.pedestal is not None and not isinstance(self.pedestal, Pedestal):
             raise ValueError(f"Bearing.pedestal has the wrong type "
                              f"({type(self.pedestal).__name__}; allowed: a Pedestal or None)")
+        if self.journal is not None:
+            if not isinstance(self.journal, JournalFilm):
+                raise ValueError(f"Bearing.journal has the wrong type "
+                                 f"({type(self.journal).__name__}; allowed: a JournalFilm or "
+                                 "None)")
+            for name in ("k_y_n_m", "k_z_n_m", "c_y_ns_m", "c_z_ns_m"):
+                if getattr(self, name) != 0.0:
+                    raise _check.out_of_range(f"Bearing.{name}", getattr(self, name),
+                                              "0 for a journal bearing (its film gives them)")
 
 
 @dataclass(frozen=True)
