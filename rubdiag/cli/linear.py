@@ -17,7 +17,9 @@ def register(sub) -> None:
     p = sub.add_parser("modal", help="critical speeds, natural frequencies, Rayleigh damping",
                        description="Print the forward critical speeds (rpm), the natural "
                        "frequencies at rest (Hz), Rayleigh alpha (1/s) and beta (s) and the "
-                       "number of DOFs of a rig.")
+                       "number of DOFs of a rig. On journal bearings: the critical speed map's "
+                       "speeds, the natural frequencies at the first of them and the threshold "
+                       "of instability.")
     p.add_argument("--rig", type=Path, help=rig_help)
     p.add_argument("--n-modes", type=int, default=8,
                    help="natural frequencies to list (default 8)")
@@ -79,30 +81,58 @@ def _modal(args) -> int:
     import numpy as np
 
     from rubdiag.assembly import assemble
-    from rubdiag.modal import critical_speeds, modes, with_rayleigh
+    from rubdiag.modal import critical_speeds, modes, stability_threshold, with_rayleigh
 
     _positive("--n-modes", args.n_modes)
     model = with_rayleigh(assemble(_rig(args.rig)))
     crit = critical_speeds(model, n=4)
-    at_rest = modes(model, 0.0, n_modes=args.n_modes, damped=False)
+    films = len(model.journal_bearings)
+    # a film has no stiffness at rest: a rig on journal bearings is shown at its first
+    # critical speed, and its threshold of instability is searched up to 4x the last one
+    speed = float(crit[0]) if films else 0.0
+    natural = modes(model, speed, n_modes=args.n_modes, damped=False)
+    threshold = (stability_threshold(model, 0.05 * crit[0], 4.0 * crit[-1]) if films
+                 else None)
     alpha, beta = model.rayleigh
-    f_hz = at_rest.damped_frequencies / (2 * np.pi)
+    f_hz = natural.damped_frequencies / (2 * np.pi)
     if args.json:
-        print(json.dumps({
+        out = {
             "rig": model.rig.name,
             "critical_speeds_rpm": [float(c / RPM) for c in crit],
             "critical_speeds_rad_s": [float(c) for c in crit],
-            "natural_frequencies_at_rest_hz": [float(f) for f in f_hz],
             "rayleigh_alpha": float(alpha),
             "rayleigh_beta": float(beta),
             "n_dof": model.n_dof,
-        }))
+            "journal_bearings": films,
+        }
+        if not films:
+            out["natural_frequencies_at_rest_hz"] = [float(f) for f in f_hz]
+        else:
+            out["natural_frequencies_hz"] = [float(f) for f in f_hz]
+            out["natural_frequencies_at_rpm"] = speed / RPM
+            out["stability_threshold_rpm"] = (None if threshold is None
+                                              else threshold.speed_rad_s / RPM)
+            out["whirl_ratio_at_threshold"] = (None if threshold is None
+                                               else threshold.whirl_ratio)
+        print(json.dumps(out))
         return 0
     print(f"rig: {model.rig.name}")
     print(f"DOFs: {model.n_dof}")
+    if films:
+        print(f"bearings: {films} plain journal bearing(s), speed-dependent and cross-coupled; "
+              "critical speeds of the undamped critical speed map (the films' direct "
+              "stiffness at each critical speed)")
     print("forward critical speeds (rpm): " + ", ".join(f"{c / RPM:.1f}" for c in crit))
-    print("natural frequencies at rest (Hz): " + ", ".join(f"{f:.2f}" for f in f_hz))
+    where = f"at {speed / RPM:.1f} rpm" if films else "at rest"
+    print(f"natural frequencies {where} (Hz): " + ", ".join(f"{f:.2f}" for f in f_hz))
     print(f"Rayleigh damping: alpha = {alpha:.4f} 1/s, beta = {beta:.4e} s")
+    if films:
+        if threshold is None:
+            print(f"threshold of instability: none up to {4.0 * crit[-1] / RPM:.0f} rpm")
+        else:
+            print(f"threshold of instability: {threshold.speed_rad_s / RPM:.1f} rpm, whirl at "
+                  f"{threshold.frequency_rad_s / (2 * np.pi):.2f} Hz "
+                  f"({threshold.whirl_ratio:.3f} x)")
     return 0
 
 
@@ -119,8 +149,10 @@ def _campbell(args) -> int:
     _positive("--n-modes", args.n_modes)
     model = assemble(_rig(args.rig))
     output_folder(args.out)
-    result = campbell(model, np.linspace(0.0, args.max_speed_rpm * RPM, args.n_speeds),
-                      n_modes=args.n_modes)
+    top = args.max_speed_rpm * RPM
+    # a journal bearing's film has no stiffness at rest: its diagram starts above 0
+    low = top / args.n_speeds if model.journal_bearings else 0.0
+    result = campbell(model, np.linspace(low, top, args.n_speeds), n_modes=args.n_modes)
     result.to_frame().to_csv(args.out / "campbell.csv", index=False)
     campbell_figure(result, title=f"Campbell diagram: {model.rig.name}").savefig(
         args.out / "campbell.png", dpi=150)

@@ -8,7 +8,7 @@ a linear (Hermitian-pencil) eigenproblem in Ω², so the crossings of the Campbe
 with the 1× line are found directly, without sweeping speeds. Journal bearings make K
 depend on Ω: their critical speeds are those of the undamped critical speed map — the films'
 direct stiffness (y–y and z–z terms of :meth:`Model.bearing_matrices`, cross-coupling and
-damping left out) at the critical speed itself, found by fixed-point iteration. Each
+damping left out) at the critical speed itself, found as a root (Brent's method). Each
 solution is classified by the whirl of q̂ (forward when the orbit turns with the rotor);
 only modes whose kinetic energy lies mostly in the shaft and discs count as rotor critical
 speeds (a stationary casing ring or a blade's own bending is not one).
@@ -17,6 +17,7 @@ speeds (a stationary casing ring or a blade's own bending is not one).
 from __future__ import annotations
 
 import dataclasses
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -113,41 +114,56 @@ def _lowest(model, n: int, whirl: str, stiffness=None) -> np.ndarray:
         k = min(2 * k, model.n_dof - 2)
 
 
-#: the fixed-point iteration of the critical speed map: start, tolerance, most iterations
-_MAP_START_RAD_S = 100.0
-_MAP_RTOL = 1e-12
-_MAP_ITERATIONS = 200
+#: the critical speed map's search: the lowest speed tried (rad/s), and how far above the
+#: rigid-bearing critical speed the bracket reaches
+_MAP_LOW_RAD_S = 1.0
+_MAP_HIGH_FACTOR = 10.0
+#: the rigid bearings the bracket's top is computed with (N/m)
+_RIGID_N_M = 1e13
 
 
 def direct_film_stiffness(model, speed: float):
     """The journal bearings' direct stiffness at Ω (rad/s): the y–y and z–z terms of
     :meth:`Model.bearing_matrices` (N/m), what an undamped critical speed map uses."""
+    import scipy.sparse as sp
+
     Kb, _ = model.bearing_matrices(speed)
     Kb = Kb.tocoo()
     direction = np.array([label.rsplit(" ", 1)[1] for label in model.dofs.labels])
     keep = direction[Kb.row] == direction[Kb.col]
-    import scipy.sparse as sp
-
     return sp.csr_matrix((Kb.data[keep], (Kb.row[keep], Kb.col[keep])), shape=Kb.shape)
 
 
+def _rigid_film_stiffness(model):
+    """Stiff springs in place of every film (y and z at the journal, to ground)."""
+    import scipy.sparse as sp
+
+    idx = [model.dofs.index(model.rig.bearings[k].node, d)
+           for k in model.journal_bearings for d in ("y", "z")]
+    return sp.csr_matrix((np.full(len(idx), _RIGID_N_M), (idx, idx)),
+                         shape=(model.n_dof, model.n_dof))
+
+
 def _with_films(model, n: int, whirl: str) -> np.ndarray:
-    """Each of the ``n`` lowest critical speeds Ω_j = ω_j(Ω_j) of the map (module
-    docstring), by fixed-point iteration from the map at :data:`_MAP_START_RAD_S`."""
-    start = _lowest(model, n, whirl, direct_film_stiffness(model, _MAP_START_RAD_S))
+    """Each of the ``n`` lowest critical speeds of the map: the root of ω_j(Ω) = Ω, with
+    ω_j(Ω) the j-th synchronous solution with the films' direct stiffness at Ω (module
+    docstring), by Brent's method on log Ω between :data:`_MAP_LOW_RAD_S` (where a film is
+    nearly rigid: ω_j > Ω) and ten times the rigid-bearing critical speed (ω_j < Ω: no film
+    is stiffer than a rigid bearing)."""
+    from scipy.optimize import brentq
+
+    rigid = _lowest(model, n, whirl, _rigid_film_stiffness(model))
     out = []
-    for j, omega in enumerate(start):
-        for _ in range(_MAP_ITERATIONS):
-            found = _lowest(model, j + 1, whirl, direct_film_stiffness(model, omega))
-            if len(found) <= j:
-                break
-            new, omega = omega, float(found[j])
-            if abs(omega - new) <= _MAP_RTOL * omega:
-                break
-        else:
-            raise ValueError(f"the critical speed map did not converge for mode {j + 1} "
-                             f"(last {omega:.6g} rad/s)")
-        out.append(omega)
+    for j in range(len(rigid)):
+        def excess(u, j=j):
+            found = _lowest(model, j + 1, whirl, direct_film_stiffness(model, np.exp(u)))
+            return (math.log(found[j]) if len(found) > j else math.inf) - u
+
+        low, high = math.log(_MAP_LOW_RAD_S), math.log(_MAP_HIGH_FACTOR * rigid[j])
+        if not excess(low) > 0.0 > excess(high):
+            raise ValueError(f"the critical speed map has no crossing for mode {j + 1} "
+                             f"between {_MAP_LOW_RAD_S:g} and {math.exp(high):.6g} rad/s")
+        out.append(math.exp(brentq(excess, low, high, xtol=1e-13, rtol=1e-13)))
     return np.array(out)
 
 

@@ -128,3 +128,25 @@ def test_the_critical_speed_map_is_a_fixed_point():
                    "bearings": (Bearing(0, 1e13, 1e13), Bearing(6, 1e13, 1e13))})
     assert first < critical_speeds(assemble(rigid), n=1)[0]
     assert math.isfinite(first)
+
+
+def test_rubdiag_modal_says_what_journal_bearings_change(tmp_path, capsys):
+    import json
+
+    from rubdiag.cli import main
+    from rubdiag.model import save_rig
+
+    path = save_rig(rig(), tmp_path / "journal.toml")
+    assert main(["modal", "--rig", str(path)]) == 0
+    text = capsys.readouterr().out
+    assert "2 plain journal bearing(s), speed-dependent and cross-coupled" in text
+    assert "threshold of instability:" in text and "natural frequencies at " in text
+    assert main(["modal", "--rig", str(path), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    found = stability_threshold(assemble(rig()), 0.05 * out["critical_speeds_rad_s"][0],
+                                4.0 * out["critical_speeds_rad_s"][-1])
+    assert out["journal_bearings"] == 2
+    assert out["stability_threshold_rpm"] == pytest.approx(found.speed_rad_s * 30 / math.pi)
+    assert main(["campbell", "--rig", str(path), "--out", str(tmp_path), "--n-speeds",
+                 "5", "--max-speed-rpm", "20000"]) == 0
+    assert (tmp_path / "campbell.csv").exists()
