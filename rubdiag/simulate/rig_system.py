@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rubdiag.simulate.films import film_elements, film_equilibrium
 from rubdiag.simulate.run import Run
 from rubdiag.simulate.system import Contacts, HarmonicForce
 
@@ -33,9 +34,10 @@ class RigSystem:
     approach of that state at the contacts (m); ``recovery``: None (x is q) or T with
     ``q = T x``; ``linear_solver``: what the integrator uses ("sparse" or "dense");
     ``model``: "full" or "reduced"; ``extra``: diagnostics of the reduction;
-    ``fault_elements``: the run's fault elements (a breathing crack, a loose pedestal), in
-    x's numbering; the misaligned coupling's loads are in ``force``; ``K`` is without the
-    springs a fault element takes over (a loose pedestal's support in its direction);
+    ``fault_elements``: the run's fault elements (a breathing crack, a loose pedestal), then
+    its journal bearings' films (:mod:`rubdiag.simulate.films`), in x's numbering; the
+    misaligned coupling's loads are in ``force``; ``K`` is without the springs a fault
+    element takes over (a loose pedestal's support in its direction);
     ``gap_shift`` (n_c,): what each contact's gap was raised by so that it is the run's gap
     at the static equilibrium (its static approach, m; zeros without a static load or with
     its clearances ``"unloaded"``), over which ``approach`` is measured."""
@@ -77,15 +79,22 @@ def rig_system(run: Run, model) -> RigSystem:
         loaded = np.flatnonzero(F)
         force = HarmonicForce(loaded, F[loaded], speed)
         if f_static is not None:
-            x_static = q_static = _static_deflection(model.K, f_static)
+            x_static = q_static = (film_equilibrium(model, f_static, speed)
+                                   if model.journal_bearings
+                                   else _static_deflection(model.K, f_static))
             force = force + _static_force(f_static, speed)
         contacts, approach, shift = _contacts(run, model, q_hat, q_static)
         force = _with_fault_loads(force, run, model, speed, lambda dofs: dofs)
         fault_elements = () if run.faults is None else run.faults.elements(run.rig)
+        fault_elements += film_elements(run.rig, model.dofs)
         parts = (model.M, model.C, model.K, model.G)
         recovery, solver, extra = None, "sparse", {}
     else:
         from rubdiag.reduce import reduced_model
+
+        if model.journal_bearings:
+            raise ValueError("reduction: a reduced model of a rig on journal bearings is not "
+                             "available yet (allowed: the full model, reduction = None)")
 
         reduced = reduced_model(run.rig, _with_fault_nodes(run))
         x_hat = reduced.harmonic_response(F, speed)

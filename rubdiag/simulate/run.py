@@ -185,6 +185,9 @@ class Run:
             object.__setattr__(self, "sensors", check_sensors(self.sensors, self.rig))
         elif not isinstance(self.sensors, tuple):
             object.__setattr__(self, "sensors", tuple(self.sensors))
+        if self.static_load is None and any(b.journal is not None for b in self.rig.bearings):
+            raise ValueError("static_load is None on a rig on journal bearings (allowed: a "
+                             "StaticLoad, e.g. gravity: the films carry the rotor's weight)")
         if self.static_load is not None:
             if not isinstance(self.static_load, StaticLoad):
                 raise _check.wrong_type("static_load", type(self.static_load).__name__,

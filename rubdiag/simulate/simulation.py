@@ -104,7 +104,7 @@ def _simulate(run: Run, progress, raise_on_failure: bool) -> SimulationResult:
         g0 = rs.contacts.gap
         # the approach is over each gap's static shift (zero unless gaps are "loaded")
         g_start = np.maximum(g0, rs.gap_shift + _RAMP_MARGIN * rs.approach)
-        # the fault elements have no gap: their entries are not read
+        # the fault elements and films have no gap: their entries are not read
         g_start = np.r_[g_start, np.full(len(rs.fault_elements), np.nan)]
         gap_ramp = (run.gap_ramp_s, g_start if rs.fault_elements else g_start[: len(g0)])
     elements = rs.contacts.elements() + rs.fault_elements if rs.fault_elements else rs.contacts
@@ -229,10 +229,12 @@ class SimulationResult:
     @property
     def n_contacts(self) -> int:
         """How many of the run's nonlinear elements are contacts (numbered first, from 1);
-        the fault elements (a breathing crack) follow them."""
+        the fault elements (a breathing crack, a loose pedestal) and the journal bearings'
+        films follow them."""
         faults = self.run.faults
         n_faults = 0 if faults is None else len(faults.elements(self.run.rig))
-        return self.system.contact_fn.shape[1] - n_faults
+        n_films = sum(b.journal is not None for b in self.run.rig.bearings)
+        return self.system.contact_fn.shape[1] - n_faults - n_films
 
     def contact_episodes(self) -> EpisodeLog:
         """The episodes of the contact elements (not those of fault elements)."""

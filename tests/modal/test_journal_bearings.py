@@ -2,9 +2,8 @@
 speed-dependent, cross-coupled coefficients in the modes, the unbalance response, the
 critical speed map and the threshold of instability.
 
-The test rotor: a practically rigid shaft (d = 200 mm, 0.3 m, nearly massless) with a 20 kg
-disc at mid-span on two identical short bearings (R = 20 mm, L = 10 mm, c = 50 um, 0.02
-Pa s), each carrying half the weight, 98.1 N, along -y. Its cylindrical mode is the rigid
+The test rotor (tests/journal_rig.py): a practically rigid shaft with a 20 kg disc at
+mid-span on two identical short bearings, each carrying 98.1 N. Its cylindrical mode is the rigid
 rotor of half the mass on one bearing, whose threshold the film's own 2-DOF linearisation
 gives (the same as tests/simulate/test_journal_bearing.py: 1122.45 rad/s).
 """
@@ -15,6 +14,7 @@ import math
 
 import numpy as np
 import pytest
+from journal_rig import FILM, LOAD, MASS, rig
 from scipy.optimize import brentq
 
 from rubdiag import fluidfilm as ff
@@ -26,24 +26,7 @@ from rubdiag.modal import (
     modes,
     stability_threshold,
 )
-from rubdiag.model import Bearing, Damping, Disc, JournalFilm, Loading, Material, Rig, Shaft
-
-MASS, G = 20.0, 9.81
-FILM = dict(viscosity_pa_s=0.02, radius_m=0.02, length_m=0.01, clearance_m=50e-6)
-LOAD = MASS * G / 2
-NO_DAMPING = Damping(0.0, 0.0, (100.0, 200.0))
-
-
-def rig(stiff: bool = True) -> Rig:
-    film = JournalFilm(**FILM, load_n=LOAD)
-    n_el = 6
-    d = 0.2 if stiff else 0.012
-    shaft = Shaft((0.3 / n_el,) * n_el, d, first_node=0)
-    disc = Disc(n_el // 2, mass_kg=MASS, polar_inertia_kg_m2=0.05, diametral_inertia_kg_m2=0.03)
-    return Rig(shaft=shaft, bearings=(Bearing(0, 0.0, 0.0, journal=film),
-                                      Bearing(n_el, 0.0, 0.0, journal=film)),
-               discs=(disc,), material=Material(210e9, 0.3, 1e-3), damping=NO_DAMPING,
-               loading=Loading((1e-5,)))
+from rubdiag.model import Bearing, JournalFilm, Rig
 
 
 def rigid_growth(omega: float) -> complex:

@@ -1,0 +1,82 @@
+"""A rig on plain journal bearings in a run (issue 27, part 4 in part): its films are
+elements, the run starts from the static state they carry, and oil whirl sets in above the
+threshold the linear analysis gives.
+
+The rig is tests/journal_rig.py's: a 20 kg disc on a stiff shaft on two
+short bearings carrying 98.1 N each (threshold 1122.2 rad/s, root at 0.52 x).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from journal_rig import FILM, LOAD, rig
+
+from rubdiag import fluidfilm as ff
+from rubdiag.assembly import assemble
+from rubdiag.modal import stability_threshold
+from rubdiag.simulate import Run, simulate
+from rubdiag.simulate.films import film_equilibrium
+from rubdiag.simulate.static_load import StaticLoad
+
+GRAVITY = StaticLoad(direction="y", gravity_m_s2=-9.81)
+
+
+@pytest.fixture(scope="module")
+def threshold() -> float:
+    return stability_threshold(assemble(rig()), 300.0, 3000.0).speed_rad_s
+
+
+def run(speed: float, **options) -> Run:
+    journal_rig = rig()
+    return Run(rig=journal_rig, speed_rad_s=speed, unbalance=journal_rig.unbalance(1),
+               gap_m=None, duration_s=1.5, discard_s=0.5, **{"static_load": GRAVITY,
+                                                            **options})
+
+
+def subsynchronous(result, point: str = "shaft 3 y"):
+    """The strongest line between 0.3x and 0.7x of the window's spectrum and its order."""
+    t = result.t[result.window]
+    x = result.displacement(point, True)
+    x = x - x.mean()
+    f = np.fft.rfftfreq(t.size, t[1] - t[0])
+    amplitude = np.abs(np.fft.rfft(x * np.hanning(t.size))) / (0.25 * t.size)
+    order = f / (result.run.speed_rad_s / (2 * math.pi))
+    band = (order > 0.3) & (order < 0.7)
+    k = np.argmax(amplitude[band])
+    return amplitude[band][k], order[band][k]
+
+
+def test_a_journal_rig_needs_a_static_load():
+    with pytest.raises(ValueError, match="static_load is None on a rig on journal bearings"):
+        run(800.0, static_load=None)
+
+
+def test_the_static_state_puts_each_journal_where_the_closed_form_does():
+    """Each bearing carries half the weight: its journal sits at the closed-form
+    eccentricity and attitude angle for 98.1 N (the shaft's own weight is ~1e-5 of it)."""
+    model = assemble(rig())
+    speed = 800.0
+    x = film_equilibrium(model, GRAVITY.vector(model.M, model.dofs), speed)
+    eps = ff.eccentricity_for_load(LOAD, speed, *FILM.values())
+    for node in (0, 6):
+        journal = x[[model.dofs.index(node, "y"), model.dofs.index(node, "z")]]
+        assert np.hypot(*journal) == pytest.approx(eps * FILM["clearance_m"], rel=1e-5)
+        angle = math.atan2(-journal[1], -journal[0])     # from -y, in the sense of rotation
+        assert angle == pytest.approx(ff.attitude_angle(eps), abs=1e-5)
+
+
+@pytest.mark.parametrize(("ratio", "whirls"), [(0.9, False), (1.1, True)])
+def test_oil_whirl_sets_in_above_the_threshold(threshold, ratio, whirls):
+    """Measured at the disc over 1 s: 1e-6 um of sub-synchronous motion at 0.9 of the
+    threshold; at 1.1 a 32-um line at 0.48x (oil whirl: forward, near half the speed)."""
+    result = simulate(run(ratio * threshold))
+    amplitude, order = subsynchronous(result)
+    if whirls:
+        assert amplitude > 10e-6 and 0.42 <= order <= 0.5
+    else:
+        assert amplitude < 1e-9
+    assert result.system.contact_gap.min() > 0.0        # the journals inside their clearance
+    assert result.n_contacts == 0
