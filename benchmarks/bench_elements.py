@@ -4,8 +4,9 @@ Runs case 1 at 750 rpm (half the first critical speed) far from the casing with 
 once without any element and once with each fault (a breathing crack by each law, a
 misaligned coupling: loads only); and case 1 at the first critical speed with rub (the 8
 point contacts) beside the same run without contacts, for scale; and the paper rig with
-bearing 0 on a pedestal at twice the first critical speed, linear and loose (lifting off).
-Prints the kernel's µs per
+bearing 0 on a pedestal at twice the first critical speed, linear and loose (lifting off);
+and the paper rig on two plain journal bearings (R 5 mm, L 4 mm, c 30 um, 0.01 Pa s, the
+weight each carries) at 750 rpm with gravity, beside the first run. Prints the kernel's µs per
 step (median of ``--repeat`` runs) and the difference to the first run.
 
 Usage::
@@ -24,7 +25,7 @@ import rubdiag  # noqa: F401  first: it pins OpenBLAS's kernels before numpy loa
 # isort: split
 import dataclasses
 
-from rubdiag.model import Pedestal, paper_rig
+from rubdiag.model import Bearing, JournalFilm, Pedestal, paper_rig
 from rubdiag.simulate import Run, simulate
 from rubdiag.simulate.faults import Crack, Faults, Looseness
 from rubdiag.simulate.misalignment import Misalignment
@@ -42,6 +43,10 @@ def cases(duration: float) -> dict[str, Run]:
     pedestal = dataclasses.replace(
         rig, bearings=(dataclasses.replace(rig.bearings[0], pedestal=seat), *rig.bearings[1:]))
     fast = dict(speed_rpm=2999.0, duration_s=duration, discard_s=0.0)
+    # the weight each bearing of the paper rig carries (N; the casing supports the rest)
+    films = dataclasses.replace(rig, bearings=tuple(
+        Bearing(b.node, 0.0, 0.0, journal=JournalFilm(0.01, 0.005, 0.004, 30e-6, load))
+        for b, load in zip(rig.bearings, (7.42, 6.90), strict=True)))
     return {
         "no element": Run.paper_case(1, None, **base),
         "crack (Mayes)": Run.paper_case(1, None, faults=Faults(
@@ -50,6 +55,7 @@ def cases(duration: float) -> dict[str, Run]:
             crack=Crack(element=10, depth_ratio=0.4, law="gasch")), **base),
         "misalignment (loads)": Run.paper_case(1, None, faults=Faults(misalignment=coupling),
                                                **base),
+        "2 journal bearings (films)": Run.paper_case(1, None, rig=films, **base),
         "no element, 1st critical, no gravity": Run.paper_case(1, None, duration_s=duration,
                                                                discard_s=0.0),
         "pedestal rig, linear, 2x 1st critical": Run.paper_case(
