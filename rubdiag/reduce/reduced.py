@@ -84,9 +84,13 @@ def contact_dofs(model) -> np.ndarray:
 def boundary_dofs(model, reduction: Reduction) -> np.ndarray:
     """The DOFs ``reduction`` keeps physical (ascending): :func:`contact_dofs`, with
     ``tip_rotations`` the in-plane rotation of each contact blade's tip, every DOF of its
-    ``shaft_nodes``, and every pedestal DOF of the rig (a pedestal may be loose: a nonlinear
-    element there needs the physical DOF; a rig without pedestals has none)."""
+    ``shaft_nodes``, every pedestal DOF of the rig (a pedestal may be loose: a nonlinear
+    element there needs the physical DOF; a rig without pedestals has none), and the y and z
+    of every journal bearing's node (its film is a nonlinear element)."""
     dofs = [contact_dofs(model), model.dofs.component("pedestal")]
+    for k in model.journal_bearings:
+        node = model.rig.bearings[k].node
+        dofs.append([model.dofs.index(node, "y"), model.dofs.index(node, "z")])
     for node in reduction.shaft_nodes:
         try:
             dofs.append([model.dofs.index(node, d) for d in ("y", "z", "ry", "rz")])
@@ -99,8 +103,8 @@ def boundary_dofs(model, reduction: Reduction) -> np.ndarray:
     boundary = np.unique(np.concatenate(dofs).astype(np.int64))
     if not boundary.size:
         raise ValueError(f"rig {model.rig.name!r} has no nonlinear element: a reduction keeps "
-                         "the DOFs of its contacts, pedestals and fault nodes physical, and "
-                         "there are none")
+                         "the DOFs of its contacts, pedestals, journal bearings and fault "
+                         "nodes physical, and there are none")
     return boundary
 
 

@@ -17,7 +17,7 @@ import numpy as np
 
 from rubdiag.simulate.journal import JournalBearing
 
-__all__ = ["STATIC_RTOL", "film_elements", "film_equilibrium"]
+__all__ = ["STATIC_RTOL", "equilibrium", "film_elements", "film_equilibrium", "journal_guess"]
 
 #: the last Newton step's bound, relative to the largest static displacement
 STATIC_RTOL = 1e-8
@@ -66,25 +66,39 @@ def _film_forces(films, x: np.ndarray, speed: float, n: int):
 def film_equilibrium(model, f_static: np.ndarray, speed: float) -> np.ndarray:
     """The static state (n,) of ``model`` on its journal bearings under ``f_static`` at the
     spin speed ``speed`` (rad/s): module docstring. A ValueError when Newton's method does
-    not converge or a journal leaves its clearance."""
+    not converge."""
+    Kb, _ = model.bearing_matrices(speed)
+    return equilibrium(model.K.toarray(), Kb.toarray(), f_static,
+                       film_elements(model.rig, model.dofs), journal_guess(model, speed),
+                       speed)
+
+
+def journal_guess(model, speed: float) -> np.ndarray:
+    """A state (n,) with each journal where :func:`rubdiag.fluidfilm.linearised_coefficients`
+    puts it for its bearing's stated load at ``speed`` (rad/s), zero elsewhere."""
     from rubdiag.fluidfilm import linearised_coefficients
 
-    films = film_elements(model.rig, model.dofs)
-    K = model.K.toarray()
-    n = K.shape[0]
-    Kb, _ = model.bearing_matrices(speed)
-    guess = np.zeros(n)
-    for k, film in zip(model.journal_bearings, films, strict=True):
-        f = model.rig.bearings[k].journal
+    guess = np.zeros(model.n_dof)
+    for k in model.journal_bearings:
+        b = model.rig.bearings[k]
+        f = b.journal
         _, _, position = linearised_coefficients(f.load_n, speed, f.viscosity_pa_s,
                                                  f.radius_m, f.length_m, f.clearance_m,
                                                  f.load_vector)
-        guess[list(film.dof_a)] = position
-    Kb = Kb.toarray()
-    x = np.linalg.solve(K + Kb, f_static + Kb @ guess)
+        guess[[model.dofs.index(b.node, "y"), model.dofs.index(b.node, "z")]] = position
+    return guess
+
+
+def equilibrium(K: np.ndarray, Kb: np.ndarray, f: np.ndarray, films, guess: np.ndarray,
+                speed: float) -> np.ndarray:
+    """The static state x of ``K x = f + Bᵀ p(B x)`` for the film elements ``films`` (in the
+    coordinates of the dense K), from the linearised guess ``(K + Kb) x = f + Kb guess``
+    (``Kb`` the films' stiffness there): module docstring."""
+    n = K.shape[0]
+    x = np.linalg.solve(K + Kb, f + Kb @ guess)
     for _ in range(_ITERATIONS):
         p, J = _film_forces(films, x, speed, n)
-        step = np.linalg.solve(K - J, f_static + p - K @ x)
+        step = np.linalg.solve(K - J, f + p - K @ x)
         x = x + step
         if np.abs(step).max() <= STATIC_RTOL * np.abs(x).max():
             return x

@@ -92,28 +92,27 @@ def rig_system(run: Run, model) -> RigSystem:
     else:
         from rubdiag.reduce import reduced_model
 
-        if model.journal_bearings:
-            raise ValueError("reduction: a reduced model of a rig on journal bearings is not "
-                             "available yet (allowed: the full model, reduction = None)")
-
         reduced = reduced_model(run.rig, _with_fault_nodes(run))
-        x_hat = reduced.harmonic_response(F, speed)
+        index = reduced.basis.boundary_index
+        films = tuple(_renumbered(e, index) for e in film_elements(run.rig, model.dofs))
+        x_hat = _reduced_response(reduced, model, F, speed)
         q_hat = reduced.basis.T @ x_hat
         F_r = reduced.project_force(F)
         force = HarmonicForce(np.arange(F_r.size), F_r, speed)
         if f_static is not None:    # the reduced system's own static equilibrium
             f_r = reduced.project_force(f_static)
-            x_static = np.linalg.solve(reduced.K, f_r)
+            x_static = (_reduced_equilibrium(reduced, model, f_r, films, speed) if films
+                        else np.linalg.solve(reduced.K, f_r))
             q_static = reduced.basis.T @ x_static
             force = force + _static_force(f_r, speed)
         contacts, approach, shift = _contacts(run, model, q_hat, q_static)
-        index = reduced.basis.boundary_index
         contacts = dataclasses.replace(contacts, dof_a=index(contacts.dof_a),
                                        dof_b=index(contacts.dof_b))
         # the fault nodes are boundary coordinates: a load there is a load on its coordinate
         force = _with_fault_loads(force, run, model, speed, index)
         fault_elements = () if run.faults is None else tuple(
             _renumbered(e, index) for e in run.faults.elements(run.rig))
+        fault_elements += films
         parts = (reduced.M, reduced.C, reduced.K, reduced.G)
         recovery, solver = reduced.basis.T, "dense"
         extra = {"n_reduced": reduced.n_reduced, "cutoff_hz": run.reduction.cutoff_hz,
@@ -129,8 +128,42 @@ def rig_system(run: Run, model) -> RigSystem:
                      extra=extra, fault_elements=fault_elements, gap_shift=shift)
 
 
+def _reduced_films(reduced, model, speed: float):
+    """The journal bearings' linearised films in the reduced coordinates (dense): their DOFs
+    are boundary coordinates, whose rows of T are unit rows, so ``Tᵀ K_b T`` is exact."""
+    Kb, Cb = model.bearing_matrices(speed)
+    T = reduced.basis.T
+    return T.T @ (Kb @ T), T.T @ (Cb @ T)
+
+
+def _reduced_response(reduced, model, F, speed: float) -> np.ndarray:
+    """The reduced steady response to the unbalance F̂, the films linearised at ``speed``."""
+    if not model.journal_bearings:
+        return reduced.harmonic_response(F, speed)
+    Kb, Cb = _reduced_films(reduced, model, speed)
+    Z = (reduced.K + Kb - speed**2 * reduced.M
+         + 1j * speed * (reduced.C + Cb + speed * reduced.G))
+    return np.linalg.solve(Z, reduced.project_force(F))
+
+
+def _reduced_equilibrium(reduced, model, f_r, films, speed: float) -> np.ndarray:
+    """The reduced static state the films carry (:func:`rubdiag.simulate.films.equilibrium`
+    in the reduced coordinates)."""
+    from rubdiag.simulate.films import equilibrium, journal_guess
+
+    Kb, _ = _reduced_films(reduced, model, speed)
+    boundary = reduced.basis.boundary          # reduced coordinate k < n_b is boundary[k]
+    guess_r = np.zeros(reduced.K.shape[0])
+    guess_r[: boundary.size] = journal_guess(model, speed)[boundary]
+    return equilibrium(np.asarray(reduced.K), Kb, f_r, films, guess_r, speed)
+
+
 def _renumbered(element, index):
     """A fault element with its physical DOFs renumbered to the reduced coordinates."""
+    if hasattr(element, "dof_a"):               # a journal bearing's film (-1 stays ground)
+        return dataclasses.replace(element,
+                                   dof_a=tuple(int(i) for i in index(element.dof_a)),
+                                   dof_b=tuple(int(i) for i in index(element.dof_b)))
     if hasattr(element, "element_dofs"):        # a breathing crack
         return dataclasses.replace(
             element, element_dofs=tuple(int(i) for i in index(element.element_dofs)))
