@@ -23,3 +23,13 @@ def rig(stiff: bool = True) -> Rig:
                                       Bearing(n_el, 0.0, 0.0, journal=film)),
                discs=(disc,), material=Material(210e9, 0.3, 1e-3), damping=NO_DAMPING,
                loading=Loading((1e-5,)))
+
+
+def whip_rig() -> Rig:
+    """The same disc and films on a steel shaft of 25 mm, whose bending stiffness (48 E I /
+    L³ = 7.2 MN/m) is of the films' order: the first mode moves the journals, and well above
+    its threshold it whips."""
+    import dataclasses
+
+    return dataclasses.replace(rig(stiff=False), shaft=Shaft((0.05,) * 6, 0.025, first_node=0),
+                               material=Material(210e9, 0.3, 7850.0))
