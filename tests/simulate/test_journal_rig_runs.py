@@ -109,8 +109,8 @@ def test_well_above_the_threshold_the_whirl_locks_at_the_first_natural_frequency
 
     from journal_rig import whip_rig
 
-    from rubdiag.model import Bearing
     from rubdiag.modal import critical_speeds, with_rayleigh
+    from rubdiag.model import Bearing
 
     journal_rig = whip_rig()
     first = critical_speeds(with_rayleigh(assemble(journal_rig)), n=1)[0]
