@@ -56,8 +56,9 @@ _LOGS = {"episodes": EpisodeLog, "status_segments": StatusLog}
 def response_points(rig) -> tuple[str, ...]:
     """Recorded DOFs: both directions of every disc node, and with blade contacts the casing
     node of contact element 1 and the tip of its blade (the study's nodes 11, 1844, 39), and
-    both directions of every bearing pedestal (after the others: a rig without pedestals
-    records what it did before they existed)."""
+    both directions of every bearing pedestal, then of every journal bearing's node (after
+    the others: a rig without pedestals or journal bearings records what it did before they
+    existed)."""
     points = [f"shaft {d.node} {x}" for d in rig.discs for x in "yz"]
     if rig.contact is not None:
         casing = rig.contact_casing_node(1)
@@ -65,6 +66,8 @@ def response_points(rig) -> tuple[str, ...]:
         points += [f"casing {casing} {x}" for x in "yz"] + [f"{tip} {x}" for x in "yz"]
     points += [f"pedestal {k} {x}" for k, b in enumerate(rig.bearings)
                if b.pedestal is not None for x in "yz"]
+    points += [f"shaft {b.node} {x}" for b in rig.bearings if b.journal is not None
+               for x in "yz" if f"shaft {b.node} {x}" not in points]
     return tuple(points)
 
 

@@ -128,3 +128,18 @@ def test_well_above_the_threshold_the_whirl_locks_at_the_first_natural_frequency
         lines.append(order * speed)
         assert order * speed == pytest.approx(natural, rel=0.05), (ratio, order)
     assert lines[1] == pytest.approx(lines[0], rel=0.05)       # locked while the speed grows
+
+
+def test_the_subsynchronous_share_of_the_journal_orbit_measures_whirl(threshold):
+    """The whirl label's raw measure, from the journal's own orbit relative to its housing:
+    none below the threshold (the orbit is the unbalance's 1x; measured 6e-9 at 0.9 and 0.95
+    of it), nearly all above it (0.984 at 1.05, 0.991 at 1.1)."""
+    from rubdiag.simulate.films import subsynchronous_share
+
+    below = simulate(run(0.9 * threshold))
+    above = simulate(run(1.1 * threshold))
+    assert "shaft 0 y" in above.points and "shaft 6 z" in above.points
+    assert subsynchronous_share(below, 0) < 1e-6
+    assert subsynchronous_share(above, 0) > 0.99 and subsynchronous_share(above, 1) > 0.99
+    with pytest.raises(ValueError, match="bearing = 5"):
+        subsynchronous_share(above, 5)
