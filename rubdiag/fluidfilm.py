@@ -24,10 +24,11 @@ integrates to ``−μ L³ G / (2 h³)``, so the force on the journal is
 
 Its derivatives need no term from the moving ends of the half circle, where G = 0. The
 integral is evaluated by :data:`N_GAUSS`-point Gauss–Legendre quadrature over the half circle
-(relative error below 1e-10 of the closed form for eccentricity ratios up to 0.8, measured in
-``tests/test_fluidfilm.py``; 3e-7 at 0.9). At the static equilibrium it reduces to the
-closed forms of the short π-film bearing: a radial force ``μ R L³ ω ε² / (c² (1−ε²)²)``
-towards the centre and a tangential one ``π μ R L³ ω ε / (4 c² (1−ε²)^{3/2})``, the load
+(relative error against adaptive quadrature of the same integral, for moving journals:
+2e-15 up to ε = 0.8, 4e-14 at 0.9, 5e-10 at 0.95, 4e-7 at 0.98; ``tests/test_fluidfilm.py``).
+At the static equilibrium it reduces to the closed forms of the short π-film bearing: a
+radial force ``μ R L³ ω ε² / (c² (1−ε²)²)`` towards the centre and a tangential one
+``π μ R L³ ω ε / (4 c² (1−ε²)^{3/2})``, the load
 ``W = (μ ω R L³ / (4 c²)) ε √(16 ε² + π² (1 − ε²)) / (1 − ε²)²`` and the attitude angle
 ``tan φ = π √(1 − ε²) / (4 ε)`` (Friswell, Penny, Garvey & Lees, *Dynamics of Rotating
 Machines*, Cambridge University Press 2010, section 5.5.1).

@@ -84,29 +84,31 @@ def test_the_load_and_the_attitude_angle():
 
 
 def quad_force(x, y, vx, vy):
-    """The film force by adaptive quadrature of the pressure over the whole circle, the
-    π-film kept by dropping negative pressure: an independent evaluation."""
+    """The film force by adaptive quadrature over the same half circle of positive pressure
+    (its ends, where G = 0, written out here): an independent evaluation of the integral."""
     a, b = OMEGA * x - 2 * vy, OMEGA * y + 2 * vx
+    alpha = math.atan2(-a, b)
 
-    def p_weight(theta):        # ∫ p dz / (−μ L³/2) ... as a force density
+    def density(theta, k):
         g = a * math.sin(theta) - b * math.cos(theta)
         h = C - x * math.cos(theta) - y * math.sin(theta)
-        return 0.5 * MU * R * L ** 3 * min(g, 0.0) / h ** 3
+        return 0.5 * MU * R * L ** 3 * g / h ** 3 * (math.cos(theta), math.sin(theta))[k]
 
-    fx = quad(lambda t: p_weight(t) * math.cos(t), 0, 2 * math.pi, limit=400,
-              epsabs=0, epsrel=1e-12)[0]
-    fy = quad(lambda t: p_weight(t) * math.sin(t), 0, 2 * math.pi, limit=400,
-              epsabs=0, epsrel=1e-12)[0]
-    return np.array([fx, fy])
+    return np.array([quad(density, alpha - math.pi / 2, alpha + math.pi / 2, args=(k,),
+                          limit=500, epsabs=0, epsrel=1e-13)[0] for k in (0, 1)])
 
 
 @pytest.mark.parametrize(("x", "y", "vx", "vy", "rtol"), [
-    (10e-6, -20e-6, 1e-3, -2e-3, 1e-10),     # moving: the half circle turns
-    (-25e-6, 5e-6, -4e-3, 1e-3, 1e-10),
-    (30e-6, 25e-6, 0.0, 0.0, 1e-10),         # ε = 0.78
-    (0.0, -45e-6, 2e-3, 0.0, 3e-7),          # ε = 0.9: the peak is sharper
+    (10e-6, -20e-6, 1e-3, -2e-3, 1e-12),     # moving: the half circle turns
+    (-25e-6, 5e-6, -4e-3, 1e-3, 1e-12),
+    (30e-6, 25e-6, 0.0, 0.0, 1e-12),         # ε = 0.78
+    (0.0, -45e-6, 2e-3, 0.0, 1e-12),         # ε = 0.9
+    (0.0, -47.5e-6, 2e-3, 0.0, 5e-9),        # ε = 0.95: the film's peak sharpens
+    (0.0, -49e-6, 2e-3, 0.0, 1e-6),          # ε = 0.98
 ])
 def test_a_moving_journal_s_force_against_adaptive_quadrature(x, y, vx, vy, rtol):
+    """Measured on 20 random moving journals at each ε (2026-11-27): 2e-15 at ε <= 0.8,
+    4e-14 at 0.9, 5e-10 at 0.95, 4e-7 at 0.98 with the 64 Gauss points."""
     out, _ = force(x, y, vx, vy)
     ref = quad_force(x, y, vx, vy)
     np.testing.assert_allclose(out[:, 0], ref, rtol=rtol, atol=rtol * np.abs(ref).max())
