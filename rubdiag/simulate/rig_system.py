@@ -122,10 +122,33 @@ def rig_system(run: Run, model) -> RigSystem:
                                                     None if recovery is None else index),
                  parts[3])
     x0 = np.real(x_hat) if x_static is None else np.real(x_hat) + x_static
+    if model.journal_bearings:
+        _check_start_in_clearance(run, model, q_hat, q_static)
     return RigSystem(*parts, force=force, contacts=contacts, x0=x0,
                      v0=np.real(1j * speed * x_hat), approach=approach, recovery=recovery,
                      linear_solver=solver, model="full" if recovery is None else "reduced",
                      extra=extra, fault_elements=fault_elements, gap_shift=shift)
+
+
+def _check_start_in_clearance(run: Run, model, q_hat, q_static) -> None:
+    """A run starts on its linear steady orbit: every journal must stay inside its clearance
+    on it (the short-bearing force has no meaning beyond), or the run is refused by name —
+    the films cannot carry that unbalance at that speed. The bound is the static offset plus
+    the harmonic amplitude ``√(|ŷ|² + |ẑ|²)`` (the orbit's semi-major axis or more)."""
+    for k in model.journal_bearings:
+        b = model.rig.bearings[k]
+        journal = [model.dofs.index(b.node, d) for d in ("y", "z")]
+        housing = ([model.dofs.index(f"pedestal {k}", d) for d in ("y", "z")]
+                   if b.pedestal is not None else None)
+        amplitude = q_hat[journal] - (0.0 if housing is None else q_hat[housing])
+        offset = q_static[journal] - (0.0 if housing is None else q_static[housing])
+        reach = np.hypot(*offset) + np.sqrt(np.sum(np.abs(amplitude) ** 2))
+        clearance = b.journal.clearance_m
+        if reach >= clearance:
+            raise ValueError(f"the linear start puts journal bearing {k} (shaft node {b.node}) "
+                             f"{reach / clearance:.3g} clearances from its centre at "
+                             f"{run.speed_rpm:.6g} rpm (allowed: inside its clearance, < 1): "
+                             "its film cannot carry this unbalance at this speed")
 
 
 def _reduced_films(reduced, model, speed: float):

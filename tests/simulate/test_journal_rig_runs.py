@@ -143,3 +143,17 @@ def test_the_subsynchronous_share_of_the_journal_orbit_measures_whirl(threshold)
     assert subsynchronous_share(above, 0) > 0.99 and subsynchronous_share(above, 1) > 0.99
     with pytest.raises(ValueError, match="bearing = 5"):
         subsynchronous_share(above, 5)
+
+
+def test_a_start_outside_the_clearance_is_refused_by_name():
+    """An unbalance whose linear orbit reaches beyond the clearance at the start: refused
+    before the integrator meets a film with no meaning (1000 times the rig's unbalance at
+    800 rad/s puts the journals at several clearances)."""
+    import dataclasses
+
+    from rubdiag.model import Unbalance
+
+    heavy = dataclasses.replace(run(800.0), unbalance=Unbalance((1e-2,), (0.0,)))
+    with pytest.raises(ValueError, match=r"linear start puts journal bearing 0 .* clearances "
+                                         r"from its centre"):
+        simulate(heavy)
