@@ -154,8 +154,14 @@ def _campbell(args) -> int:
     low = top / args.n_speeds if model.journal_bearings else 0.0
     result = campbell(model, np.linspace(low, top, args.n_speeds), n_modes=args.n_modes)
     result.to_frame().to_csv(args.out / "campbell.csv", index=False)
-    campbell_figure(result, title=f"Campbell diagram: {model.rig.name}").savefig(
+    films = (", journal bearings: coefficients at each speed" if model.journal_bearings
+             else "")
+    campbell_figure(result, title=f"Campbell diagram: {model.rig.name}{films}").savefig(
         args.out / "campbell.png", dpi=150)
+    if films:
+        print(f"{len(model.journal_bearings)} plain journal bearing(s): the films' speed-"
+              "dependent, cross-coupled coefficients at each speed; the diagram starts at "
+              f"{low / RPM:.0f} rpm (a film has no stiffness at rest)", file=sys.stderr)
     print(f"wrote {args.out / 'campbell.png'} and {args.out / 'campbell.csv'}", file=sys.stderr)
     return 0
 

@@ -132,4 +132,8 @@ def test_rubdiag_modal_says_what_journal_bearings_change(tmp_path, capsys):
     assert out["stability_threshold_rpm"] == pytest.approx(found.speed_rad_s * 30 / math.pi)
     assert main(["campbell", "--rig", str(path), "--out", str(tmp_path), "--n-speeds",
                  "5", "--max-speed-rpm", "20000"]) == 0
-    assert (tmp_path / "campbell.csv").exists()
+    assert "journal bearing(s): the films' speed-dependent" in capsys.readouterr().err
+    import pandas as pd
+
+    table = pd.read_csv(tmp_path / "campbell.csv")      # 5 speeds from 20000 / 5 rpm
+    assert table["speed_rpm"].min() == pytest.approx(4000.0)
