@@ -117,6 +117,7 @@ from rubdiag.dataset.faults import (
     check_factors,
     faults_in,
     shown_point,
+    whirl_threshold_rad_s,
 )
 from rubdiag.dataset.ids import point_id, run_id
 from rubdiag.dataset.labels import LabelRules
@@ -249,7 +250,10 @@ class Design:
         if not isinstance(self.fault_settings, FaultSettings):
             raise _check.wrong_type("fault_settings", self.fault_settings,
                                     "a FaultSettings or a table")
-        check_factors(names, next((f.levels for f in self.factors if f.name == "fault"), None))
+        levels = next((f.levels for f in self.factors if f.name == "fault"), None)
+        check_factors(names, levels)
+        if any("whirl" in faults_in(level) for level in levels or ()):
+            whirl_threshold_rad_s(self.rig)     # a journal rig with a threshold, or refused
         set_("method", _check.choice("sampling.method", self.method, METHODS))
         set_("seed", _check.integer("sampling.seed", self.seed, lo=0))
         set_("replicates", _check.integer("sampling.replicates", self.replicates, lo=1,
@@ -459,7 +463,10 @@ class Design:
         return out
 
     def _speed_rad_s(self, point: Mapping) -> float:
-        """The design point's speed (rad/s): with a ramp, the middle of the sweep."""
+        """The design point's speed (rad/s): with a ramp, the middle of the sweep; with
+        whirl, ``whirl_speed_ratio`` times the rig's threshold of instability."""
+        if "whirl" in faults_in(point.get("fault", "none")):
+            return point["whirl_speed_ratio"] * whirl_threshold_rad_s(self.rig)
         if "speed_ratio" in point:
             return point["speed_ratio"] * self.critical_speeds_rad_s[point["case"] - 1]
         return point["speed_rpm"] * math.pi / 30.0

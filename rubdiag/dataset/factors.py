@@ -22,13 +22,16 @@ Factors (``FACTORS``, in their canonical order) and their physical ranges:
 - ``casing_stiffness_scale``: times the casing support stiffnesses (k_y, k_z, and k_rx when
   the rig sets it; not the dampers). > 0.
 - ``fault``: the faults a run carries (:data:`rubdiag.dataset.faults.FAULT_LEVELS`: ``none``,
-  ``rub``, ``misalignment``, ``crack``, ``looseness`` and ``rub+`` each of the other three);
+  ``rub``, ``misalignment``, ``crack``, ``looseness``, ``whirl`` and ``rub+`` each of the
+  other four);
   levels only (:mod:`rubdiag.dataset.faults`).
 - ``crack_depth_ratio``: the crack's depth a/D, > 0 … 0.5; only in runs with a crack.
 - ``misalignment_angle_mrad``: the coupling's angular misalignment α₀ (mrad), 0 … 200;
   only in runs with a misalignment.
 - ``looseness_preload_n``: the force (N) still pressing the loose pedestal onto its seat,
   0 … 1e6 (smaller: looser); only in runs with a looseness.
+- ``whirl_speed_ratio``: the speed over the rig's threshold of instability on its journal
+  bearings, > 0 … 10; only in runs with whirl, whose speed it sets.
 
 Exclusive pairs (``EXCLUSIVE``): ``case``/``phase_diff_deg``, ``speed_ratio``/``speed_rpm``,
 ``normal_stiffness_n_m``/``contact_stiffness_scale``.
@@ -75,6 +78,7 @@ FACTORS: dict[str, Callable] = {
     "crack_depth_ratio": _range(0.0, 0.5, lo_open=True),
     "misalignment_angle_mrad": _range(0.0, 200.0, lo_open=False, unit="mrad"),
     "looseness_preload_n": _range(0.0, 1e6, lo_open=False, unit="N"),
+    "whirl_speed_ratio": _range(0.0, 10.0, lo_open=True),
 }
 
 #: Factors that say the same thing two ways: a design gives at most one of each pair.

@@ -9,18 +9,21 @@ from __future__ import annotations
 
 __all__ = ["CONTACT_FACTORS", "CRACK_OPEN_THRESHOLD", "FAULT_KINDS", "FAULT_LABELS",
            "FAULT_LEVELS", "FAULT_MEASURES", "LIFT_OFF_THRESHOLD", "MISALIGNMENT_2X_THRESHOLD_N",
-           "NO_RUB_GAP_M", "SEVERITY_FACTORS", "fault_level", "faults_in"]
+           "NO_RUB_GAP_M", "SEVERITY_FACTORS", "WHIRL_SHARE_THRESHOLD", "fault_level",
+           "faults_in"]
 
 #: the faults beside rub a level may name
-FAULT_KINDS = ("misalignment", "crack", "looseness")
-FAULT_LEVELS = ("none", "rub", "misalignment", "crack", "looseness", "rub+misalignment",
-                "rub+crack", "rub+looseness")
+FAULT_KINDS = ("misalignment", "crack", "looseness", "whirl")
+FAULT_LEVELS = ("none", "rub", "misalignment", "crack", "looseness", "whirl",
+                "rub+misalignment", "rub+crack", "rub+looseness", "rub+whirl")
 #: severity factor -> the fault whose runs it applies to
 SEVERITY_FACTORS = {"crack_depth_ratio": "crack", "misalignment_angle_mrad": "misalignment",
-                    "looseness_preload_n": "looseness"}
+                    "looseness_preload_n": "looseness", "whirl_speed_ratio": "whirl"}
 #: the raw measures and the labels (their columns, in this order)
-FAULT_MEASURES = ("crack_open_fraction", "misalignment_2x_force_n", "lift_off_fraction")
-FAULT_LABELS = ("fault_crack", "fault_misalignment", "fault_looseness", "faults")
+FAULT_MEASURES = ("crack_open_fraction", "misalignment_2x_force_n", "lift_off_fraction",
+                  "subsync_share")
+FAULT_LABELS = ("fault_crack", "fault_misalignment", "fault_looseness", "fault_whirl",
+                "faults")
 #: the gap of the runs without rub (m): far beyond any orbit of the rig (module docstring)
 NO_RUB_GAP_M = 0.05
 #: the factors a run without rub ignores
@@ -28,6 +31,7 @@ CONTACT_FACTORS = ("gap_mm", "mu", "normal_stiffness_n_m", "contact_stiffness_sc
 CRACK_OPEN_THRESHOLD = 0.05
 MISALIGNMENT_2X_THRESHOLD_N = 0.5
 LIFT_OFF_THRESHOLD = 0.05
+WHIRL_SHARE_THRESHOLD = 0.25
 
 
 def fault_level(name: str, value) -> str:

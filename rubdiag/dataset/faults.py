@@ -2,9 +2,8 @@
 the labels each fault's own element gives.
 
 Levels (:data:`FAULT_LEVELS`): ``none``, ``rub``, ``misalignment``, ``crack``,
-``looseness``, ``rub+misalignment``, ``rub+crack``, ``rub+looseness``. A level names the
-faults present, joined by ``+``; adding a fault is one entry in :data:`FAULT_KINDS` and its
-levels.
+``looseness``, ``whirl``, and ``rub+`` each of the four. A level names the faults present,
+joined by ``+``; adding a fault is one entry in :data:`FAULT_KINDS` and its levels.
 
 * Levels without ``rub`` have no blade–casing contact: their runs keep the rig as it is
   (its contact elements, so the same model, reduced model and sensors as the rub runs: the
@@ -34,6 +33,11 @@ levels.
   the paper rig's 1× bearing force at half a critical speed is about 0.5 N (case 1) and
   5 N (case 2): F₀ of a fraction of a newton lifts the pedestal in both cases. The rig must
   have that bearing on a pedestal: the preset ``paper-pedestal``.
+* Oil whirl (and whip) needs a rig on plain journal bearings (the preset ``paper-journal``).
+  Its severity is the speed: a run with whirl turns at ``whirl_speed_ratio`` times the
+  rig's threshold of instability (:func:`whirl_threshold_rad_s`), whatever the design's
+  speed factor says; the other runs keep that factor. A run on such a rig whips wherever its
+  speed lies above the threshold, whatever its level: its label says so.
 * The rest of each fault is fixed by ``[base]`` options (:class:`FaultSettings`).
 
 Labels (:func:`fault_labels`), from what each fault's element or model did, never a
@@ -51,20 +55,28 @@ probe's spectrum:
 ``lift_off_fraction``
     The share of the analysis window during which the loose pedestal is off its seat (its
     element's status not SEATED), from the same status log. NaN without a looseness.
-``fault_crack``, ``fault_misalignment``, ``fault_looseness``
+``subsync_share``
+    The largest over the rig's journal bearings of the share, by power, of the journal's
+    orbit relative to its housing below 0.9× of the speed
+    (:func:`rubdiag.simulate.films.subsynchronous_share`). NaN on a rig without journal
+    bearings.
+``fault_crack``, ``fault_misalignment``, ``fault_looseness``, ``fault_whirl``
     The measure at or above :data:`CRACK_OPEN_THRESHOLD` / :data:`MISALIGNMENT_2X_THRESHOLD_N`
-    / :data:`LIFT_OFF_THRESHOLD`.
+    / :data:`LIFT_OFF_THRESHOLD` / :data:`WHIRL_SHARE_THRESHOLD`.
 ``faults``
     The faults that acted, ``rub`` first, joined by ``+`` (``"none"`` when none did).
 
 The thresholds are CALIBRATIONS: a crack engaged during under 5 % of the window hardly
 breathes; a 2× coupling force under 0.5 N is small beside the paper rig's unbalance forces at half
 its first critical speed; with the default coupling (T = 20 N·m, L = 5 cm) it is α₀ ≈ 2.5
-mrad; a pedestal off its seat during under 5 % of the window only taps it.
+mrad; a pedestal off its seat during under 5 % of the window only taps it; a quarter of the
+journal's orbit below 0.9× is a whirl that dominates the bearing's motion (measured on the
+test rotor of ``tests/journal_rig.py``: 6e-9 below its threshold, 0.98 above).
 """
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -82,14 +94,16 @@ from rubdiag.dataset.fault_levels import (
     MISALIGNMENT_2X_THRESHOLD_N,
     NO_RUB_GAP_M,
     SEVERITY_FACTORS,
+    WHIRL_SHARE_THRESHOLD,
     fault_level,
     faults_in,
 )
 
 __all__ = ["CRACK_OPEN_THRESHOLD", "FAULT_KINDS", "FAULT_LABELS", "FAULT_LEVELS",
            "FAULT_MEASURES", "LIFT_OFF_THRESHOLD",
-           "MISALIGNMENT_2X_THRESHOLD_N", "NO_RUB_GAP_M", "SEVERITY_FACTORS", "FaultSettings",
-           "fault_labels", "fault_level", "faults_in"]
+           "MISALIGNMENT_2X_THRESHOLD_N", "NO_RUB_GAP_M", "SEVERITY_FACTORS",
+           "WHIRL_SHARE_THRESHOLD", "FaultSettings", "fault_labels", "fault_level", "faults_in",
+           "whirl_threshold_rad_s"]
 
 
 @dataclass(frozen=True)
@@ -196,9 +210,13 @@ def check_factors(names: set[str], levels: tuple[str, ...] | None) -> None:
                                  f"(the {fault}'s severity)")
 
 
+#: the factors that set a run's speed, which a run with whirl ignores
+SPEED_FACTORS = ("speed_ratio", "speed_rpm")
+
+
 def shown_point(point: dict) -> dict:
     """The point as its row shows it: what its run ignores NaN (the severities of absent
-    faults; without rub, the contact factors)."""
+    faults; without rub, the contact factors; with whirl, the speed factors)."""
     if "fault" not in point:
         return dict(point)
     present = faults_in(point["fault"])
@@ -206,6 +224,8 @@ def shown_point(point: dict) -> dict:
     def ignored(name: str) -> bool:
         if name in SEVERITY_FACTORS:
             return SEVERITY_FACTORS[name] not in present
+        if name in SPEED_FACTORS:               # whirl's speed is its severity's
+            return "whirl" in present
         return name in CONTACT_FACTORS and "rub" not in present
 
     return {k: math.nan if ignored(k) else v for k, v in point.items()}
@@ -216,6 +236,7 @@ def fault_labels(result, rub: bool) -> dict:
     run's rub label, which ``faults`` joins first)."""
     from rubdiag.kernels import pedestal
     from rubdiag.kernels.records import SLIDING, STICKING
+    from rubdiag.simulate.films import subsynchronous_share
 
     faults = result.run.faults
     present = () if faults is None else faults.names
@@ -230,15 +251,41 @@ def fault_labels(result, rub: bool) -> dict:
     if "misalignment" in present:
         lines = faults.misalignment.lines()
         misalignment_2x = float(np.max(np.abs(lines[2][:2]))) if 2 in lines else 0.0
+    journals = [k for k, b in enumerate(result.run.rig.bearings) if b.journal is not None]
+    share = (max(subsynchronous_share(result, k) for k in journals) if journals
+             else math.nan)
     acted = {"rub": rub,
              "misalignment": bool(misalignment_2x >= MISALIGNMENT_2X_THRESHOLD_N),
              "crack": bool(open_fraction >= CRACK_OPEN_THRESHOLD),
-             "looseness": bool(lifted >= LIFT_OFF_THRESHOLD)}
+             "looseness": bool(lifted >= LIFT_OFF_THRESHOLD),
+             "whirl": bool(share >= WHIRL_SHARE_THRESHOLD)}
     names = [n for n in ("rub", *FAULT_KINDS) if acted[n]]
     return {"crack_open_fraction": open_fraction, "misalignment_2x_force_n": misalignment_2x,
-            "lift_off_fraction": lifted, "fault_crack": acted["crack"],
-            "fault_misalignment": acted["misalignment"], "fault_looseness": acted["looseness"],
+            "lift_off_fraction": lifted, "subsync_share": share,
+            "fault_crack": acted["crack"], "fault_misalignment": acted["misalignment"],
+            "fault_looseness": acted["looseness"], "fault_whirl": acted["whirl"],
             "faults": "+".join(names) if names else "none"}
+
+
+@functools.cache
+def whirl_threshold_rad_s(rig) -> float:
+    """The threshold of instability (rad/s) of ``rig`` on its journal bearings: the lowest
+    speed between half its first and twice its second critical speed at which a root of its
+    linear model crosses into the right half plane (:func:`rubdiag.modal.stability_threshold`;
+    cached per rig). A ValueError when the rig has no journal bearing or no threshold there."""
+    from rubdiag.assembly import assemble
+    from rubdiag.modal import critical_speeds, stability_threshold, with_rayleigh
+
+    model = with_rayleigh(assemble(rig))
+    if not model.journal_bearings:
+        raise ValueError(f"rig {rig.name!r} has no journal bearing: oil whirl needs one "
+                         "(allowed: a rig such as the preset 'paper-journal')")
+    first, last = critical_speeds(model, n=2)[[0, -1]]
+    found = stability_threshold(model, 0.5 * first, 2.0 * last)
+    if found is None:
+        raise ValueError(f"rig {rig.name!r} is stable from {0.5 * first:.6g} to "
+                         f"{2.0 * last:.6g} rad/s: no threshold for whirl_speed_ratio")
+    return found.speed_rad_s
 
 
 def _fraction_in(result, element: int, statuses: tuple[int, ...]) -> float:

@@ -132,14 +132,15 @@ def run_measures(result, linear_approach_m: float | None = None) -> dict:
     start = run.discard_s
     end = float(system.t[-1]) if system.t.size else start
     window = max(end - start, 0.0)
-    # the contact elements' episodes only: a fault element (a breathing crack) also logs
-    # episodes, which are not rubs (rubdiag.dataset.faults labels it)
-    faulty = getattr(run, "faults", None) is not None
-    ep = result.contact_episodes() if faulty else system.episodes
+    # the contact elements' episodes only: a fault element (a breathing crack) or a journal
+    # bearing's film also logs episodes, which are not rubs (rubdiag.dataset.faults labels
+    # them)
+    n_elements = getattr(result, "n_contacts", system.contact_fn.shape[1])
+    others = n_elements < system.contact_fn.shape[1]
+    ep = result.contact_episodes() if others else system.episodes
     overlap = (ep.t_end > start) & (ep.t_start < end)
     lasting = overlap & (ep.n_steps >= MIN_RUB_STEPS)
     closed = np.clip(ep.t_end, start, end) - np.clip(ep.t_start, start, end)
-    n_elements = result.n_contacts if faulty else system.contact_fn.shape[1]
     per_element = np.zeros(max(n_elements, 1))
     np.add.at(per_element, ep.element[overlap] - 1, closed[overlap])
     slide, stick = ep.slide_time[overlap].sum(), ep.stick_time[overlap].sum()

@@ -350,7 +350,7 @@ BAD = [
      r"unknown factor 'factors.speed' \(allowed: case, phase_diff_deg, speed_ratio, speed_rpm, "
      r"gap_mm, mu, unbalance_scale, normal_stiffness_n_m, contact_stiffness_scale, "
      r"casing_stiffness_scale, fault, crack_depth_ratio, "
-     r"misalignment_angle_mrad, looseness_preload_n\)"),
+     r"misalignment_angle_mrad, looseness_preload_n, whirl_speed_ratio\)"),
     (edit("sampling", replicate=2),
      r"unknown key 'sampling.replicate' \(allowed: method, n, seed, replicates\)"),
     (edit("base", duration=2.3),
@@ -423,7 +423,8 @@ BAD = [
      r"< 2.3 s\)"),
     (edit("base", duration_s=0.0), r"base.duration_s = 0.0 is out of range"),
     (edit("base", rig="nosuchrig.toml"), r"base.rig = 'nosuchrig.toml' is neither a preset nor "
-     r"a file \(allowed: 'paper', 'paper-pedestal' or a rig TOML path\)"),
+     r"a file \(allowed: 'paper', 'paper-pedestal', 'paper-journal' or a rig TOML "
+     r"path\)"),
     (edit("base", rig={"name": "x"}), r"base.rig: "),
     (edit("base", critical_speeds_rad_s=[150.0]),
      r"base.critical_speeds_rad_s has 1 entries \(allowed: one per case, at least 2\)"),

@@ -1,0 +1,69 @@
+"""Oil whirl as a level of a design's fault factor (issue 27, part 4): its severity is the
+speed over the rig's threshold of instability, its label the journal's sub-synchronous
+orbit share; it needs a rig on journal bearings (the preset paper-journal)."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from rubdiag.dataset import Design
+from rubdiag.dataset.faults import fault_labels, whirl_threshold_rad_s
+from rubdiag.dataset.labels import label_run
+from rubdiag.model import preset_rig
+from rubdiag.simulate import simulate
+
+TOML = """
+[base]
+rig = "{rig}"
+duration_s = 3.0
+discard_s = 1.5
+reduced = true
+gravity_m_s2 = 9.81
+[sampling]
+method = "lhs"
+n = 4
+seed = 2
+[factors]
+case = [2]
+speed_ratio = {{low = 0.9, high = 0.95}}
+gap_mm = [0.06]
+fault = ["none", "whirl"]
+whirl_speed_ratio = {{low = 1.05, high = 1.1}}
+"""
+
+
+def test_whirl_needs_a_rig_on_journal_bearings():
+    with pytest.raises(ValueError, match=r"no journal bearing: oil whirl needs one.*paper-jour"):
+        Design.from_toml(TOML.format(rig="paper"))
+
+
+@pytest.fixture(scope="module")
+def design():
+    return Design.from_toml(TOML.format(rig="paper-journal"))
+
+
+def test_a_whirl_run_turns_at_its_ratio_of_the_threshold_and_ignores_the_speed_factor(design):
+    threshold = whirl_threshold_rad_s(preset_rig("paper-journal"))
+    for item in design.runs():
+        if item.point["fault"] == "whirl":
+            assert item.run.speed_rad_s == pytest.approx(
+                item.point["whirl_speed_ratio"] * threshold, rel=1e-12)
+            assert math.isnan(item.point["speed_ratio"])      # the row says it was ignored
+        else:
+            assert item.run.speed_rad_s < 0.96 * design.critical_speeds_rad_s[1]
+            assert math.isnan(item.point["whirl_speed_ratio"])
+        assert item.run.rig == design.rig
+
+
+def test_a_whirl_run_is_labelled_whirl_and_not_rub(design):
+    """The films log episodes of their own (always engaged): not rubs. Above the threshold
+    the journal's orbit is mostly sub-synchronous (whip of the first mode)."""
+    item = next(r for r in design.runs() if r.point["fault"] == "whirl")
+    result = simulate(item.run)
+    rub = label_run(result)
+    labels = fault_labels(result, rub["rub"])
+    assert rub["rub"] is False and rub["n_rub_episodes"] == 0
+    assert labels["subsync_share"] > 0.5 and labels["fault_whirl"] is True
+    assert labels["faults"] == "whirl"
