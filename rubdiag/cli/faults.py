@@ -16,10 +16,12 @@ def register(sub) -> None:
         description="Simulates case 1 of the paper-pedestal rig (the study's rig with its "
         "drive-end bearing on a pedestal) under gravity: a breathing crack and a misaligned "
         "coupling at 750 rpm (half the first critical speed), a loose pedestal at 1450 rpm, "
-        "each without rub, and at each of those speeds a rubbing and a healthy run. For "
-        "each fault it draws the fault's and the rub run's shaft waveform, orbit and "
-        "spectrum, with the lines each model predicts marked (faults_<fault>.png), and "
-        "prints the lines' amplitudes at shaft 11.")
+        "each without rub, and at each of those speeds a rubbing and a healthy run; and on "
+        "paper-journal (the same rig on plain journal bearings) case 2 whipping above its "
+        "threshold of instability beside rub below it. For each fault it draws the fault's "
+        "and the rub run's shaft waveform, orbit and spectrum, with the lines each model "
+        "predicts marked (faults_<fault>.png), and prints the lines' amplitudes at shaft "
+        "11.")
     p.add_argument("--speed-rpm", type=float,
                    help="one speed for every run (rpm; default: each fault's own, above)")
     p.add_argument("--interference", type=float, default=1.3,
@@ -44,7 +46,7 @@ def _faults(args) -> int:
     from rubdiag._atomic import write_bytes
     from rubdiag.cli._paths import output_folder
     from rubdiag.plotting.faults import PREDICTED, faults_figure
-    from rubdiag.runs.faults import FIGURE_FAULTS, fault_runs, line_amplitudes
+    from rubdiag.runs.faults import FIGURE_FAULTS, fault_runs, line_amplitudes, whirl_runs
     from rubdiag.simulate import simulate
 
     runs = fault_runs(speed_rpm=args.speed_rpm, interference=args.interference,
@@ -66,15 +68,29 @@ def _faults(args) -> int:
         path = out / f"faults_{fault}.png"
         write_bytes(path, buf.getvalue())
         written.append(path)
+    journal, whip_order = whirl_runs(interference=args.interference)
+    journal = {name: simulate(run) for name, run in journal.items()}
+    fig = faults_figure(journal, POINT, direction="y",
+                        predicted={"whirl": (whip_order, 1.0), "rub": PREDICTED["rub"]})
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=90)
+    write_bytes(out / "faults_whirl.png", buf.getvalue())
+    written.append(out / "faults_whirl.png")
+    whirl_orders = sorted({whip_order, 0.5, *PREDICTED["rub"]})
+    for name, r in journal.items():
+        table[f"{name} journal"] = {d: line_amplitudes(r, f"{POINT} {d}", whirl_orders)
+                                    for d in "yz"}
+        results[f"{name} journal"] = r
     if args.json:
         print(json.dumps(table))
         return 0
     print(f"{POINT}, line amplitudes (um) over the window")
     for name, by_direction in table.items():
         run = results[name].run
-        what = f"{name.split()[0]} {run.speed_rpm:.0f} rpm" + (
+        rig = " (journal)" if name.endswith("journal") else ""
+        what = f"{name.split()[0]}{rig} {run.speed_rpm:.0f} rpm" + (
             f" g0 {run.gap_m * 1e3:.3f} mm" if name.startswith("rub") else "")
         for d, row in by_direction.items():
-            print(f"  {what:26s} {d} " + " ".join(f"{k} {v * 1e6:8.3f}" for k, v in row.items()))
+            print(f"  {what:36s} {d} " + " ".join(f"{k} {v * 1e6:8.3f}" for k, v in row.items()))
     print("wrote " + ", ".join(str(p) for p in written))
     return 0

@@ -13,10 +13,12 @@ import numpy as np
 #: the orders each fault's reference predicts at the shaft (rub: the study's 1×, 2×, 4× and
 #: half orders; a breathing crack: 2× and 3× (Gasch 1993, Mayes & Davies 1984); a misaligned
 #: coupling: 2× (and 4×, weak); a loose pedestal: ½× or ⅓× and their multiples (Muszynska &
-#: Goldman 1995))
+#: Goldman 1995); oil whirl: just under ½× (whip: at the first natural frequency, an order
+#: that depends on the speed: ``faults_figure(predicted=...)``))
 PREDICTED = {"rub": (1.0, 1.5, 2.0, 3.5, 4.0), "crack": (1.0, 2.0, 3.0),
              "misalignment": (1.0, 2.0, 4.0),
-             "looseness": (1 / 3, 0.5, 2 / 3, 1.0, 1.5, 2.0, 3.0), "none": (1.0,)}
+             "looseness": (1 / 3, 0.5, 2 / 3, 1.0, 1.5, 2.0, 3.0), "none": (1.0,),
+             "whirl": (0.5, 1.0)}
 REVOLUTIONS = 4     # the waveform panel's length
 MAX_ORDER = 5.0
 
@@ -36,15 +38,18 @@ def _spectrum(t, x, speed_rad_s: float):
 
 
 def faults_figure(results: dict, point: str = "shaft 11", kinds: dict | None = None,
-                  direction: str = "y"):
+                  direction: str = "y", predicted: dict | None = None):
     """One row per run of ``results`` (name -> SimulationResult): the last
     :data:`REVOLUTIONS` revolutions of ``point``'s displacement along ``direction`` ("y" or
     "z"), its orbit over the window, and the spectrum along ``direction`` against the order,
     the fault's predicted lines marked (``kinds``: name -> a key of :data:`PREDICTED`;
-    default the name itself)."""
+    default the name itself; ``predicted``: name -> orders, in place of :data:`PREDICTED`'s,
+    for a line that depends on the run, such as a whip's at the first natural
+    frequency)."""
     import matplotlib.pyplot as plt
 
     kinds = {} if kinds is None else kinds
+    predicted_orders = {} if predicted is None else predicted
     n = len(results)
     fig, axes = plt.subplots(n, 3, figsize=(13, 2.9 * n), squeeze=False,
                              gridspec_kw={"width_ratios": (2.2, 1, 2.2)})
@@ -64,7 +69,8 @@ def faults_figure(results: dict, point: str = "shaft 11", kinds: dict | None = N
         orders, amp = _spectrum(t, u, speed)
         keep = (orders > 0.2) & (orders <= MAX_ORDER)
         spec.semilogy(orders[keep], 1e6 * amp[keep], lw=0.8, color="C0")
-        predicted = PREDICTED.get(kinds.get(name, name), ())
+        predicted = (predicted_orders[name] if name in predicted_orders
+                     else PREDICTED.get(kinds.get(name, name), ()))
         for k, order in enumerate(predicted):
             spec.axvline(order, color="C3", lw=0.8, ls="--", alpha=0.7,
                          label="lines its model predicts" if k == 0 else None)

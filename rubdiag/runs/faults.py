@@ -4,7 +4,9 @@
 bearing on a pedestal) under gravity, case 1 with each fault alone at the speed where its
 reference puts its signature (:data:`FIGURE_FAULTS`), and at each of those speeds a rubbing
 and a healthy run. A rub run's gap is its linear blade-tip approach over ``interference``, so
-that it rubs alike at any speed. :func:`line_amplitudes` measures the lines a figure marks.
+that it rubs alike at any speed. :func:`whirl_runs` does the same for oil whip on the
+``paper-journal`` rig (the same rig on plain journal bearings): case 2 above the threshold of
+instability, and rub below it. :func:`line_amplitudes` measures the lines a figure marks.
 """
 
 from __future__ import annotations
@@ -15,7 +17,7 @@ import numpy as np
 
 from rubdiag import _check
 
-__all__ = ["FIGURE_FAULTS", "fault_runs", "line_amplitudes"]
+__all__ = ["FIGURE_FAULTS", "fault_runs", "line_amplitudes", "whirl_runs"]
 
 #: fault -> (speed in rpm, the shaft direction its figure shows): a crack's 2× resonates at
 #: half the first critical speed (1500 rpm), and so does a coupling's 2× force; a loose
@@ -69,6 +71,43 @@ def fault_runs(*, speed_rpm: float | None = None, interference: float = 1.3,
                                   gap_ramp_s=0.25 * duration_s)
         out[f"none {rpm:g}"] = run(rpm)
     return out
+
+
+def whirl_runs(*, interference: float = 1.3, above: float = 1.06, below: float = 0.95,
+               duration_s: float = 3.0) -> tuple[dict, float]:
+    """Oil whip beside rub on ``paper-journal`` under gravity, case 2 (its threshold lies in
+    case 2's range): ``{"whirl": the rotor at ``above`` times the threshold, "rub": a rubbing
+    run at ``below`` times it}`` (the rub gap its linear approach over ``interference``),
+    each ``duration_s`` long (s; the last half analysed: the whip needs about a second to
+    grow), and the order at which the whip's reference puts its line: the first critical
+    speed of the rig's critical speed map over the whip run's speed (whip locks at the first
+    natural frequency)."""
+    from rubdiag.assembly import assemble
+    from rubdiag.modal import critical_speeds, stability_threshold, with_rayleigh
+    from rubdiag.model import preset_rig
+    from rubdiag.simulate import Run
+    from rubdiag.simulate.rig_cache import damped_model
+    from rubdiag.simulate.rig_system import rig_system
+    from rubdiag.simulate.static_load import StaticLoad
+
+    interference = _check.number("interference", interference, lo=0.0, hi=100.0,
+                                 lo_open=True)
+    rig = preset_rig("paper-journal")
+    model = with_rayleigh(assemble(rig))
+    first, second = critical_speeds(model, n=2)
+    threshold = stability_threshold(model, 0.5 * first, 2.0 * second).speed_rad_s
+    gravity = StaticLoad(direction="y", gravity_m_s2=-9.81)
+
+    def run(ratio, gap_mm=None, **options):
+        return Run.paper_case(2, gap_mm, speed_rpm=ratio * threshold * 30.0 / math.pi,
+                              duration_s=duration_s, discard_s=0.5 * duration_s, rig=rig,
+                              static_load=gravity, **options)
+
+    probe = run(below, 50.0, gap_ramp_s=0.0)
+    approach = rig_system(probe, damped_model(rig)).approach
+    runs = {"whirl": run(above),
+            "rub": run(below, 1e3 * approach / interference, gap_ramp_s=0.1 * duration_s)}
+    return runs, float(first / runs["whirl"].speed_rad_s)
 
 
 def line_amplitudes(result, point: str, orders) -> dict[str, float]:

@@ -61,8 +61,9 @@ def test_a_cracked_runup_without_rub_counts_no_contact(tmp_path, capsys):
 def test_the_faults_figures_show_each_fault_s_lines_beside_rub(tmp_path, capsys):
     """``rubdiag faults``: each fault's predicted lines stand out of the healthy run's at its
     speed (crack 2x and 3x, coupling 2x at 750 rpm; the loose pedestal's 1/3x and 1/2x
-    across gravity at 1450 rpm), the rub runs rub at the stated interference and show 4x,
-    and one figure per fault is drawn (not blank)."""
+    across gravity at 1450 rpm; oil whip at the first natural frequency on paper-journal),
+    the rub runs rub at the stated interference and show 4x, and one figure per fault is
+    drawn (not blank)."""
     import matplotlib.image as mpimg
 
     assert main(["faults", "--out", str(tmp_path), "--duration-s", "1.0", "--json"]) == 0
@@ -77,7 +78,13 @@ def test_the_faults_figures_show_each_fault_s_lines_beside_rub(tmp_path, capsys)
                                                                      fast["0.5x"])
     # across gravity: the subharmonic is in z, the loose direction
     assert loose["z"]["0.333x"] > 10 * loose["y"]["0.333x"]
-    for fault in ("crack", "misalignment", "looseness"):
+    # oil whip on paper-journal: the line at the first natural frequency (an order under
+    # 0.45 at 1.06 of the threshold) dwarfs 1x, and the rub below the threshold has none
+    whip = lines["whirl journal"]["y"]
+    (order,) = [k for k in whip if float(k[:-1]) < 0.45]
+    assert whip[order] > 5 * whip["1x"]
+    assert lines["rub journal"]["y"][order] < 0.01 * whip[order]
+    for fault in ("crack", "misalignment", "looseness", "whirl"):
         pixels = mpimg.imread(tmp_path / f"faults_{fault}.png")
         assert min(pixels.shape[:2]) > 400 and pixels[..., :3].std() > 0.02
 
