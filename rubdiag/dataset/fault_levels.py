@@ -21,7 +21,7 @@ SEVERITY_FACTORS = {"crack_depth_ratio": "crack", "misalignment_angle_mrad": "mi
                     "looseness_preload_n": "looseness", "whirl_speed_ratio": "whirl"}
 #: the raw measures and the labels (their columns, in this order)
 FAULT_MEASURES = ("crack_open_fraction", "misalignment_2x_force_n", "lift_off_fraction",
-                  "subsync_share")
+                  "subsync_share", "min_film_ratio")
 FAULT_LABELS = ("fault_crack", "fault_misalignment", "fault_looseness", "fault_whirl",
                 "faults")
 #: the gap of the runs without rub (m): far beyond any orbit of the rig (module docstring)

@@ -60,6 +60,10 @@ probe's spectrum:
     orbit relative to its housing below 0.9× of the speed
     (:func:`rubdiag.simulate.films.subsynchronous_share`). NaN on a rig without journal
     bearings.
+``min_film_ratio``
+    The thinnest oil film over the window, over the clearance, among the rig's journal
+    bearings (each film element's recorded ``gap``; > 0: every journal stayed inside its
+    clearance, where the short-bearing force holds). NaN on a rig without journal bearings.
 ``fault_crack``, ``fault_misalignment``, ``fault_looseness``, ``fault_whirl``
     The measure at or above :data:`CRACK_OPEN_THRESHOLD` / :data:`MISALIGNMENT_2X_THRESHOLD_N`
     / :data:`LIFT_OFF_THRESHOLD` / :data:`WHIRL_SHARE_THRESHOLD`.
@@ -254,6 +258,9 @@ def fault_labels(result, rub: bool) -> dict:
     journals = [k for k, b in enumerate(result.run.rig.bearings) if b.journal is not None]
     share = (max(subsynchronous_share(result, k) for k in journals) if journals
              else math.nan)
+    # the films are the last elements: their recorded gap is the thinnest film / clearance
+    films = result.system.contact_gap[result.window, -len(journals):] if journals else None
+    min_film = float(films.min()) if journals else math.nan
     acted = {"rub": rub,
              "misalignment": bool(misalignment_2x >= MISALIGNMENT_2X_THRESHOLD_N),
              "crack": bool(open_fraction >= CRACK_OPEN_THRESHOLD),
@@ -261,7 +268,7 @@ def fault_labels(result, rub: bool) -> dict:
              "whirl": bool(share >= WHIRL_SHARE_THRESHOLD)}
     names = [n for n in ("rub", *FAULT_KINDS) if acted[n]]
     return {"crack_open_fraction": open_fraction, "misalignment_2x_force_n": misalignment_2x,
-            "lift_off_fraction": lifted, "subsync_share": share,
+            "lift_off_fraction": lifted, "subsync_share": share, "min_film_ratio": min_film,
             "fault_crack": acted["crack"], "fault_misalignment": acted["misalignment"],
             "fault_looseness": acted["looseness"], "fault_whirl": acted["whirl"],
             "faults": "+".join(names) if names else "none"}

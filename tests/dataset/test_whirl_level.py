@@ -67,3 +67,38 @@ def test_a_whirl_run_is_labelled_whirl_and_not_rub(design):
     assert rub["rub"] is False and rub["n_rub_episodes"] == 0
     assert labels["subsync_share"] > 0.5 and labels["fault_whirl"] is True
     assert labels["faults"] == "whirl"
+    assert 0.0 < labels["min_film_ratio"] < 1.0       # whipping, yet inside the clearance
+
+
+def test_the_shipped_journal_design_has_every_level_on_paper_journal():
+    from collections import Counter
+    from pathlib import Path
+
+    from rubdiag.dataset.fault_levels import FAULT_LEVELS
+
+    path = Path(__file__).parents[2] / "data" / "designs" / "faults_journal.toml"
+    design = Design.from_toml(path)
+    runs = design.runs()
+    assert Counter(r.point["fault"] for r in runs) == {level: 8 for level in FAULT_LEVELS}
+    assert {r.run.rig for r in runs} == {preset_rig("paper-journal")}
+    assert {r.point["case"] for r in runs} == {1, 2}
+
+
+@pytest.mark.slow
+def test_every_run_of_the_shipped_journal_design_keeps_its_journals_inside(tmp_path):
+    """The short-bearing force holds only inside the clearance: every run of the shipped
+    design keeps every journal inside it (measured 2026-11-27: the thinnest film 0.17 c),
+    and its forces stay finite."""
+    from pathlib import Path
+
+    import numpy as np
+
+    from rubdiag.dataset import generate, load
+
+    path = Path(__file__).parents[2] / "data" / "designs" / "faults_journal.toml"
+    generate(Design.from_toml(path), tmp_path / "d", jobs=2, progress=False)
+    rows = load(tmp_path / "d")
+    assert len(rows) == 80 and (rows["status"] == "ok").all()
+    assert (rows["min_film_ratio"] > 0.0).all()
+    forces = rows[[c for c in rows.columns if c.endswith("_force_n")]].to_numpy(float)
+    assert np.isfinite(forces[~np.isnan(forces)]).all()
