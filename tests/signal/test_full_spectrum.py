@@ -1,0 +1,91 @@
+"""rubdiag.signal.fullspectrum: synthetic orbits of known content (issue 28, part 1).
+
+The convention: y + i z, the shaft turning from y towards z, is forward at positive
+frequencies. A circle turning with the shaft is forward, against it reverse; an ellipse of
+semi-axes a and b is forward (a + b)/2 and reverse (a - b)/2.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from rubdiag.signal.fullspectrum import NEAR_RADIUS, full_spectrum_lines, orbit_measures
+
+FS, SPEED = 5000.0, 25.0            # Hz
+T = np.arange(int(2.0 * FS)) / FS    # 2 s: 50 whole revolutions
+W = 2 * np.pi * SPEED
+ORDERS = (0.5, 1.0, 1.5, 2.0, 3.0, 4.0)
+
+
+def lines(y, z, rotation=1):
+    return full_spectrum_lines(y, z, FS, SPEED, ORDERS, rotation=rotation)
+
+
+def test_a_forward_circle_is_forward_and_a_reverse_one_reverse():
+    forward, reverse = lines(3.0 * np.cos(W * T + 0.4), 3.0 * np.sin(W * T + 0.4))
+    np.testing.assert_allclose(forward, [0, 3.0, 0, 0, 0, 0], atol=1e-6)
+    np.testing.assert_allclose(reverse, 0.0, atol=1e-6)
+    forward, reverse = lines(2.0 * np.cos(W * T), -2.0 * np.sin(W * T))
+    np.testing.assert_allclose(reverse, [0, 2.0, 0, 0, 0, 0], atol=1e-6)
+    np.testing.assert_allclose(forward, 0.0, atol=1e-6)
+    # the same probes with the shaft turning the other way: the roles swap
+    forward, reverse = lines(2.0 * np.cos(W * T), -2.0 * np.sin(W * T), rotation=-1)
+    np.testing.assert_allclose(forward, [0, 2.0, 0, 0, 0, 0], atol=1e-6)
+
+
+def test_an_ellipse_is_half_the_sum_forward_and_half_the_difference_reverse():
+    a, b = 5.0, 2.0
+    forward, reverse = lines(a * np.cos(W * T + 1.1), b * np.sin(W * T + 1.1))
+    assert forward[1] == pytest.approx((a + b) / 2, abs=1e-6)
+    assert reverse[1] == pytest.approx((a - b) / 2, abs=1e-6)
+    m = orbit_measures(a * np.cos(W * T), b * np.sin(W * T), FS, SPEED, ORDERS)
+    assert m.ellipticity_1x == pytest.approx((a - b) / (a + b), abs=1e-6)
+    assert m.precession_1x == 1
+    assert m.flattening == pytest.approx(1 - b / a, abs=1e-6)
+
+
+def test_a_forward_1x_with_a_reverse_2x():
+    y = 4.0 * np.cos(W * T) + 1.5 * np.cos(2 * W * T + 0.3)
+    z = 4.0 * np.sin(W * T) - 1.5 * np.sin(2 * W * T + 0.3)
+    forward, reverse = lines(y, z)
+    np.testing.assert_allclose(forward, [0, 4.0, 0, 0, 0, 0], atol=1e-6)
+    np.testing.assert_allclose(reverse, [0, 0, 0, 1.5, 0, 0], atol=1e-6)
+    m = orbit_measures(y, z, FS, SPEED, ORDERS)
+    assert m.reverse_share == pytest.approx(1.0, abs=1e-6)
+    assert m.forward_1x == pytest.approx(4.0, abs=1e-6) and m.reverse_1x < 1e-6
+    # a forward half order beside it: the reverse share is 1.5² / (1.5² + 0.8²)
+    y2, z2 = y + 0.8 * np.cos(0.5 * W * T), z + 0.8 * np.sin(0.5 * W * T)
+    m2 = orbit_measures(y2, z2, FS, SPEED, ORDERS)
+    assert m2.reverse_share == pytest.approx(1.5**2 / (1.5**2 + 0.8**2), abs=1e-6)
+
+
+def test_a_clipped_orbit_against_values_computed_here():
+    """A forward circle of radius 3 held by a flat wall at y = 2: its radius, clipped where
+    it would cross the wall, computed sample by sample here."""
+    y, z = 3.0 * np.cos(W * T), 3.0 * np.sin(W * T)
+    y = np.minimum(y, 2.0)
+    m = orbit_measures(y, z, FS, SPEED, ORDERS)
+    centre = (y + 1j * z).mean()
+    radius = np.abs(y + 1j * z - centre)
+    assert m.flattening == pytest.approx(1 - radius.min() / radius.max(), rel=1e-12)
+    limit = np.percentile(radius, 99.0)
+    assert m.limit_radius == pytest.approx(limit, rel=1e-12)
+    near = np.mean(np.abs(radius - limit) <= NEAR_RADIUS * limit)
+    assert m.near_limit_share == pytest.approx(near, rel=1e-12)
+    # the wall holds the orbit acos(2/3)/pi of the time (27 %; to one sample of the 200 a
+    # revolution has): a flat side, far from a
+    # circle (flattening 0) and from a line (1)
+    assert np.mean(y == 2.0) == pytest.approx(np.arccos(2 / 3) / np.pi, abs=1 / 200)
+    assert 0.2 < m.flattening < 0.5
+
+
+def test_bad_input_is_refused_by_name():
+    with pytest.raises(ValueError, match="rotation"):
+        lines(np.cos(W * T), np.sin(W * T), rotation=2)
+    with pytest.raises(ValueError, match="same length"):
+        full_spectrum_lines(np.zeros(10), np.zeros(11), FS, SPEED, ORDERS)
+    with pytest.raises(ValueError, match="revolutions"):
+        full_spectrum_lines(np.zeros(10), np.zeros(10), FS, SPEED, ORDERS)
+    with pytest.raises(ValueError, match="NaN or inf"):
+        full_spectrum_lines(np.full(1000, np.nan), np.zeros(1000), FS, SPEED, ORDERS)
