@@ -85,3 +85,43 @@ def faults_figure(results: dict, point: str = "shaft 11", kinds: dict | None = N
     axes[-1, 2].set_xlabel("order (× running speed)")
     fig.tight_layout()
     return fig
+
+
+def full_spectrum_figure(y, z, fs: float, speed_hz: float, *, rotation: int = 1,
+                         clearance=None, title: str = "", max_order: float = 5.0):
+    """The full spectrum of a probe pair against the order of the running speed
+    ``speed_hz`` (Hz), reverse precession to the left of 0 and forward to the right, beside
+    the orbit (the probes' unit) with its ``clearance`` circle when given (a radius in the
+    probes' unit, about the orbit's mean)."""
+    import matplotlib.pyplot as plt
+
+    from rubdiag.signal.fullspectrum import full_spectrum
+
+    f, amp = full_spectrum(y, z, fs, rotation=rotation)
+    order = f / speed_hz
+    keep = np.abs(order) <= max_order
+    fig, (spec, orbit) = plt.subplots(1, 2, figsize=(11, 3.6),
+                                      gridspec_kw={"width_ratios": (2.4, 1)})
+    spec.semilogy(order[keep], np.maximum(amp[keep], 1e-12 * amp.max()), lw=0.8,
+                  color="C0")
+    spec.axvline(0.0, color="k", lw=0.8)
+    top = float(amp[keep].max())
+    spec.set(xlim=(-max_order, max_order), ylim=(top * 1e-5, top * 3),
+             xlabel="order (× running speed): reverse < 0 < forward",
+             ylabel="amplitude", title=f"{title} full spectrum".strip())
+    spec.text(0.02, 0.92, "reverse", transform=spec.transAxes, fontsize="small")
+    spec.text(0.98, 0.92, "forward", transform=spec.transAxes, fontsize="small",
+              ha="right")
+    y = np.asarray(y, float) - np.mean(y)
+    z = np.asarray(z, float) - np.mean(z)
+    orbit.plot(y, z, lw=0.5, color="C0")
+    if clearance is not None:
+        angle = np.linspace(0.0, 2 * np.pi, 361)
+        orbit.plot(clearance * np.cos(angle), clearance * np.sin(angle), "C3--", lw=0.8,
+                   label="clearance")
+        orbit.legend(loc="upper right", fontsize="small")
+    orbit.set(xlabel="y", ylabel="z", aspect="equal", title="orbit")
+    for ax in (spec, orbit):
+        ax.grid(alpha=0.3)
+    fig.tight_layout()
+    return fig

@@ -12,6 +12,8 @@ precession at positive frequencies and reverse precession at negative ones. A ci
 ``y = A cos ωt, z = A sin ωt`` is forward of amplitude A; an ellipse of semi-axes a and b
 (``y = a cos ωt, z = b sin ωt``) is forward (a + b)/2 plus reverse (a − b)/2.
 
+* :func:`full_spectrum` — the whole full spectrum ``(f, amplitude)``, f from −fs/2 to
+  fs/2 (negative: reverse), a Hann-windowed periodogram of the complex signal;
 * :func:`full_spectrum_lines` — forward and reverse amplitudes at chosen orders of the
   running speed, by a lock-in over the record's whole revolutions (exact for lines at those
   orders);
@@ -30,7 +32,8 @@ import numpy as np
 
 from rubdiag import _check
 
-__all__ = ["ROTATIONS", "OrbitMeasures", "full_spectrum_lines", "orbit_measures"]
+__all__ = ["ROTATIONS", "OrbitMeasures", "full_spectrum", "full_spectrum_lines",
+           "orbit_measures"]
 
 #: the senses of rotation: +1 from y towards z, -1 from z towards y
 ROTATIONS = (1, -1)
@@ -61,6 +64,18 @@ def _whole_revolutions(n: int, fs: float, speed_hz: float) -> int:
         raise ValueError(f"the record holds {n / per_rev:.3g} revolutions at {speed_hz:g} Hz "
                          "(allowed: at least 1)")
     return round(revs * per_rev)
+
+
+def full_spectrum(y, z, fs: float, *, rotation: int = 1) -> tuple[np.ndarray, np.ndarray]:
+    """The full spectrum of the probe pair: ``(f, amplitude)`` with f (Hz) ascending from
+    −fs/2 (reverse precession) to fs/2 (forward), and the peak amplitude of each precession
+    line (Hann window, its coherent gain divided out: a forward circle of radius A on a bin
+    reads A at its frequency), the mean removed."""
+    fs = _check.positive("fs", fs, unit="Hz")
+    s = _complex(y, z, rotation)
+    window = np.hanning(s.size)
+    spectrum = np.fft.fftshift(np.fft.fft((s - s.mean()) * window)) / window.sum()
+    return np.fft.fftshift(np.fft.fftfreq(s.size, 1.0 / fs)), np.abs(spectrum)
 
 
 def full_spectrum_lines(y, z, fs: float, speed_hz: float, orders, *,
