@@ -38,6 +38,13 @@ def register(subparsers) -> None:
     )
     p.add_argument("input", metavar="INPUT", help=_INPUT_HELP)
     _common(p)
+    p.add_argument(
+        "--pair", metavar="Y,Z",
+        help="two channels of orthogonal probes in one plane: adds their full spectrum "
+             "(forward and reverse amplitude at each order) and orbit measures as a row "
+             "'Y+iZ' (the shaft turning from Y towards Z; --rotation -1 for the other way)")
+    p.add_argument("--rotation", type=int, choices=(1, -1), default=1,
+                   help="with --pair: +1 when the shaft turns from Y towards Z (default), -1")
     out = p.add_mutually_exclusive_group()
     out.add_argument(
         "--json", action="store_true", help="print a JSON list, one object per channel"
@@ -219,7 +226,9 @@ def _features(args) -> int:
         table = run_features(load_result(args.input))
         table.insert(0, "source", [args.input])
     else:
-        _, _, table = _load(args.input, args)
+        frame, fs, table = _load(args.input, args, keep_flat=args.pair is not None)
+        if args.pair is not None:
+            table = _with_pair(table, frame, fs, args)
     if args.json:
         rows = [
             {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in row.items()}
@@ -242,6 +251,32 @@ def _features(args) -> int:
             with pandas_display():
                 print(table.set_index(table.columns[0]).T.to_string())   # channel or source
     return 0
+
+
+def _with_pair(table, frame, fs, args):
+    """``table`` with the row of ``--pair Y,Z`` (its speed the pair's channels' own)."""
+    import pandas as pd
+
+    from rubdiag.signal.fullspectrum import pair_features
+
+    if args.revs_per_bin is not None:
+        raise ValueError("--pair works at one speed, not with --revs-per-bin")
+    names = [name.strip() for name in args.pair.split(",")]
+    if len(names) != 2 or not all(names):
+        raise ValueError(f"--pair {args.pair!r} (allowed: two channel names, Y,Z)")
+    missing = [name for name in names if name not in frame.columns]
+    if missing:
+        raise ValueError(f"--pair: no channel {missing[0]!r} in {args.input} (channels: "
+                         f"{', '.join(map(str, frame.columns))})")
+    rows = table.set_index(table.columns[0])
+    speed = float(rows.loc[names[0], "speed_rpm"]) if "speed_rpm" in rows else args.speed_rpm
+    if speed is None or not speed > 0.0:
+        raise ValueError("--pair needs the running speed (--speed-rpm, or a channel whose "
+                         "lines give it)")
+    row = pair_features(frame[names[0]].to_numpy(), frame[names[1]].to_numpy(), fs, speed,
+                        rotation=args.rotation)
+    row = {table.columns[0]: f"{names[0]}+i{names[1]}", "speed_rpm": speed, **row}
+    return pd.concat([table, pd.DataFrame([row])], ignore_index=True)
 
 
 #: Order amplitudes that the printed tables across speed show.

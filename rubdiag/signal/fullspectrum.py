@@ -17,6 +17,8 @@ precession at positive frequencies and reverse precession at negative ones. A ci
 * :func:`full_spectrum_lines` — forward and reverse amplitudes at chosen orders of the
   running speed, by a lock-in over the record's whole revolutions (exact for lines at those
   orders);
+* :func:`pair_features` — both as one row: ``fwd_<order>``, ``rev_<order>`` at the half and
+  third orders the feature table searches, and the orbit measures;
 * :func:`orbit_measures` — the 1× ellipticity and precession, the reverse share of the
   non-1× motion, and the orbit's shape: its flattening, its clearance-limited radius and
   the share of time it spends near that radius (definitions in the function's docstring).
@@ -33,7 +35,7 @@ import numpy as np
 from rubdiag import _check
 
 __all__ = ["ROTATIONS", "OrbitMeasures", "full_spectrum", "full_spectrum_lines",
-           "orbit_measures"]
+           "orbit_measures", "pair_features"]
 
 #: the senses of rotation: +1 from y towards z, -1 from z towards y
 ROTATIONS = (1, -1)
@@ -57,9 +59,13 @@ def _complex(y, z, rotation: int) -> np.ndarray:
 
 
 def _whole_revolutions(n: int, fs: float, speed_hz: float) -> int:
-    """The number of samples in the record's whole revolutions (at least one needed)."""
+    """The number of samples in the record's whole revolutions, a multiple of 6 of them when
+    it holds 6 or more (so that the half and third orders are orthogonal to the harmonics
+    and to each other: no line leaks into another's lock-in); at least one needed."""
     per_rev = fs / speed_hz
     revs = int(np.floor(n / per_rev + 1e-9))
+    if revs >= 6:
+        revs -= revs % 6
     if revs < 1:
         raise ValueError(f"the record holds {n / per_rev:.3g} revolutions at {speed_hz:g} Hz "
                          "(allowed: at least 1)")
@@ -81,8 +87,9 @@ def full_spectrum(y, z, fs: float, *, rotation: int = 1) -> tuple[np.ndarray, np
 def full_spectrum_lines(y, z, fs: float, speed_hz: float, orders, *,
                         rotation: int = 1) -> tuple[np.ndarray, np.ndarray]:
     """Forward and reverse amplitudes (the probes' unit) at each order ``k`` of the running
-    speed ``speed_hz`` (Hz): ``|mean(s e^{∓ikΩt})|`` over the record's whole revolutions of
-    the complex signal ``s`` (module docstring), its mean removed. Returns ``(forward,
+    speed ``speed_hz`` (Hz): ``|mean(s e^{∓ikΩt})|`` over the record's whole revolutions (a
+    multiple of 6 from 6 on) of the complex signal ``s`` (module docstring), its mean
+    removed. Returns ``(forward,
     reverse)``, arrays over ``orders``. A line at one of the orders is measured exactly
     whatever its phase; a line at another frequency leaks in as a sinc over the window."""
     fs = _check.positive("fs", fs, unit="Hz")
@@ -160,3 +167,23 @@ def orbit_measures(y, z, fs: float, speed_hz: float, orders, *,
         limit_radius=limit,
         near_limit_share=float(np.mean(np.abs(radius - limit) <= NEAR_RADIUS * limit)),
     )
+
+
+def pair_features(y, z, fs: float, speed_rpm: float, *, rotation: int = 1) -> dict:
+    """One row of a probe pair's full-spectrum and orbit features at the running speed
+    ``speed_rpm`` (rpm): ``fwd_<order>`` and ``rev_<order>`` (the probes' unit) at the half
+    orders 0.5× … 8× and the third orders the feature table searches
+    (:mod:`rubdiag.signal.orders`; column labels as its ``order_label``), and the fields of
+    :func:`orbit_measures` over those orders."""
+    from rubdiag.signal.orders import HALF_ORDERS, THIRD_ORDERS, order_label
+
+    speed_hz = _check.positive("speed_rpm", speed_rpm, unit="rpm") / 60.0
+    orders = np.array(sorted(HALF_ORDERS + THIRD_ORDERS))
+    forward, reverse = full_spectrum_lines(y, z, fs, speed_hz, orders, rotation=rotation)
+    row = {}
+    for k, f, r in zip(orders, forward, reverse, strict=True):
+        row[f"fwd_{order_label(k)}"] = float(f)
+        row[f"rev_{order_label(k)}"] = float(r)
+    measures = orbit_measures(y, z, fs, speed_hz, orders, rotation=rotation)
+    row.update({name: getattr(measures, name) for name in OrbitMeasures.__dataclass_fields__})
+    return row

@@ -119,3 +119,35 @@ def test_the_full_spectrum_figure_is_drawn(tmp_path):
     fig.savefig(tmp_path / "full.png", dpi=80)
     pixels = mpimg.imread(tmp_path / "full.png")
     assert min(pixels.shape[:2]) > 200 and pixels[..., :3].std() > 0.02
+
+
+def test_rubdiag_features_takes_a_probe_pair(tmp_path, capsys):
+    """``rubdiag features FILE --pair y,z`` adds the row 'y+iz': a forward 1x of 3 and a
+    reverse 2x of 1 at 1500 rpm read back to 1e-6; the other rotation swaps them; a
+    missing channel is one line and exit 2."""
+    import json
+
+    import pandas as pd
+
+    from rubdiag.cli import main
+
+    y = 3.0 * np.cos(W * T) + 1.0 * np.cos(2 * W * T)
+    z = 3.0 * np.sin(W * T) - 1.0 * np.sin(2 * W * T)
+    path = tmp_path / "pair.csv"
+    pd.DataFrame({"time": T, "y": y, "z": z}).to_csv(path, index=False)
+    assert main(["features", str(path), "--speed-rpm", "1500", "--pair", "y,z",
+                 "--json"]) == 0
+    rows = json.loads(capsys.readouterr().out)
+    pair = rows[-1]
+    assert pair["channel"] == "y+iz"
+    assert pair["fwd_1x"] == pytest.approx(3.0, abs=1e-6)
+    assert pair["rev_2x"] == pytest.approx(1.0, abs=1e-6)
+    assert pair["rev_1x"] < 1e-6 and pair["precession_1x"] == 1
+    assert pair["reverse_share"] == pytest.approx(1.0, abs=1e-6)
+    assert main(["features", str(path), "--speed-rpm", "1500", "--pair", "y,z",
+                 "--rotation", "-1", "--json"]) == 0
+    pair = json.loads(capsys.readouterr().out)[-1]
+    assert pair["rev_1x"] == pytest.approx(3.0, abs=1e-6) and pair["precession_1x"] == -1
+    assert main(["features", str(path), "--speed-rpm", "1500", "--pair", "y,q"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "no channel 'q'" in err[0]
