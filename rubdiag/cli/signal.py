@@ -220,6 +220,10 @@ def _features(args) -> int:
     unit = unit_of(args.input, args)
     if args.csv:
         output_file(args.csv, "--csv")
+    if args.pair is not None and is_result(args.input):
+        raise ValueError("--pair reads two channels of a signal file (CSV, NPZ, parquet); a "
+                         "simulation result's channels are y only (allowed: a file of "
+                         "measured or exported y and z channels)")
     if is_result(args.input) and args.revs_per_bin is None:
         # a simulation result: one row for the run, as rubdiag.features(result) gives it
         # (shaft_/blade_/casing_ spectra and the contact statistics)

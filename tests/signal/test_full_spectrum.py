@@ -151,3 +151,16 @@ def test_rubdiag_features_takes_a_probe_pair(tmp_path, capsys):
     assert main(["features", str(path), "--speed-rpm", "1500", "--pair", "y,q"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "no channel 'q'" in err[0]
+
+
+def test_a_simulation_result_has_no_pair_yet(tmp_path, capsys):
+    """A result's channels are y only: --pair on one is refused in one line."""
+    from rubdiag.cli import main
+
+    out = tmp_path / "run.npz"
+    assert main(["simulate", "--case", "1", "--gap-mm", "50", "--duration-s", "0.05",
+                 "--discard-s", "0.0", "--out", str(out)]) == 0
+    capsys.readouterr()
+    assert main(["features", str(out), "--pair", "shaft,blade"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "simulation result's channels are y only" in err[0]
