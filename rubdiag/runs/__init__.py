@@ -9,6 +9,8 @@
   run-ups and coast-downs (:mod:`rubdiag.runs.runup`).
 * :func:`fault_runs`, :func:`whirl_runs`, :func:`line_amplitudes` — each fault that looks
   like rub beside rub (:mod:`rubdiag.runs.faults`).
+* :func:`pair_rows` — the full spectrum and orbit of every recorded probe pair
+  (:mod:`rubdiag.runs.pairs`).
 """
 
 from __future__ import annotations
@@ -16,9 +18,11 @@ from __future__ import annotations
 from rubdiag.runs.contact_stats import CONTACT_STAT_NAMES, contact_statistics
 from rubdiag.runs.faults import FIGURE_FAULTS, fault_runs, line_amplitudes, whirl_runs
 from rubdiag.runs.features import features, is_result, run_features, run_points, run_signals
+from rubdiag.runs.pairs import pair_rows, recorded_pairs
 from rubdiag.runs.runup import linear_response, ramp_run, runup_orders, runup_summary
 
 __all__ = ["CONTACT_STAT_NAMES", "FIGURE_FAULTS", "contact_statistics", "fault_runs",
-           "features", "is_result", "line_amplitudes", "linear_response", "ramp_run",
+           "features", "is_result", "line_amplitudes", "linear_response", "pair_rows",
+           "ramp_run", "recorded_pairs",
            "run_features", "run_points", "run_signals", "runup_orders", "runup_summary",
            "whirl_runs"]
