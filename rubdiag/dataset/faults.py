@@ -276,22 +276,20 @@ def fault_labels(result, rub: bool) -> dict:
 
 @functools.cache
 def whirl_threshold_rad_s(rig) -> float:
-    """The threshold of instability (rad/s) of ``rig`` on its journal bearings: the lowest
-    speed between half its first and twice its second critical speed at which a root of its
-    linear model crosses into the right half plane (:func:`rubdiag.modal.stability_threshold`;
-    cached per rig). A ValueError when the rig has no journal bearing or no threshold there."""
+    """The threshold of instability (rad/s) of ``rig`` on its journal bearings
+    (:func:`rubdiag.modal.whirl_threshold`; cached per rig). A ValueError when the rig has
+    no journal bearing or no threshold there."""
     from rubdiag.assembly import assemble
-    from rubdiag.modal import critical_speeds, stability_threshold, with_rayleigh
+    from rubdiag.modal import whirl_threshold, with_rayleigh
 
     model = with_rayleigh(assemble(rig))
     if not model.journal_bearings:
         raise ValueError(f"rig {rig.name!r} has no journal bearing: oil whirl needs one "
                          "(allowed: a rig such as the preset 'paper-journal')")
-    first, last = critical_speeds(model, n=2)[[0, -1]]
-    found = stability_threshold(model, 0.5 * first, 2.0 * last)
+    found = whirl_threshold(model)
     if found is None:
-        raise ValueError(f"rig {rig.name!r} is stable from {0.5 * first:.6g} to "
-                         f"{2.0 * last:.6g} rad/s: no threshold for whirl_speed_ratio")
+        raise ValueError(f"rig {rig.name!r} is stable from half its first to twice its "
+                         "second critical speed: no threshold for whirl_speed_ratio")
     return found.speed_rad_s
 
 

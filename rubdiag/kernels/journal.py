@@ -8,7 +8,8 @@ model and sources there) at the trial position and at the velocity the Newmark r
 gives, ``ẋ₁ = cv (x − x_n) + cvv ẋ_n + cva ẍ_n``; its Jacobian is
 ``∂p/∂x + cv ∂p/∂ẋ``. Always engaged (status 2); ``gap`` is the thinnest film over the
 clearance (≤ 0: the journal left its clearance, where the short-bearing force is not
-physical — :class:`rubdiag.simulate.journal.JournalBearing` states the check).
+physical: a run refuses a start there, and a dataset row records the thinnest film as
+``min_film_ratio``).
 
 Books (kept by the law, as the crack does): the film stores no energy; the work it does on
 the structure over a step, ``½ (p_n + p₁)·(x₁ − x_n)`` (the trapezoidal rule, exact for the

@@ -18,7 +18,7 @@ from rubdiag.modal.harmonic import (
     harmonic_response,
     unbalance_response,
 )
-from rubdiag.modal.stability import StabilityThreshold, stability_threshold
+from rubdiag.modal.stability import StabilityThreshold, stability_threshold, whirl_threshold
 
 __all__ = [
     "KNOBS",
@@ -38,5 +38,6 @@ __all__ = [
     "stability_threshold",
     "synchronous_modes",
     "unbalance_response",
+    "whirl_threshold",
     "with_rayleigh",
 ]

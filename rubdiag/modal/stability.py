@@ -18,7 +18,7 @@ import numpy as np
 from rubdiag import _check
 from rubdiag.modal.eigen import modes
 
-__all__ = ["StabilityThreshold", "stability_threshold"]
+__all__ = ["StabilityThreshold", "stability_threshold", "whirl_threshold"]
 
 
 @dataclass(frozen=True)
@@ -60,3 +60,13 @@ def stability_threshold(model, low_rad_s: float, high_rad_s: float, n_grid: int 
                            speeds[k], xtol=1e-9 * speeds[k], rtol=1e-12)
             return StabilityThreshold(float(speed), abs(_rightmost(model, speed, n_modes).imag))
     return None
+
+
+def whirl_threshold(model) -> StabilityThreshold | None:
+    """The threshold of instability of a rig on journal bearings where whirl and whip are
+    sought: :func:`stability_threshold` between half its first and twice its second forward
+    critical speed (None when it is stable over that range)."""
+    from rubdiag.modal.critical import critical_speeds
+
+    first, last = critical_speeds(model, n=2)[[0, -1]]
+    return stability_threshold(model, 0.5 * first, 2.0 * last)

@@ -83,7 +83,7 @@ def whirl_runs(*, interference: float = 1.3, above: float = 1.06, below: float =
     speed of the rig's critical speed map over the whip run's speed (whip locks at the first
     natural frequency)."""
     from rubdiag.assembly import assemble
-    from rubdiag.modal import critical_speeds, stability_threshold, with_rayleigh
+    from rubdiag.modal import critical_speeds, whirl_threshold, with_rayleigh
     from rubdiag.model import preset_rig
     from rubdiag.simulate import Run
     from rubdiag.simulate.rig_cache import damped_model
@@ -94,8 +94,8 @@ def whirl_runs(*, interference: float = 1.3, above: float = 1.06, below: float =
                                  lo_open=True)
     rig = preset_rig("paper-journal")
     model = with_rayleigh(assemble(rig))
-    first, second = critical_speeds(model, n=2)
-    threshold = stability_threshold(model, 0.5 * first, 2.0 * second).speed_rad_s
+    first = critical_speeds(model, n=1)[0]
+    threshold = whirl_threshold(model).speed_rad_s
     gravity = StaticLoad(direction="y", gravity_m_s2=-9.81)
 
     def run(ratio, gap_mm=None, **options):
