@@ -19,7 +19,7 @@ from rubdiag.dataset.fault_levels import FAULT_LABELS, FAULT_MEASURES
 from rubdiag.dataset.ids import SCHEMA_VERSION
 from rubdiag.dataset.labels import LABELS, MEASURES, RUB_STATES, SEVERITIES
 from rubdiag.dataset.rows import ID_COLUMNS, PROVENANCE, RAMP_COLUMNS, SEPARATOR
-from rubdiag.dataset.schema import MODEL_COLUMN
+from rubdiag.dataset.schema import MODEL_COLUMN, pair_probes
 
 __all__ = ["column_map", "write_card"]
 
@@ -31,6 +31,8 @@ _SUFFIX_UNITS = (("_per_rev", "1/rev"), ("_per_s", "1/s"), ("_rpm_s", "rpm/s"),
                  ("_j", "J"), ("_n", "N"), ("_m", "m"), ("_s", "s"))
 # spectral amplitudes are in the unit of the signal: the responses are displacements (m)
 _AMPLITUDE = re.compile(r"^(amp_|rms$|bb_\d+x_rms$|sb_\d+x_(lower|upper)$|combo_amp_)")
+# a probe pair's lengths: forward and reverse lines, the clearance-limited radius
+_PAIR_LENGTH = re.compile(r"^(fwd_|rev_|forward_1x$|reverse_1x$|limit_radius$)")
 
 
 # text and boolean columns
@@ -38,7 +40,9 @@ _NO_UNIT = ("run_id", "point_id", "model", "rub", "rub_state", "severity", "rubd
             "status", "message")
 
 
-def _unit(feature: str, signal_unit: str = "") -> str:
+def _unit(feature: str, signal_unit: str = "", pair: bool = False) -> str:
+    if pair:                    # a probe pair's features: lengths, or ratios and shares
+        return signal_unit if _PAIR_LENGTH.match(feature) else "1"
     if _AMPLITUDE.match(feature):
         return signal_unit
     for suffix, unit in _SUFFIX_UNITS:
@@ -52,8 +56,10 @@ def column_map(columns, sensors=()) -> pd.DataFrame:
     a sensor's, truth: what no sensor measures — contact statistics, the casing maximum —,
     provenance), ``channel`` (a sensor's name, ``contact<k>``, ``contacts``, ``truth``, or
     empty), ``feature`` (the name without the channel) and
-    ``unit`` (amplitudes in the unit of their sensor, of ``sensors``; "1": dimensionless or a
-    count; empty for text)."""
+    ``unit`` (amplitudes in the unit of their sensor, of ``sensors``, a probe pair's in its
+    probes'; "1": dimensionless or a count; empty for text). A probe pair's channel
+    (``shaft11_yz_disp``, :func:`rubdiag.dataset.schema.pair_channel`) is a feature
+    channel like a sensor's."""
     signal_units = {s.name: s.unit for s in sensors}
     rows = []
     for name in columns:
@@ -75,7 +81,11 @@ def column_map(columns, sensors=()) -> pd.DataFrame:
             group = "truth" if _TRUTH.match(channel) else "feature"
         else:
             group = "feature"
-        unit = "" if name in _NO_UNIT else _unit(feature, signal_units.get(channel, ""))
+        probes = pair_probes(channel) if channel and channel not in signal_units else None
+        if probes is not None:
+            unit = _unit(feature, signal_units.get(probes[0], ""), pair=True)
+        else:
+            unit = "" if name in _NO_UNIT else _unit(feature, signal_units.get(channel, ""))
         if name in ("case", "replicate", "interference_ratio", "contact_time_fraction",
                     "sticking_share", "n_rub_episodes", "crack_open_fraction",
                     "crack_depth_ratio") or name.endswith("_scale"):

@@ -18,11 +18,24 @@ the run simulated, in every row, failed ones included), the measures and labels 
 ``fault`` factor also :data:`rubdiag.dataset.faults.FAULT_MEASURES` and ``FAULT_LABELS``),
 the sensor features
 ``CHANNEL__FEATURE`` (e.g. ``shaft11_y_disp__amp_1x``, :mod:`rubdiag.signal.table`), the
+probe pairs' features ``PAIR__FEATURE`` (e.g. ``shaft11_yz_disp__rev_2x``; below), the
 ground truth a plant cannot measure — contact statistics ``contact<k>__…`` and
 ``contacts__…`` (:mod:`rubdiag.runs.contact_stats`) and ``truth__casing_max_y_m`` — then
 :data:`PROVENANCE` (``rubdiag_version``, ``status``, ``message``, ``wall_s``: the row's
 wall time, ``simulate_s``: the simulation's part of it), which the determinism checks
 leave out.
+
+**Probe pairs.** Every point with a y and a z displacement sensor among ``run.sensors``
+(:func:`sensor_pairs`: with the default sensors the bearings' and the disc's shaft nodes)
+is a pair of orthogonal probes, the shaft turning from y towards z. Its channel is named
+by :func:`rubdiag.dataset.schema.pair_channel` (``shaft11_y_disp`` and ``shaft11_z_disp``
+make ``shaft11_yz_disp``) and its columns are
+:data:`~rubdiag.dataset.schema.PAIR_FEATURES` in that order — the forward and reverse
+amplitudes at each searched order and the orbit measures of
+:func:`rubdiag.signal.fullspectrum.pair_features`, in m — computed from the same noisy,
+windowed channels as the single-channel features, so the noise floor reaches them too.
+Pairs follow the order of their y sensor; a pair of freely named probes whose names do not
+differ by y/z alone gets no columns.
 
 **Runs along a speed ramp** (a design's ``[ramp]``, :mod:`rubdiag.dataset.ramp`).
 ``speed_rpm`` is the design point's speed, the middle of the sweep; ``ramp_from_rpm`` and
@@ -36,7 +49,9 @@ order is a steady line, its ``freq_*_hz`` in Hz at ``ramp_mean_rpm``; ``rms`` co
 orders up to 12.5 (the angle-domain low-pass); phases are against the shaft angle. The
 labels' ``interference_ratio`` takes the largest linear approach over the sweep
 (:mod:`rubdiag.dataset.approach`), and the ``…_per_rev`` contact statistics count the
-window's revolutions from the shaft angle.
+window's revolutions from the shaft angle. The pairs' features come from the same
+order-tracked record, so their ``near_limit_share`` is a share of the shaft angle rather
+than of time.
 """
 
 from __future__ import annotations
@@ -49,13 +64,43 @@ import numpy as np
 from rubdiag._version import __version__
 from rubdiag.dataset.labels import LabelRules, label_run
 from rubdiag.dataset.noise import NoiseFloors, add_noise, noise_seed
-from rubdiag.dataset.schema import ID_COLUMNS, MODEL_COLUMN, PROVENANCE, SEPARATOR, STATUSES
+from rubdiag.dataset.schema import (
+    ID_COLUMNS,
+    MODEL_COLUMN,
+    PAIR_FEATURES,
+    PROVENANCE,
+    SEPARATOR,
+    STATUSES,
+    pair_channel,
+)
 
 __all__ = ["ID_COLUMNS", "PROVENANCE", "RAMP_COLUMNS", "SEPARATOR", "STATUSES", "RunTimeout",
-           "make_row", "make_row_and_waveforms"]
+           "make_row", "make_row_and_waveforms", "sensor_pairs"]
 
 #: The columns of a run along a design's speed ramp, after ``speed_rpm`` (module docstring).
 RAMP_COLUMNS = ("ramp_from_rpm", "ramp_to_rpm", "ramp_rate_rpm_s", "ramp_mean_rpm")
+
+
+def sensor_pairs(sensors) -> list[tuple[str, str, str]]:
+    """``(pair channel, y sensor, z sensor)`` of every point with a y and a z displacement
+    sensor among ``sensors`` (the first of each direction there), in the order of the y
+    sensors; a pair whose names give no pair channel, or one that is already a sensor's
+    name, is left out."""
+    names = {s.name for s in sensors}
+    z_at = {}
+    for s in sensors:
+        if s.quantity == "displacement" and s.direction == "z":
+            z_at.setdefault(s.point, s.name)
+    out, seen = [], set()
+    for s in sensors:
+        if (s.quantity != "displacement" or s.direction != "y" or s.point in seen
+                or s.point not in z_at):
+            continue
+        seen.add(s.point)
+        channel = pair_channel(s.name, z_at[s.point])
+        if channel is not None and channel not in names:
+            out.append((channel, s.name, z_at[s.point]))
+    return out
 
 
 class RunTimeout(RuntimeError):
@@ -111,7 +156,8 @@ def _simulate_and_describe(item, rules, noise, run_timeout_s,
     from rubdiag.dataset.approach import sweep_linear_approach_m
     from rubdiag.dataset.faults import fault_labels
     from rubdiag.runs import contact_statistics
-    from rubdiag.runs.features import order_tracked_features
+    from rubdiag.runs.features import order_tracked
+    from rubdiag.signal.fullspectrum import pair_features
     from rubdiag.signal.table import prefixed_features
     from rubdiag.simulate import simulate
 
@@ -135,13 +181,16 @@ def _simulate_and_describe(item, rules, noise, run_timeout_s,
     window = result.window
     windowed = {k: v[window] for k, v in measured.items()}
     computed = {}
-    if varying:
-        spectra = order_tracked_features(windowed, result.fs, result.angle_rad[window],
-                                         separator=SEPARATOR)
-        computed["ramp_mean_rpm"] = float(spectra["speed_rpm"].iloc[0])
+    if varying:                 # one constant-speed record at the sweep's mean speed
+        record, fs, speed_rpm = order_tracked(windowed, result.fs, result.angle_rad[window])
+        computed["ramp_mean_rpm"] = float(speed_rpm)
     else:
-        spectra = prefixed_features(windowed, result.fs, run.speed_rpm, separator=SEPARATOR)
+        record, fs, speed_rpm = windowed, result.fs, run.speed_rpm
+    spectra = prefixed_features(record, fs, speed_rpm, separator=SEPARATOR)
     features = spectra.iloc[0].drop("speed_rpm").to_dict()
+    for channel, y, z in sensor_pairs(run.sensors):
+        pair = pair_features(record[y], record[z], fs, speed_rpm)
+        features.update((f"{channel}{SEPARATOR}{n}", pair[n]) for n in PAIR_FEATURES)
     for name, value in contact_statistics(result).items():
         if name == "window_s":          # the design's, not the run's
             continue

@@ -22,3 +22,48 @@ PROVENANCE = ("rubdiag_version", "status", "message", "wall_s", "simulate_s")
 #: ``status`` of a row: finished; stopped by the simulator (no convergence, non-finite
 #: state); over the per-run wall-time limit; anything else that raised.
 STATUSES = ("ok", "diverged", "timeout", "error")
+
+#: The mark of a probe pair's channel: ``shaft11_y_disp`` and ``shaft11_z_disp`` are the
+#: pair ``shaft11_yz_disp`` (:func:`pair_channel`).
+PAIR_MARK = "yz"
+
+
+def pair_channel(y_name: str, z_name: str) -> str | None:
+    """The channel name of the y/z probe pair ``y_name``, ``z_name``: the two names with
+    their one differing ``_``-separated part (``y`` in one, ``z`` in the other) written
+    ``yz``; None when the names do not differ so (a pair of freely named probes has no
+    name that tells its probes back)."""
+    a, b = str(y_name).split("_"), str(z_name).split("_")
+    if len(a) != len(b):
+        return None
+    differ = [i for i, (p, q) in enumerate(zip(a, b, strict=True)) if p != q]
+    if len(differ) != 1 or (a[differ[0]], b[differ[0]]) != ("y", "z"):
+        return None
+    a[differ[0]] = PAIR_MARK
+    return "_".join(a)
+
+
+def pair_probes(channel: str) -> tuple[str, str] | None:
+    """The y and z probes of a pair channel (the inverse of :func:`pair_channel`), or None
+    when ``channel`` is not named as a pair."""
+    parts = str(channel).split("_")
+    if parts.count(PAIR_MARK) != 1:
+        return None
+    i = parts.index(PAIR_MARK)
+    return ("_".join([*parts[:i], "y", *parts[i + 1:]]),
+            "_".join([*parts[:i], "z", *parts[i + 1:]]))
+
+
+def _pair_features() -> tuple[str, ...]:
+    from rubdiag.signal.fullspectrum import OrbitMeasures
+    from rubdiag.signal.orders import HALF_ORDERS, THIRD_ORDERS, order_label
+
+    lines = [f"{d}_{order_label(k)}" for k in sorted(HALF_ORDERS + THIRD_ORDERS)
+             for d in ("fwd", "rev")]
+    return (*lines, *OrbitMeasures.__dataclass_fields__)
+
+
+#: The features of a pair channel, in their column order: those of
+#: :func:`rubdiag.signal.fullspectrum.pair_features` (``fwd_<k>``, ``rev_<k>`` order by
+#: order, then the orbit measures).
+PAIR_FEATURES = _pair_features()

@@ -103,15 +103,16 @@ def test_negative_noise_floor_is_refused():
 
 def test_feature_columns_are_sensor_channels_only(dataset):
     """A classifier selecting group == "feature" gets what the sensors measured and nothing
-    a plant cannot measure: every feature column's channel is a sensor, and the contact
-    statistics and the casing maximum are 'truth'."""
+    a plant cannot measure: every feature column's channel is a sensor or a y/z pair of
+    displacement sensors, and the contact statistics and the casing maximum are 'truth'."""
     import pandas as pd
 
     design, out, rows = dataset
     columns = pd.read_csv(out / "columns.csv", keep_default_na=False)
     assert set(columns["column"]) == set(rows.reset_index().columns)
     features = columns[columns["group"] == "feature"]
-    assert set(features["channel"]) == {s.name for s in design.sensors}
+    pairs = {"shaft4_yz_disp", "shaft11_yz_disp", "shaft26_yz_disp"}
+    assert set(features["channel"]) == {s.name for s in design.sensors} | pairs
     truth = set(columns.loc[columns["group"] == "truth", "column"])
     assert {"contact1__max_force_n", "contacts__n_episodes", "truth__casing_max_y_m"} <= truth
     assert not any(c.startswith("window") for c in columns["column"])
