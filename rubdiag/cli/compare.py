@@ -5,6 +5,12 @@ shaft, blade and casing, a measurement's probes; a channel flat in both (a casin
 run touched) is left out. Each file is analysed at its own speed
 (given, from a tacho, or the vote of its channels' strongest lines), and amplitudes are
 labelled with the files' unit (``--unit``; m for simulation results).
+
+``--pair Y,Z`` (``--rotation -1`` when the shaft turns from Z towards Y) adds the probe
+pair as one more channel ``Y+iZ``: its full spectrum (forward and reverse amplitude at each
+order) and orbit measures in A and in B, each file at its own speed, and B - A
+(:func:`rubdiag.cli.signal.pair_row`). Both files must hold both channels; a simulation
+result, whose channels are y only, is refused.
 """
 
 from __future__ import annotations
@@ -13,6 +19,7 @@ from rubdiag.cli.signal import (
     ACROSS_SPEED_ORDERS,
     check_across_speed,
     load,
+    pair_row,
     pandas_display,
     unit_words,
 )
@@ -23,6 +30,8 @@ def compare(args) -> int:
     from rubdiag.cli._paths import output_file
 
     check_across_speed(args)
+    if args.pair is not None:
+        _check_pair_inputs(args)
     if args.out:
         output_file(args.out)
     # a channel that moves in one file only (a casing touched in B alone) is compared
@@ -38,6 +47,7 @@ def compare(args) -> int:
     unit = " (A) and ".join(units) + (" (B)" if len(units) > 1 else "")
     if args.revs_per_bin is not None:
         return _across_speed(args, channels, ta, tb, unit)
+    pair = None if args.pair is None else _pair_rows(args, loaded)   # refused before output
     rows = {}
     for i, channel in enumerate(channels):
         ra = ta.set_index("channel").loc[channel]
@@ -46,9 +56,38 @@ def compare(args) -> int:
         if i:
             print()
         _print_difference(channel, ra, rb, args, unit)
+    if pair is not None:
+        print()
+        _print_difference(*pair, args, unit)
     if args.out:
         _spectra_figure(args, loaded, rows, unit)
     return 0
+
+
+def _pair_rows(args, loaded):
+    """``(name, A's row, B's row)`` of ``--pair`` (rows as float Series)."""
+    import pandas as pd
+
+    found = [pair_row(loaded[k][2], loaded[k][0], loaded[k][1], args, path)
+             for k, path in (("A", args.a), ("B", args.b))]
+    key = loaded["A"][2].columns[0]                    # "channel"
+    name = found[0].pop(key)
+    found[1].pop(key)
+    return name, pd.Series(found[0], dtype=float), pd.Series(found[1], dtype=float)
+
+
+def _check_pair_inputs(args) -> None:
+    """``--pair`` reads two channels of two signal files at one speed each: refused with
+    ``--revs-per-bin`` or a simulation result, before anything is computed."""
+    from rubdiag.runs import is_result
+
+    if args.revs_per_bin is not None:
+        raise ValueError("--pair works at one speed, not with --revs-per-bin")
+    for path in (args.a, args.b):
+        if is_result(path):
+            raise ValueError(f"--pair reads two channels of a signal file (CSV, NPZ, "
+                             f"parquet); {path} is a simulation result, whose channels "
+                             "are y only")
 
 
 def _print_difference(channel, ra, rb, args, unit: str) -> None:

@@ -38,13 +38,8 @@ def register(subparsers) -> None:
     )
     p.add_argument("input", metavar="INPUT", help=_INPUT_HELP)
     _common(p)
-    p.add_argument(
-        "--pair", metavar="Y,Z",
-        help="two channels of orthogonal probes in one plane: adds their full spectrum "
-             "(forward and reverse amplitude at each order) and orbit measures as a row "
-             "'Y+iZ' (the shaft turning from Y towards Z; --rotation -1 for the other way)")
-    p.add_argument("--rotation", type=int, choices=(1, -1), default=1,
-                   help="with --pair: +1 when the shaft turns from Y towards Z (default), -1")
+    _pair_options(p, "adds their full spectrum (forward and reverse amplitude at each "
+                     "order) and orbit measures as a row 'Y+iZ'")
     out = p.add_mutually_exclusive_group()
     out.add_argument(
         "--json", action="store_true", help="print a JSON list, one object per channel"
@@ -77,7 +72,18 @@ def register(subparsers) -> None:
     p.add_argument("--out", metavar="FIG.png",
                    help="write the spectra figure (with --revs-per-bin: amplitudes against "
                         "rpm) to this file")
+    _pair_options(p, "compares their full spectrum (forward and reverse amplitude at each "
+                     "order) and orbit measures in A and B, as a channel 'Y+iZ'")
     p.set_defaults(func=_compare)
+
+
+def _pair_options(p: argparse.ArgumentParser, what: str) -> None:
+    p.add_argument(
+        "--pair", metavar="Y,Z",
+        help=f"two channels of orthogonal probes in one plane: {what} (the shaft turning "
+             "from Y towards Z; --rotation -1 for the other way)")
+    p.add_argument("--rotation", type=int, choices=(1, -1), default=1,
+                   help="with --pair: +1 when the shaft turns from Y towards Z (default), -1")
 
 
 def _compare(args) -> int:
@@ -261,6 +267,15 @@ def _with_pair(table, frame, fs, args):
     """``table`` with the row of ``--pair Y,Z`` (its speed the pair's channels' own)."""
     import pandas as pd
 
+    row = pair_row(table, frame, fs, args, args.input)
+    return pd.concat([table, pd.DataFrame([row])], ignore_index=True)
+
+
+def pair_row(table, frame, fs, args, path) -> dict:
+    """The feature row of ``--pair Y,Z`` of one loaded file (``frame``, ``fs``, its feature
+    ``table``): named ``Y+iZ``, at the speed of Y's row of the table, with ``--rotation``.
+    Refused in one line: no speed, a name that is not a channel of ``path``, with
+    ``--revs-per-bin``."""
     from rubdiag.signal.fullspectrum import pair_features
 
     if args.revs_per_bin is not None:
@@ -270,17 +285,18 @@ def _with_pair(table, frame, fs, args):
         raise ValueError(f"--pair {args.pair!r} (allowed: two channel names, Y,Z)")
     missing = [name for name in names if name not in frame.columns]
     if missing:
-        raise ValueError(f"--pair: no channel {missing[0]!r} in {args.input} (channels: "
+        raise ValueError(f"--pair: no channel {missing[0]!r} in {path} (channels: "
                          f"{', '.join(map(str, frame.columns))})")
     rows = table.set_index(table.columns[0])
-    speed = float(rows.loc[names[0], "speed_rpm"]) if "speed_rpm" in rows else args.speed_rpm
+    speed = args.speed_rpm
+    if "speed_rpm" in rows and len(rows):       # Y's own, else the record's (--column)
+        speed = float(rows["speed_rpm"].get(names[0], rows["speed_rpm"].iloc[0]))
     if speed is None or not speed > 0.0:
         raise ValueError("--pair needs the running speed (--speed-rpm, or a channel whose "
                          "lines give it)")
     row = pair_features(frame[names[0]].to_numpy(), frame[names[1]].to_numpy(), fs, speed,
                         rotation=args.rotation)
-    row = {table.columns[0]: f"{names[0]}+i{names[1]}", "speed_rpm": speed, **row}
-    return pd.concat([table, pd.DataFrame([row])], ignore_index=True)
+    return {table.columns[0]: f"{names[0]}+i{names[1]}", "speed_rpm": speed, **row}
 
 
 #: Order amplitudes that the printed tables across speed show.
