@@ -23,6 +23,28 @@ should see. Families (``families=``):
     Hz, the pair's frequencies in Hz. With two cases at different speeds, the speed gives
     the case (and what it implies) away.
 
+``full_spectrum`` (opt-in)
+    Of every probe pair whose two probes are among the channels (``<node>_yz_disp``,
+    :func:`rubdiag.dataset.schema.pair_channel`): the forward and reverse amplitude at each
+    order over the pair's level (``fwd_rel_<k>``, ``rev_rel_<k>``), the reverse share of the
+    non-1× motion, the 1× ellipticity and the 1× precession direction (+1 / −1).
+``orbit`` (opt-in)
+    Of the same pairs: the orbit's flattening, the share of time near its clearance-limited
+    radius, and that radius over the pair's level (``limit_radius_rel``) — no length.
+
+The pair families read the columns a dataset row has for its probe pairs
+(:mod:`rubdiag.dataset.rows`); a frame without them (a dataset made before they existed,
+or a measurement's ``rubdiag features`` table) gives these families nothing, so a
+pipeline asking for them still fits on the other families. A pair's *level* is the RMS of
+its complex signal within the searched orders, √Σ(fwd² + rev²): a length like the
+channels' level, so every ratio is scale-free. They are **not default**: the features of a
+measurement computed by :mod:`rubdiag.learn.predict` and of the noise curves
+(:mod:`rubdiag.learn.robustness`) are single-channel tables without pair columns, so a
+default model using them could not be applied to a measurement or noise-tested; name them
+(``families=[..., "full_spectrum", "orbit"]``) for a model meant for dataset rows. The
+pair columns a fitted model reads are ``pair_required_`` (beside ``required_``, the
+channels' own columns, which already reach the highest order a pair line does).
+
 Phases are never used: an absolute phase depends on where the record starts.
 
 The channel's *level*, which every ratio divides by, is its RMS within the orders the table
@@ -72,22 +94,28 @@ import pandas as pd
 from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
-from rubdiag.dataset.schema import SEPARATOR
+from rubdiag.dataset.schema import PAIR_FEATURES, SEPARATOR, pair_channel
 from rubdiag.learn.columns import channels_of
 from rubdiag.signal.bandfloor import channel_floor, over_floor
 from rubdiag.signal.orders import HALF_ORDERS, HARMONICS, THIRD_ORDERS, order_label
 
-__all__ = ["DEFAULT_FAMILIES", "FAMILIES", "OrderFeatures", "SelectColumns"]
+__all__ = ["DEFAULT_FAMILIES", "FAMILIES", "PAIR_FAMILIES", "OrderFeatures", "SelectColumns",
+           "pairs_of"]
 
-FAMILIES = ("orders", "sidebands", "combinations", "levels", "absolute")
+FAMILIES = ("orders", "sidebands", "combinations", "levels", "absolute", "full_spectrum",
+            "orbit")
 DEFAULT_FAMILIES = ("orders", "sidebands", "combinations")
+#: The families of probe pairs (module docstring): their channels are pairs, not sensors.
+PAIR_FAMILIES = ("full_spectrum", "orbit")
 
 _HALF = [(order_label(k), k) for k in HALF_ORDERS]
 _THIRD = [order_label(k) for k in THIRD_ORDERS]
 
 
 def _recipes(family: str) -> list[tuple[str, str, str]]:
-    """(output name, raw feature, how) of one channel: ``how`` is ``ratio`` (over the level),
+    """(output name, raw feature, how) of one channel (of a family in
+    :data:`PAIR_FAMILIES`: of one probe pair): ``how`` is ``ratio`` (over the level),
+    ``pair_ratio`` (over the pair's level),
     ``floor`` (over the noise floor), ``order`` (Hz over 1×), ``dev:<k>`` (Hz over 1× minus
     k) or ``raw``."""
     if family == "orders":
@@ -117,9 +145,19 @@ def _recipes(family: str) -> list[tuple[str, str, str]]:
         return ([(f"freq_{k}_hz", f"freq_{k}_hz", "raw") for k, _ in _HALF]
                 + [(f"sb_{n}x_delta_hz", f"sb_{n}x_delta_hz", "raw") for n in HARMONICS]
                 + [("combo_fa_hz", "combo_fa_hz", "raw"), ("combo_fb_hz", "combo_fb_hz", "raw")])
+    if family == "full_spectrum":
+        return ([(f"{n[:3]}_rel_{n[4:]}", n, "pair_ratio") for n in _PAIR_LINES]
+                + [(n, n, "raw") for n in ("reverse_share", "ellipticity_1x", "precession_1x")])
+    if family == "orbit":
+        return [("flattening", "flattening", "raw"),
+                ("near_limit_share", "near_limit_share", "raw"),
+                ("limit_radius_rel", "limit_radius", "pair_ratio")]
     raise ValueError(f"families: {family!r} is not a feature family (allowed: "
                      f"{', '.join(FAMILIES)})")
 
+
+#: A pair's forward and reverse lines: its level's raw features.
+_PAIR_LINES = [n for n in PAIR_FEATURES if n.startswith(("fwd_", "rev_"))]
 
 #: The raw features of a channel's level: every order line, the broadband around n×.
 _LEVEL = ([f"amp_{k}" for k, _ in _HALF] + [f"amp_{k}" for k in _THIRD]
@@ -132,6 +170,27 @@ def _level(X: pd.DataFrame, channel: str) -> np.ndarray:
     v = np.nan_to_num(X[[f"{channel}{SEPARATOR}{n}" for n in _LEVEL]].to_numpy(np.float64))
     power = np.where([n.startswith("amp_") for n in _LEVEL], 0.5, 1.0) * v * v
     return np.sqrt(power.sum(axis=1))
+
+
+def _pair_level(X: pd.DataFrame, pair: str) -> np.ndarray:
+    """The pair's RMS within the searched orders, √Σ(fwd² + rev²) (module docstring)."""
+    v = np.nan_to_num(X[[f"{pair}{SEPARATOR}{n}" for n in _PAIR_LINES]].to_numpy(np.float64))
+    return np.sqrt((v * v).sum(axis=1))
+
+
+def pairs_of(X: pd.DataFrame, channels) -> list[str]:
+    """The probe pairs of ``channels`` that ``X`` has columns for: every pair channel
+    (:func:`~rubdiag.dataset.schema.pair_channel`) of two of ``channels``, each feature of
+    :data:`~rubdiag.dataset.schema.PAIR_FEATURES` present, in the order of the y probes."""
+    present = set(X.columns)
+    out = []
+    for y in channels:
+        for z in channels:
+            pair = pair_channel(y, z)
+            if pair is not None and pair not in out and all(
+                    f"{pair}{SEPARATOR}{n}" in present for n in PAIR_FEATURES):
+                out.append(pair)
+    return out
 
 
 def _floor(X: pd.DataFrame, channel: str) -> np.ndarray:
@@ -189,8 +248,17 @@ class OrderFeatures(TransformerMixin, BaseEstimator):
                                  f"(its channels: {', '.join(available) or 'none'})")
         if not channels:
             raise ValueError("no channel to learn from (channels is empty)")
+        pairs = pairs_of(X, channels)
         recipes = [(f"{c}{SEPARATOR}{name}", f"{c}{SEPARATOR}{raw}", c, how)
-                   for c in channels for fam in families for name, raw, how in _recipes(fam)]
+                   for c in channels for fam in families if fam not in PAIR_FAMILIES
+                   for name, raw, how in _recipes(fam)]
+        recipes += [(f"{p}{SEPARATOR}{name}", f"{p}{SEPARATOR}{raw}", p, how)
+                    for p in pairs for fam in families if fam in PAIR_FAMILIES
+                    for name, raw, how in _recipes(fam)]
+        if not recipes:
+            raise ValueError(f"families {', '.join(families)}: the data has no probe pair "
+                             "of the channels (no <node>_yz_disp__ columns), so nothing to "
+                             "learn from")
         if "absolute" in families:
             recipes.insert(0, ("speed_rpm", "speed_rpm", None, "raw"))
         values = self._compute(X, recipes, fill=False)
@@ -198,17 +266,26 @@ class OrderFeatures(TransformerMixin, BaseEstimator):
         self.channels_ = channels
         self.recipes_ = [r for r, keep in zip(recipes, measured, strict=True) if keep]
         self.dropped_ = [r[0] for r, keep in zip(recipes, measured, strict=True) if not keep]
-        self.required_ = sorted({r[1] for r in self.recipes_} | {"speed_rpm"}
+        kept_pairs = {r[2] for r in self.recipes_ if r[2] in pairs}
+        self.pairs_ = [p for p in pairs if p in kept_pairs]
+        self.required_ = sorted({r[1] for r in self.recipes_ if r[2] not in kept_pairs}
+                                | {"speed_rpm"}
                                 | {f"{c}{SEPARATOR}{n}" for c in channels for n in _LEVEL})
+        self.pair_required_ = sorted({r[1] for r in self.recipes_ if r[2] in kept_pairs}
+                                     | {f"{p}{SEPARATOR}{n}" for p in self.pairs_
+                                        for n in _PAIR_LINES})
         self.n_features_out_ = len(self.recipes_)
         return self
 
     def transform(self, X):
         check_is_fitted(self, "recipes_")
-        missing = [c for c in self.required_ if c not in getattr(X, "columns", ())]
+        needed = [*self.required_, *getattr(self, "pair_required_", ())]  # (older models)
+        missing = [c for c in needed if c not in getattr(X, "columns", ())]
         if missing:
+            pairs = getattr(self, "pairs_", ())
+            also = f" and probe pairs {', '.join(pairs)}" if pairs else ""
             raise ValueError(f"the data has no column {missing[0]!r} (the model was trained "
-                             f"on channels {', '.join(self.channels_)})")
+                             f"on channels {', '.join(self.channels_)}{also})")
         return self._compute(X, self.recipes_, fill=True)
 
     def get_feature_names_out(self, input_features=None):
@@ -222,9 +299,9 @@ class OrderFeatures(TransformerMixin, BaseEstimator):
         levels, floors = {}, {}
         for j, (_, raw, channel, how) in enumerate(recipes):
             v = X[raw].to_numpy(dtype=np.float64)
-            if how == "ratio":
+            if how in ("ratio", "pair_ratio"):
                 if channel not in levels:
-                    levels[channel] = _level(X, channel)
+                    levels[channel] = (_level if how == "ratio" else _pair_level)(X, channel)
                 level = levels[channel]
                 with np.errstate(divide="ignore", invalid="ignore"):
                     v = np.where(level > 0.0, v / level, 0.0 * v)   # a still channel: no line
