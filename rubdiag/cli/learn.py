@@ -11,7 +11,7 @@ import math
 import sys
 from pathlib import Path
 
-_TARGETS = ("rub", "rub_state", "severity")          # rubdiag.learn.TARGETS
+_TARGETS = ("rub", "rub_state", "severity", "fault")  # rubdiag.learn.TARGETS
 _ESTIMATORS = ("rf", "hgb", "svm", "logreg")         # rubdiag.learn.ESTIMATORS
 _CHANNEL_SETS = ("auto", "shaft", "all")             # rubdiag.learn.channel_choice
 
@@ -35,7 +35,9 @@ def register(sub) -> None:
     p.add_argument("--out", type=Path, metavar="MODEL_DIR", required=True,
                    help="model folder to write (new or empty; --overwrite replaces a model)")
     p.add_argument("--target", choices=_TARGETS, default="rub",
-                   help="label to predict (default: rub)")
+                   help="label to predict (default: rub; on a dataset with other faults, "
+                   "rub against everything else); fault: the faults that acted (none, rub, "
+                   "crack, rub+crack …: a dataset with a fault factor)")
     p.add_argument("--estimator", choices=_ESTIMATORS, default="rf",
                    help="random forest, gradient boosting, RBF SVM or logistic regression "
                    "(default: rf)")
@@ -63,8 +65,10 @@ def register(sub) -> None:
         "evaluate", help="score a saved model on another dataset",
         description="Predict every run of DATASET_DIR with the model of MODEL_DIR and score "
         "it: macro-F1 and balanced accuracy with 95 % bootstrap intervals over design "
-        "points, per-class precision and recall, the confusion matrix. Runs of a class the "
-        "model does not know are counted, not scored.")
+        "points, per-class precision and recall, the confusion matrix and, on a dataset with "
+        "faults beside rub (a rub or fault model), the false rub alarm rate per confuser "
+        "and the rub recall beside each. Runs of a class the model does not know are "
+        "counted, not scored.")
     p.add_argument("model", type=Path, metavar="MODEL_DIR", help="model folder (rubdiag train)")
     p.add_argument("dataset", type=Path, metavar="DATASET_DIR", help="dataset folder")
     p.add_argument("--json", action="store_true", help="print the scores as JSON")
@@ -148,6 +152,15 @@ def _train(args) -> int:
                           for c, db in left_out.items())
         print(f"left out (median power over the rubbing runs within {NOISE_MARGIN_DB:g} dB "
               f"of the noise floor): {shown}; --channels names the channels to use")
+    if meta.get("confusers"):
+        import pandas as pd
+
+        from rubdiag.learn.confusers import confuser_lines
+
+        table = pd.DataFrame(meta["confusers"]).astype({"rate": float, "lo": float, "hi": float})
+        print("held out, rub against the faults that look like it (rate [95 % interval]):")
+        for line in confuser_lines(table):
+            print(f"  {line}")
     for w in meta.get("warnings", []):
         print(f"warning: {w}")
     print(f"wrote {', '.join(sorted(p.name for p in out.iterdir()))}; the evaluation is in "
@@ -197,7 +210,29 @@ def _predict(args) -> int:
     with pd.option_context("display.max_rows", None, "display.max_columns", None,
                            "display.width", 200, "display.float_format", "{:.3f}".format):
         print(shown.to_string(index=False))
+    if model.meta["target"] == "fault":
+        for line in _fault_verdicts(table):
+            print(line)
     return 0
+
+
+def _fault_verdicts(table) -> list[str]:
+    """A fault model's verdict per input (its "all" row; a dataset's runs one by one): the
+    most likely fault, P(rub), and where rub is likely the most likely fault without it."""
+    from rubdiag.learn.predict import RUB_LIKELY
+
+    whole = set(table.loc[table["window"] == "all", "input"])
+    lines = []
+    for r in table.itertuples():
+        if r.window != "all" and r.input in whole:
+            continue
+        line = (f"{r.input}: most likely {r.predicted} (p = {r.p_predicted:.2f}); "
+                f"P(rub) = {r.p_rubbing:.2f}")
+        if r.p_rubbing >= RUB_LIKELY and r.confuser:
+            line += (f": rub likely; the most likely fault without rub is {r.confuser} "
+                     f"(p = {r.p_confuser:.2f})")
+        lines.append(line)
+    return lines
 
 
 def _model_warnings(command: str, folder, meta: dict) -> None:

@@ -21,13 +21,17 @@ from rubdiag.dataset.schema import SEPARATOR
 from rubdiag.dataset.store import acquisition, load
 from rubdiag.signal.table import FEATURE_NAMES, SPEED_NAMES
 
-__all__ = ["LINE_FEATURES", "TARGETS", "casing_channels", "channels_of", "factor_columns",
-           "read_dataset", "shaft_channels"]
+__all__ = ["LINE_FEATURES", "TARGETS", "TARGET_COLUMNS", "casing_channels", "channels_of",
+           "factor_columns", "read_dataset", "shaft_channels"]
 
 #: The features of one channel (the speed columns are the record's, not a channel's).
 LINE_FEATURES = tuple(n for n in FEATURE_NAMES if n not in SPEED_NAMES)
-#: What a classifier can be trained to predict: the labels of :mod:`rubdiag.dataset.labels`.
-TARGETS = LABELS
+#: What a classifier can be trained to predict: the labels of :mod:`rubdiag.dataset.labels`
+#: and ``fault``, the faults that acted (the ``faults`` label: ``none``, ``rub``,
+#: ``crack``, ``rub+crack`` …), of a dataset whose design has a ``fault`` factor.
+TARGETS = (*LABELS, "fault")
+#: The column a target is read from, where it is not the target's own name.
+TARGET_COLUMNS = {"fault": "faults"}
 
 
 def read_dataset(root: str | Path) -> pd.DataFrame:

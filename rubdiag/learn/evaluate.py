@@ -12,6 +12,8 @@
 * the pipeline trained on labels shuffled between design points (``n_shuffles`` shuffles),
   each scored against the permutation-null interval of its own prediction: no more of them
   outside than chance allows (if more, something leaks through the split);
+* on a dataset with faults beside rub (target ``rub`` or ``fault``): the false rub alarm
+  rate per confuser and the rub recall beside each (:mod:`rubdiag.learn.confusers`);
 * the audit: every single column (derived feature in any family, raw level or frequency,
   design factor) that alone separates the classes (a depth-2 tree on it reaches
   ``audit_threshold`` macro-F1 on the same folds).
@@ -35,7 +37,14 @@ from rubdiag import _check
 from rubdiag.dataset.schema import SEPARATOR
 from rubdiag.learn.caveats import training_warnings
 from rubdiag.learn.channel_choice import ChannelChoice, choose_channels
-from rubdiag.learn.columns import TARGETS, casing_channels, factor_columns, read_dataset
+from rubdiag.learn.columns import (
+    TARGET_COLUMNS,
+    TARGETS,
+    casing_channels,
+    factor_columns,
+    read_dataset,
+)
+from rubdiag.learn.confusers import rub_confusers
 from rubdiag.learn.features import DEFAULT_FAMILIES, FAMILIES, OrderFeatures, _check_families
 from rubdiag.learn.metrics import (
     Score,
@@ -48,17 +57,24 @@ from rubdiag.learn.metrics import (
 from rubdiag.learn.pipelines import baseline_pipeline, make_pipeline
 from rubdiag.learn.splits import Fold, folds
 
-__all__ = ["CrossPrediction", "Evaluation", "cross_predict", "evaluate", "resolve_channels",
-           "target_values"]
+__all__ = ["CrossPrediction", "Evaluation", "condition_factors", "cross_predict", "evaluate",
+           "resolve_channels", "target_values"]
 
 
 def target_values(data: pd.DataFrame, target: str) -> np.ndarray:
-    """The target column as class names (strings; ``rub`` gives ``"True"``/``"False"``)."""
+    """The target column as class names (strings; ``rub`` gives ``"True"``/``"False"``,
+    ``fault`` the ``faults`` label: ``"none"``, ``"rub+crack"`` …). On a dataset with
+    other faults ``rub`` is rub against everything else: a crack without rub is
+    ``"False"`` like a healthy run."""
     if target not in TARGETS:
         raise ValueError(f"target = {target!r} is not a label (allowed: {', '.join(TARGETS)})")
-    if target not in data.columns:
-        raise ValueError(f"the data has no {target!r} column (a dataset's rows are needed)")
-    return data[target].astype(str).to_numpy()
+    column = TARGET_COLUMNS.get(target, target)
+    if column not in data.columns:
+        need = ("a dataset whose design has a fault factor" if target == "fault"
+                else "a dataset's rows")
+        raise ValueError(f"target = {target!r}: the data has no {column!r} column ({need} "
+                         "is needed)")
+    return data[column].astype(str).to_numpy()
 
 
 def resolve_channels(data: pd.DataFrame, channels) -> list[str]:
@@ -129,6 +145,7 @@ class Evaluation:
     casing: dict | None = None        # {"with": Score, "without": Score} (macro-F1)
     shuffled: dict | None = None
     audit: pd.DataFrame | None = None
+    confusers: pd.DataFrame | None = None    # rubdiag.learn.confusers.confuser_table
     notes: list = field(default_factory=list)
     channel_choice: ChannelChoice | None = None   # what the default channels left out
     warnings: list = field(default_factory=list)  # what says the model learnt little
@@ -158,7 +175,9 @@ def evaluate(data, target: str = "rub", split: str = "group", estimator: str = "
     ----------
     data : DataFrame or path
         A dataset's rows (:func:`~rubdiag.learn.columns.read_dataset`) or its folder.
-    target : {"rub", "rub_state", "severity"}
+    target : {"rub", "rub_state", "severity", "fault"}
+        ``fault``: the faults that acted (the ``faults`` label); ``rub`` on a dataset
+        with other faults: rub against everything else, those faults included.
     split : str
         ``"group"`` (by design point) or a design factor to hold out band by band
         (``"speed_ratio"``, ``"gap_mm"``, ``"mu"``, ``"case"`` …).
@@ -225,6 +244,7 @@ def evaluate(data, target: str = "rub", split: str = "group", estimator: str = "
         predictions=pd.DataFrame({"run_id": data.get("run_id", pd.Series(range(len(data)))),
                                   "true": y, "predicted": cp.predicted, "scored": cp.scored}),
         channel_choice=choice)
+    ev.confusers = rub_confusers(data, target, cp.predicted, cp.scored, n_bootstrap, seed)
     if importances:
         ev.importances, ev.channel_importances = _importances(cp, data, y, classes,
                                                               n_repeats, seed)
@@ -315,7 +335,7 @@ def _baselines(data, y, splits, groups, classes, channels, estimator, n_bootstra
     candidates = [
         ("1x level only", [f"{c}{SEPARATOR}amp_1x" for c in channels]),
         ("speed only", ["speed_rpm"]),
-        ("design factors only", factor_columns(data)),
+        ("design factors only", condition_factors(data)),
     ]
     for name, columns in candidates:
         cp = cross_predict(baseline_pipeline(columns, estimator, seed), data, y, splits)
@@ -323,6 +343,13 @@ def _baselines(data, y, splits, groups, classes, channels, estimator, n_bootstra
         rows.append({"baseline": name, "columns": ", ".join(columns),
                      "macro_f1": s["macro_f1"], "balanced_accuracy": s["balanced_accuracy"]})
     return pd.DataFrame(rows).set_index("baseline")
+
+
+def condition_factors(data: pd.DataFrame) -> list[str]:
+    """The numeric design factors: the conditions of a run (speed, gap, a fault's
+    severity …). The ``fault`` factor is not one: it names the faults the design meant
+    the run to have — the label as designed — and it is text."""
+    return [c for c in factor_columns(data) if pd.api.types.is_numeric_dtype(data[c])]
 
 
 def _casing(data, y, splits, groups, classes, channels, families, estimator, scores,
@@ -408,7 +435,7 @@ def audit_columns(data, y, splits, classes, threshold: float = 0.9, seed: int = 
     everything = OrderFeatures(channels=None, families=FAMILIES).fit(data)
     Z = everything.transform(data)
     names = list(everything.get_feature_names_out())
-    factors = factor_columns(data)
+    factors = condition_factors(data)
     Z = np.column_stack([Z, np.nan_to_num(data[factors].to_numpy(dtype=float))])
     kinds = ["feature"] * len(names) + ["factor"] * len(factors)
     names += factors

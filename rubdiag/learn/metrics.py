@@ -13,8 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["METRICS", "Score", "confusion", "group_permutations", "macro_f1",
-           "null_interval", "score"]
+__all__ = ["METRICS", "Score", "bootstrap_weights", "confusion", "group_permutations",
+           "group_rate", "macro_f1", "null_interval", "score"]
 
 METRICS = ("macro_f1", "balanced_accuracy")
 
@@ -85,16 +85,48 @@ def score(y_true, y_pred, groups, classes, n_bootstrap: int = 1000,
     counts = np.zeros((n_groups, k * k))
     np.add.at(counts, (g, cell), 1.0)
     whole = _from_counts(counts.sum(axis=0).reshape(k, k))
-    rng = np.random.default_rng(seed)
-    draws = rng.integers(0, n_groups, size=(n_bootstrap, n_groups))
-    weights = np.zeros((n_bootstrap, n_groups))
-    np.add.at(weights, (np.arange(n_bootstrap)[:, None], draws), 1.0)
+    weights = bootstrap_weights(n_groups, n_bootstrap, seed)
     boot = _from_counts((weights @ counts).reshape(n_bootstrap, k, k))
     out = {}
     for name in METRICS:
         lo, hi = np.nanpercentile(boot[name], [2.5, 97.5]) if n_bootstrap else (np.nan,) * 2
         out[name] = Score(float(whole[name]), float(lo), float(hi))
     return out
+
+
+def bootstrap_weights(n_groups: int, n_bootstrap: int, seed: int = 0) -> np.ndarray:
+    """``(n_bootstrap, n_groups)`` counts of how often each group is drawn when
+    ``n_groups`` groups are drawn with replacement: a bootstrap sample's total of any
+    per-group count is then ``weights @ counts``."""
+    rng = np.random.default_rng(seed)
+    draws = rng.integers(0, n_groups, size=(n_bootstrap, n_groups))
+    weights = np.zeros((n_bootstrap, n_groups))
+    np.add.at(weights, (np.arange(n_bootstrap)[:, None], draws), 1.0)
+    return weights
+
+
+def group_rate(hits, members, groups, n_bootstrap: int = 1000, seed: int = 0) -> Score:
+    """The share of ``members`` rows that are ``hits`` (two bool arrays, one value per
+    row) with a 95 % bootstrap interval drawing ``groups`` with replacement, as
+    :func:`score` does; NaN throughout without members (a draw without members is
+    left out of the interval)."""
+    hits, members = np.asarray(hits, dtype=bool), np.asarray(members, dtype=bool)
+    n = int(members.sum())
+    if n == 0:
+        return Score(np.nan, np.nan, np.nan)
+    _, g = np.unique(np.asarray(groups), return_inverse=True)
+    n_groups = g.max() + 1
+    per_group = np.zeros((n_groups, 2))            # [members, hits among them]
+    np.add.at(per_group, (g, 0), members.astype(float))
+    np.add.at(per_group, (g, 1), (hits & members).astype(float))
+    value = per_group[:, 1].sum() / n
+    if not n_bootstrap:
+        return Score(float(value), np.nan, np.nan)
+    drawn = bootstrap_weights(n_groups, n_bootstrap, seed) @ per_group
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rates = drawn[:, 1] / drawn[:, 0]
+    lo, hi = np.nanpercentile(rates, [2.5, 97.5])
+    return Score(float(value), float(lo), float(hi))
 
 
 def group_permutations(groups, n: int, rng: np.random.Generator,

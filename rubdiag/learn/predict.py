@@ -30,6 +30,7 @@ from threadpoolctl import threadpool_limits  # installed with scikit-learn
 from rubdiag import _check
 from rubdiag.dataset.schema import SEPARATOR
 from rubdiag.learn.columns import channels_of, read_dataset
+from rubdiag.learn.confusers import calls_rub
 from rubdiag.learn.persist import Model, load_model
 from rubdiag.learn.train import required_fs
 from rubdiag.signal.io import read_signals
@@ -38,8 +39,8 @@ from rubdiag.signal.speed import tacho_speed
 from rubdiag.signal.speedvote import SpeedNotFound, voted_speed
 from rubdiag.signal.table import prefixed_features
 
-__all__ = ["RANGE_TOLERANCE", "UNITS", "missing_channels", "predict", "predict_rows",
-           "unit_factor"]
+__all__ = ["RANGE_TOLERANCE", "RUB_LIKELY", "UNITS", "fault_columns", "missing_channels",
+           "predict", "predict_rows", "unit_factor"]
 
 #: Units a channel may be given in, per quantity: factor to SI.
 UNITS = {
@@ -49,6 +50,10 @@ UNITS = {
                      "g": 9.80665},
     "reaction": {"N": 1.0, "kN": 1e3},
 }
+
+#: From this summed probability of the classes with rub on, a ``fault`` model's
+#: prediction calls rub likely and names the most likely fault without it.
+RUB_LIKELY = 0.5
 
 #: A value within this share of its training range's width (of the bound itself for a
 #: speed) beyond the range counts as inside: a speed read from a spectrum line and
@@ -105,6 +110,9 @@ def predict(model, inputs, *, columns=None, units=None, fs=None, speed_rpm=None,
         row per run (``input`` = its ``run_id``, ``window`` 0: the stored analysis
         window, times from the run's start). ``attrs["model_warnings"]``: what the
         model's training warned of (:mod:`rubdiag.learn.caveats`; empty if nothing).
+        A ``fault``-target model's table has, before ``warnings``, ``p_predicted``,
+        ``p_rubbing`` (the summed probability of the classes with rub), ``confuser`` and
+        ``p_confuser`` (the most probable class without rub; :func:`fault_columns`).
     """
     if not isinstance(model, Model):
         model = load_model(model)
@@ -224,8 +232,40 @@ def _table(model: Model, data: pd.DataFrame, inputs, windows, starts, ends) -> p
     for j, c in enumerate(classes):
         table[f"p_{c}"] = proba[:, j]
     Z = pipeline.named_steps["features"].transform(data)
+    table = fault_columns(table, model)
     table["warnings"] = [_range_warnings(model, s, z) for s, z in zip(speed, Z, strict=True)]
     return table
+
+
+def fault_columns(table: pd.DataFrame, model: Model) -> pd.DataFrame:
+    """For a ``fault``-target model, what a prediction says of rub, as columns (before
+    ``warnings``): ``p_predicted`` (the probability of the predicted class),
+    ``p_rubbing`` (the summed probability of the classes with rub: ``rub``,
+    ``rub+crack`` …), ``confuser`` and ``p_confuser`` (the most probable class without
+    rub, and its probability; "" and NaN if the model has none). Other models' tables
+    are returned as they are."""
+    if model.meta.get("target") != "fault":
+        return table
+    classes = list(model.classes)
+    p = table[[f"p_{c}" for c in classes]].to_numpy(dtype=np.float64)
+    rows = np.arange(len(table))
+    index = {c: j for j, c in enumerate(classes)}
+    rub = calls_rub(classes)
+    others = np.flatnonzero(~rub)
+    derived = {"p_predicted": p[rows, [index[c] for c in table["predicted"]]],
+               "p_rubbing": p[:, rub].sum(axis=1)}
+    if others.size:
+        best = others[p[:, others].argmax(axis=1)]
+        derived["confuser"] = np.asarray(classes, dtype=object)[best]
+        derived["p_confuser"] = p[rows, best]
+    else:
+        derived["confuser"] = np.full(len(table), "", dtype=object)
+        derived["p_confuser"] = np.full(len(table), np.nan)
+    out = table.drop(columns=[c for c in derived if c in table.columns])
+    at = out.columns.get_loc("warnings") if "warnings" in out.columns else len(out.columns)
+    for k, (name, values) in enumerate(derived.items()):
+        out.insert(at + k, name, values)
+    return out
 
 
 def missing_channels(where: str, missing, model: Model, what: str, have,
@@ -259,7 +299,7 @@ def _majority(table: pd.DataFrame, model: Model) -> pd.DataFrame:
            "speed_rpm": float(table["speed_rpm"].median()), "predicted": best,
            **mean.to_dict(),
            "warnings": f"{warned} of {len(table)} windows with warnings" if warned else ""}
-    return pd.DataFrame([row])
+    return fault_columns(pd.DataFrame([row]), model)
 
 
 def _range_warnings(model: Model, speed: float, z: np.ndarray) -> str:

@@ -9,7 +9,7 @@ import pandas as pd
 
 from rubdiag.learn.metrics import Score
 
-__all__ = ["evaluation_dict", "evaluation_markdown"]
+__all__ = ["confuser_markdown", "confuser_records", "evaluation_dict", "evaluation_markdown"]
 
 
 def _plain(value):
@@ -47,10 +47,31 @@ def evaluation_dict(ev) -> dict:
             k: [{kk: _plain(vv) for kk, vv in run.items()} for run in v] if k == "shuffles"
             else _plain(v) for k, v in ev.shuffled.items()},
         "audit": None if ev.audit is None else ev.audit.to_dict(orient="records"),
+        "confusers": confuser_records(ev.confusers),
         "notes": ev.notes,
         "channels_left_out": _left_out(ev),
         "warnings": ev.warnings,
     }
+
+
+def confuser_records(table: pd.DataFrame | None) -> list | None:
+    """The confuser table (:mod:`rubdiag.learn.confusers`) as JSON records (NaN: null)."""
+    if table is None:
+        return None
+    return [{k: _plain(v) for k, v in row.items()} for row in table.to_dict(orient="records")]
+
+
+def confuser_markdown(table: pd.DataFrame) -> list[str]:
+    """The confuser section of a report: a line of what it is, then the table."""
+    out = ["## Rub against the faults that look like it", "",
+           "False rub alarm: the share of held-out runs without rub, with the fault named "
+           "(none: healthy), that the model calls rubbing. Rub recall: the share of those "
+           "that rubbed beside it that it calls rubbing. 95 % interval over design points.",
+           "", "| measure | faults | runs | called rub | rate [95 % CI] |", "|---|---|---|---|---|"]
+    for r in table.itertuples():
+        rate = f"{r.rate:.3f} [{r.lo:.3f}, {r.hi:.3f}]" if r.n else "–"
+        out.append(f"| {r.measure} | {r.faults} | {r.n} | {r.n_called_rub} | {rate} |")
+    return [*out, ""]
 
 
 def _left_out(ev) -> dict:
@@ -105,6 +126,8 @@ def evaluation_markdown(ev, top: int = 15) -> str:
     if ev.casing is not None:
         out += [f"Casing channels: macro-F1 with {ev.casing['with']}, without "
                 f"{ev.casing['without']}.", ""]
+    if ev.confusers is not None:
+        out += confuser_markdown(ev.confusers)
     if ev.shuffled is not None:
         s = ev.shuffled
         verdict = "chance, as it must be" if s["inside"] else \

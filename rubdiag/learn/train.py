@@ -41,11 +41,13 @@ import pandas as pd
 from rubdiag._version import __version__
 from rubdiag.dataset.schema import SEPARATOR
 from rubdiag.learn.columns import read_dataset
+from rubdiag.learn.confusers import confuser_lines, rub_confusers
 from rubdiag.learn.evaluate import Evaluation, evaluate, resolve_channels, target_values
 from rubdiag.learn.features import DEFAULT_FAMILIES
 from rubdiag.learn.metrics import Score, confusion, score
 from rubdiag.learn.persist import Model, is_model_dir, load_meta, load_model, save_model
 from rubdiag.learn.pipelines import make_pipeline
+from rubdiag.learn.report import confuser_records
 from rubdiag.signal.combinations import SUM_ORDERS
 from rubdiag.signal.options import Options
 from rubdiag.signal.orders import HALF_ORDERS, HARMONICS, THIRD_ORDERS, order_label
@@ -178,7 +180,8 @@ def model_meta(pipeline, data: pd.DataFrame, *, target: str, estimator: str, spl
     sampling rate, the speed and feature ranges seen in training, the highest order the
     kept features reach and the sampling rate it needs, where the model came from and the
     runs it was fitted on (:func:`training_runs`); with ``evaluation``, its scores, its
-    warnings (:mod:`rubdiag.learn.caveats`) and the channels the default set left out."""
+    warnings (:mod:`rubdiag.learn.caveats`), the channels the default set left out and the
+    held-out false rub alarms per confuser (null where they do not apply)."""
     import sklearn
 
     acq = data.attrs["acquisition"]
@@ -227,6 +230,7 @@ def model_meta(pipeline, data: pd.DataFrame, *, target: str, estimator: str, spl
         # NaN (no bootstrap) as null: strict JSON
         meta["scores"] = {k: {n: None if np.isnan(x) else x for n, x in v.to_dict().items()}
                           for k, v in evaluation.scores.items()}
+        meta["confusers"] = confuser_records(evaluation.confusers)
     return meta
 
 
@@ -302,6 +306,7 @@ class ModelScores:
     warnings: list
     shared_runs: int | None = None  # runs of the data the model was trained on; None: unknown
     model_warnings: list = dataclasses.field(default_factory=list)   # from its training
+    confusers: pd.DataFrame | None = None   # rubdiag.learn.confusers.confuser_table
 
     def sample_note(self) -> str:
         """Whether the scores are in-sample: "in-sample: …", "out of sample: …" or
@@ -330,6 +335,7 @@ class ModelScores:
             "warnings": self.warnings,
             "shared_runs": self.shared_runs, "sample": self.sample_note(),
             "model_warnings": self.model_warnings,
+            "confusers": confuser_records(self.confusers),
         }
 
     def to_text(self) -> str:
@@ -343,16 +349,21 @@ class ModelScores:
             lines += ["", self.per_class.to_string(), "",
                       "confusion (rows true, columns predicted):",
                       self.confusion.to_string()]
+        if self.confusers is not None:
+            lines += ["", "rub against the faults that look like it (rate [95 % interval]):",
+                      *confuser_lines(self.confusers)]
         return "\n".join(lines)
 
 
 def evaluate_model(model, dataset, n_bootstrap: int = 1000, seed: int = 0) -> ModelScores:
     """Scores of a saved model on another dataset: macro-F1 and balanced accuracy with
     95 % bootstrap intervals over design points, per-class precision and recall, the
-    confusion matrix. Rows of a class the model does not know are counted (``unknown``)
-    and left out of every score. ``shared_runs`` counts the dataset's runs the model was
-    trained on (``model.json``'s ``training_runs``; None for a model that predates that
-    record): the first line of :meth:`ModelScores.to_text` says "in-sample" when any.
+    confusion matrix and, on a dataset with faults beside rub, the false rub alarms per
+    confuser (``confusers``, :mod:`rubdiag.learn.confusers`). Rows of a class the model
+    does not know are counted (``unknown``) and left out of every score. ``shared_runs``
+    counts the dataset's runs the model was trained on (``model.json``'s
+    ``training_runs``; None for a model that predates that record): the first line of
+    :meth:`ModelScores.to_text` says "in-sample" when any.
 
     Parameters
     ----------
@@ -403,4 +414,7 @@ def evaluate_model(model, dataset, n_bootstrap: int = 1000, seed: int = 0) -> Mo
         confusion=pd.DataFrame(cm, index=pd.Index(classes, name="true"),
                                columns=pd.Index(classes, name="predicted")),
         predictions=predictions, warnings=warnings, shared_runs=shared,
-        model_warnings=list(model.meta.get("warnings", [])))
+        model_warnings=list(model.meta.get("warnings", [])),
+        # every run was predicted, a class unknown to the model too: all count
+        confusers=rub_confusers(data, model.meta["target"], predicted, None, n_bootstrap,
+                                seed))
