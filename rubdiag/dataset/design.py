@@ -124,6 +124,7 @@ from rubdiag.dataset.labels import LabelRules
 from rubdiag.dataset.noise import NoiseFloors
 from rubdiag.dataset.ramp import KEYS as RAMP_KEYS
 from rubdiag.dataset.ramp import SpeedRamp
+from rubdiag.dataset.rig_factors import check_rig_factors, varied_rig
 from rubdiag.dataset.sampling import (
     MAX_REPLICATES,
     METHODS,
@@ -252,6 +253,7 @@ class Design:
                                     "a FaultSettings or a table")
         levels = next((f.levels for f in self.factors if f.name == "fault"), None)
         check_factors(names, levels)
+        check_rig_factors(self.rig, names)
         if any("whirl" in faults_in(level) for level in levels or ()):
             whirl_threshold_rad_s(self.rig)     # a journal rig with a threshold, or refused
         set_("method", _check.choice("sampling.method", self.method, METHODS))
@@ -453,8 +455,9 @@ class Design:
                     run = self.run_for(point, replicate)
                 except ValueError as exc:
                     raise ValueError(f"point {index} ({_describe(point)}): {exc}") from None
-                item = DesignRun(shown_point(point), replicate, run, point_id(run), run_id(run),
-                                 self._speed_rad_s(point) * 30.0 / math.pi, self.ramp)
+                item = DesignRun(self._shown(point), replicate, run, point_id(run),
+                                 run_id(run), self._speed_rad_s(point) * 30.0 / math.pi,
+                                 self.ramp)
                 if item.run_id in seen:
                     raise ValueError(f"the design repeats a run: point {index} is point "
                                      f"{seen[item.run_id]} ({_describe(point)})")
@@ -462,14 +465,45 @@ class Design:
                 out.append(item)
         return out
 
+    def _shown(self, point: Mapping) -> dict:
+        """The point as its row shows it (:func:`~rubdiag.dataset.faults.shown_point`); a
+        run with whirl shows as ``speed_ratio`` the speed it turned at over its case's
+        critical speed, so that a split by speed band places it by its speed too."""
+        shown = shown_point(point)
+        if "whirl" in faults_in(point.get("fault", "none")) and "speed_ratio" in point:
+            shown["speed_ratio"] = self._speed_rad_s(point) / self.critical_speed_rad_s(point)
+        return shown
+
     def _speed_rad_s(self, point: Mapping) -> float:
         """The design point's speed (rad/s): with a ramp, the middle of the sweep; with
-        whirl, ``whirl_speed_ratio`` times the rig's threshold of instability."""
+        whirl, ``whirl_speed_ratio`` times the threshold of instability of the point's rig;
+        else ``speed_ratio`` times its rig's critical speed for the case (the design's
+        ``critical_speeds_rad_s`` unless a model-uncertainty factor moves it), or
+        ``speed_rpm``."""
         if "whirl" in faults_in(point.get("fault", "none")):
-            return point["whirl_speed_ratio"] * whirl_threshold_rad_s(self.rig)
+            return point["whirl_speed_ratio"] * self.whirl_threshold_rad_s(point)
         if "speed_ratio" in point:
-            return point["speed_ratio"] * self.critical_speeds_rad_s[point["case"] - 1]
+            return point["speed_ratio"] * self.critical_speed_rad_s(point)
         return point["speed_rpm"] * math.pi / 30.0
+
+    def whirl_threshold_rad_s(self, point: Mapping) -> float:
+        """The threshold of instability (rad/s) of ``point``'s rig, which its
+        ``whirl_speed_ratio`` multiplies (rounded to 10 significant digits, as
+        :meth:`critical_speed_rad_s`, when a model-uncertainty factor moves it)."""
+        names = ("damping_ratio", *_MODAL_FACTORS)
+        threshold = whirl_threshold_rad_s(_rotor_rig(self.rig, point, names))
+        return threshold if not any(n in point for n in names) else float(f"{threshold:.10g}")
+
+    def critical_speed_rad_s(self, point: Mapping) -> float:
+        """The reference speed of ``point``'s ``speed_ratio``: its case's critical speed on
+        the point's own rig. A factor that moves the critical speeds (disc mass, the films'
+        viscosity and clearance) gets it from that rig's critical speed map, rounded to 10
+        significant digits so that a run's speed (and id) is the same on every machine;
+        otherwise it is the design's ``critical_speeds_rad_s``."""
+        if not any(name in point for name in _MODAL_FACTORS):
+            return self.critical_speeds_rad_s[point["case"] - 1]
+        rig = _rotor_rig(self.rig, point, _MODAL_FACTORS)
+        return float(f"{_rig_critical_speeds(rig, point['case'])[-1]:.10g}")
 
     def run_for(self, point: Mapping, replicate: int = 0) -> Run:
         """The :class:`~rubdiag.simulate.Run` of design point ``point`` (factor name ->
@@ -487,8 +521,7 @@ class Design:
             step = math.radians(point["phase_diff_deg"])
             phases = tuple(step * (j % 2) for j in range(len(magnitudes)))
         speed = self._speed_rad_s(point)
-        if "casing_stiffness_scale" in point:
-            rig = _scaled_casing(rig, point["casing_stiffness_scale"])
+        rig = varied_rig(rig, point)
         rub = "rub" in faults_in(point.get("fault", "rub"))
         gap = point.get("gap_mm") if rub else NO_RUB_GAP_M * 1e3   # the casing out of reach
         options = {}
@@ -512,6 +545,8 @@ class Design:
                   label=f"{_describe(shown_point(point))}, replicate {replicate}", **options)
         if self.ramp is not None:
             _check_top_speed(run)
+        if rub and "interference_ratio" in point:
+            run = _gap_from_interference(run, point["interference_ratio"])
         return run
 
 
@@ -568,7 +603,7 @@ def _factors(factors) -> tuple[Factor, ...]:
     return tuple(sorted(items, key=lambda f: order.index(f.name)))
 
 
-@functools.lru_cache(maxsize=8)
+@functools.lru_cache(maxsize=256)
 def _rig_critical_speeds(rig: Rig, n_cases: int) -> tuple[float, ...]:
     """The reference speeds of cases 1 … n_cases (an eigenvalue problem each: cached)."""
     from rubdiag.simulate import critical_speed_for_case
@@ -652,13 +687,28 @@ def _contact(rig: Rig, point: Mapping):
     return dataclasses.replace(law, **changes) if changes else None
 
 
-def _scaled_casing(rig: Rig, s: float) -> Rig:
-    casing = rig.casing
-    k_rx = casing.support_k_rx_nm_rad
-    casing = dataclasses.replace(casing, support_k_y_n_m=casing.support_k_y_n_m * s,
-                                 support_k_z_n_m=casing.support_k_z_n_m * s,
-                                 support_k_rx_nm_rad=None if k_rx is None else k_rx * s)
-    return dataclasses.replace(rig, casing=casing)
+#: the rig factors that move the critical speeds and the threshold of instability (the
+#: casing is coupled to the rotor only through contact, and the critical speed map is
+#: undamped: neither casing_stiffness_scale nor damping_ratio moves the critical speeds)
+_MODAL_FACTORS = ("disc_mass_scale", "oil_viscosity_scale", "bearing_clearance_scale")
+
+
+def _rotor_rig(rig: Rig, point: Mapping, names) -> Rig:
+    """``rig`` with only the rig factors ``names`` of ``point`` applied: the key of the
+    cached eigenvalue searches, which the other factors do not change."""
+    return varied_rig(rig, {k: point[k] for k in names if k in point})
+
+
+def _gap_from_interference(run: Run, ratio: float) -> Run:
+    """``run`` with g0 = its linear approach / ``ratio`` (rounded to 1 nm, so that the
+    run's id is the same on every machine)."""
+    from rubdiag.dataset.approach import sweep_linear_approach_m
+
+    gap = round(sweep_linear_approach_m(run) / ratio, 9)
+    if gap <= 0.0:
+        raise ValueError(f"factors.interference_ratio = {ratio:g}: the run's linear approach "
+                         "is 0 (no unbalance response reaches the blades)")
+    return dataclasses.replace(run, gap_m=gap)
 
 
 def _describe(point: Mapping) -> str:

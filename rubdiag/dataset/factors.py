@@ -14,13 +14,23 @@ Factors (``FACTORS``, in their canonical order) and their physical ranges:
   case 2; see ``Design.critical_speeds_rad_s``). > 0 … 10.
 - ``speed_rpm``: speed (rpm). > 0 … 900000.
 - ``gap_mm``: blade-casing gap g0 (mm). > 0 … 100.
+- ``interference_ratio``: the gap set from the run's own response instead: g0 = the
+  largest linear (contact-free) approach of its blades at its speed over this ratio
+  (:mod:`rubdiag.dataset.approach`; the row's label ``interference_ratio`` then equals it).
+  > 0 … 100. So that a rub run rubs as hard at every speed, case and rig variant.
 - ``mu``: friction coefficient μ of the contact law. 0 … 10.
 - ``unbalance_scale``: times the rig's unbalance magnitudes. 0 … 100.
 - ``normal_stiffness_n_m``: contact normal stiffness k_N (N/m); k_T keeps the rig's ratio
   k_T/k_N. > 0.
 - ``contact_stiffness_scale``: times the rig's contact stiffnesses k_N and k_T. > 0.
 - ``casing_stiffness_scale``: times the casing support stiffnesses (k_y, k_z, and k_rx when
-  the rig sets it; not the dampers). > 0.
+  the rig sets it; not the dampers). > 0 … 1000.
+- ``damping_ratio``: the modal damping ratio ξ of both modes of the Rayleigh fit. > 0 … 1.
+- ``disc_mass_scale``: times each disc's mass and inertias. > 0 … 10.
+- ``oil_viscosity_scale``, ``bearing_clearance_scale``: times each journal bearing's oil
+  viscosity and radial clearance (rigs with journal bearings). > 0 … 10.
+
+  These five are the model-uncertainty factors (:mod:`rubdiag.dataset.rig_factors`).
 - ``fault``: the faults a run carries (:data:`rubdiag.dataset.faults.FAULT_LEVELS`: ``none``,
   ``rub``, ``misalignment``, ``crack``, ``looseness``, ``whirl`` and ``rub+`` each of the
   other four);
@@ -34,7 +44,7 @@ Factors (``FACTORS``, in their canonical order) and their physical ranges:
   bearings, > 0 … 10; only in runs with whirl, whose speed it sets.
 
 Exclusive pairs (``EXCLUSIVE``): ``case``/``phase_diff_deg``, ``speed_ratio``/``speed_rpm``,
-``normal_stiffness_n_m``/``contact_stiffness_scale``.
+``gap_mm``/``interference_ratio``, ``normal_stiffness_n_m``/``contact_stiffness_scale``.
 """
 
 from __future__ import annotations
@@ -69,11 +79,16 @@ FACTORS: dict[str, Callable] = {
     "speed_ratio": _range(0.0, 10.0, lo_open=True),
     "speed_rpm": _range(0.0, 900_000.0, lo_open=True, unit="rpm"),
     "gap_mm": _range(0.0, 100.0, lo_open=True, unit="mm"),
+    "interference_ratio": _range(0.0, 100.0, lo_open=True),
     "mu": _range(0.0, 10.0, lo_open=False),
     "unbalance_scale": _range(0.0, 100.0, lo_open=False),
     "normal_stiffness_n_m": _range(0.0, None, lo_open=True, unit="N/m"),
     "contact_stiffness_scale": _range(0.0, None, lo_open=True),
-    "casing_stiffness_scale": _range(0.0, None, lo_open=True),
+    "casing_stiffness_scale": _range(0.0, 1000.0, lo_open=True),
+    "damping_ratio": _range(0.0, 1.0, lo_open=True),
+    "disc_mass_scale": _range(0.0, 10.0, lo_open=True),
+    "oil_viscosity_scale": _range(0.0, 10.0, lo_open=True),
+    "bearing_clearance_scale": _range(0.0, 10.0, lo_open=True),
     "fault": fault_level,
     "crack_depth_ratio": _range(0.0, 0.5, lo_open=True),
     "misalignment_angle_mrad": _range(0.0, 200.0, lo_open=False, unit="mrad"),
@@ -83,6 +98,7 @@ FACTORS: dict[str, Callable] = {
 
 #: Factors that say the same thing two ways: a design gives at most one of each pair.
 EXCLUSIVE = (("case", "phase_diff_deg"), ("speed_ratio", "speed_rpm"),
+             ("gap_mm", "interference_ratio"),
              ("normal_stiffness_n_m", "contact_stiffness_scale"))
 
 #: Factors that take levels only (a range of them means nothing).

@@ -27,7 +27,8 @@ FAULT_LABELS = ("fault_crack", "fault_misalignment", "fault_looseness", "fault_w
 #: the gap of the runs without rub (m): far beyond any orbit of the rig (module docstring)
 NO_RUB_GAP_M = 0.05
 #: the factors a run without rub ignores
-CONTACT_FACTORS = ("gap_mm", "mu", "normal_stiffness_n_m", "contact_stiffness_scale")
+CONTACT_FACTORS = ("gap_mm", "interference_ratio", "mu", "normal_stiffness_n_m",
+                   "contact_stiffness_scale")
 CRACK_OPEN_THRESHOLD = 0.05
 MISALIGNMENT_2X_THRESHOLD_N = 0.5
 LIFT_OFF_THRESHOLD = 0.05

@@ -348,8 +348,9 @@ def edit(section, **changes):
 BAD = [
     (edit("factors", speed={"low": 1, "high": 2}),
      r"unknown factor 'factors.speed' \(allowed: case, phase_diff_deg, speed_ratio, speed_rpm, "
-     r"gap_mm, mu, unbalance_scale, normal_stiffness_n_m, contact_stiffness_scale, "
-     r"casing_stiffness_scale, fault, crack_depth_ratio, "
+     r"gap_mm, interference_ratio, mu, unbalance_scale, normal_stiffness_n_m, "
+     r"contact_stiffness_scale, casing_stiffness_scale, damping_ratio, disc_mass_scale, "
+     r"oil_viscosity_scale, bearing_clearance_scale, fault, crack_depth_ratio, "
      r"misalignment_angle_mrad, looseness_preload_n, whirl_speed_ratio\)"),
     (edit("sampling", replicate=2),
      r"unknown key 'sampling.replicate' \(allowed: method, n, seed, replicates\)"),

@@ -1,0 +1,124 @@
+"""Model uncertainty as design factors: the rig a design point simulates.
+
+A model is never the machine. The factors here vary the parameters of the rig that are
+least known and most change the response, so that a classifier trained on a design meets
+more than one rotor, and ``evaluate(split=<factor>)`` can ask how it does on a rotor it
+never saw (train on the rest of the factor's range, test on a band of it):
+
+``casing_stiffness_scale``
+    times the casing support stiffnesses (k_y, k_z, and k_rx when the rig sets it; not the
+    dampers).
+``damping_ratio``
+    the modal damping ratio ξ of both reference modes of the Rayleigh fit (the rig's
+    ``Damping.xi_1`` and ``xi_2``; the study's is 0.04).
+``disc_mass_scale``
+    times each disc's mass and inertias (its dimensions stay; a disc given by dimensions is
+    turned into mass and inertias first). On a rig with journal bearings each film's
+    static load follows: the bearing reactions of the heavier rotor on rigid supports
+    (:func:`bearing_loads_n`).
+``oil_viscosity_scale``, ``bearing_clearance_scale``
+    times each journal bearing's oil viscosity and radial clearance (rigs with journal
+    bearings only: refused by name on others). The Sommerfeld number goes with μ/C², so the
+    clearance moves the film's stiffness, the critical speeds and the threshold of
+    instability the most.
+
+Which of them matter on the multi-fault rig is measured by ``scripts/uncertainty.py``
+(README, "Model uncertainty"). A design's ``speed_ratio`` is relative to the critical
+speed of each run's own rig, and a run with whirl turns at ``whirl_speed_ratio`` times its
+own rig's threshold (:class:`rubdiag.dataset.Design`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+from collections.abc import Mapping
+
+__all__ = ["JOURNAL_FACTORS", "RIG_FACTORS", "bearing_loads_n", "check_rig_factors",
+           "varied_rig"]
+
+#: the factors that change the rig, in the order they are applied
+RIG_FACTORS = ("casing_stiffness_scale", "damping_ratio", "disc_mass_scale",
+               "oil_viscosity_scale", "bearing_clearance_scale")
+#: the factors that need journal bearings
+JOURNAL_FACTORS = ("oil_viscosity_scale", "bearing_clearance_scale")
+
+
+def check_rig_factors(rig, names) -> None:
+    """Refuse a journal-bearing factor on a rig without journal bearings."""
+    if any(b.journal is not None for b in rig.bearings):
+        return
+    for name in JOURNAL_FACTORS:
+        if name in names:
+            raise ValueError(f"factors.{name} needs a rig with journal bearings (base.rig = "
+                             f"{rig.name!r} has none; allowed: e.g. 'paper-journal')")
+
+
+def varied_rig(rig, point: Mapping):
+    """``rig`` with the rig factors of ``point`` applied (``rig`` itself when it has none)."""
+    if "casing_stiffness_scale" in point:
+        rig = _scaled_casing(rig, point["casing_stiffness_scale"])
+    if "damping_ratio" in point:
+        xi = point["damping_ratio"]
+        rig = dataclasses.replace(rig, damping=dataclasses.replace(rig.damping, xi_1=xi,
+                                                                   xi_2=xi))
+    if "disc_mass_scale" in point:
+        rig = _scaled_discs(rig, point["disc_mass_scale"])
+    films = {"viscosity_pa_s": point.get("oil_viscosity_scale"),
+             "clearance_m": point.get("bearing_clearance_scale")}
+    films = {k: s for k, s in films.items() if s is not None}
+    if films:
+        rig = dataclasses.replace(rig, bearings=tuple(
+            b if b.journal is None else dataclasses.replace(b, journal=dataclasses.replace(
+                b.journal, **{k: getattr(b.journal, k) * s for k, s in films.items()}))
+            for b in rig.bearings))
+    return rig
+
+
+def _scaled_casing(rig, s: float):
+    casing = rig.casing
+    k_rx = casing.support_k_rx_nm_rad
+    casing = dataclasses.replace(casing, support_k_y_n_m=casing.support_k_y_n_m * s,
+                                 support_k_z_n_m=casing.support_k_z_n_m * s,
+                                 support_k_rx_nm_rad=None if k_rx is None else k_rx * s)
+    return dataclasses.replace(rig, casing=casing)
+
+
+def _scaled_discs(rig, s: float):
+    density = rig.material.density_kg_m3
+    discs = []
+    for disc in rig.discs:
+        mass, polar, diametral = disc.inertia(density)
+        discs.append(dataclasses.replace(
+            disc, outer_radius_m=None, thickness_m=None, inner_radius_m=0.0, mass_kg=mass * s,
+            polar_inertia_kg_m2=polar * s, diametral_inertia_kg_m2=diametral * s))
+    scaled = dataclasses.replace(rig, discs=tuple(discs))
+    if not any(b.journal is not None for b in rig.bearings):
+        return scaled
+    loads = bearing_loads_n(scaled)
+    return dataclasses.replace(scaled, bearings=tuple(
+        b if b.journal is None else dataclasses.replace(
+            b, journal=dataclasses.replace(b.journal, load_n=load))
+        for b, load in zip(scaled.bearings, loads, strict=True)))
+
+
+@functools.lru_cache(maxsize=64)
+def bearing_loads_n(rig, gravity_m_s2: float = 9.81) -> tuple[float, ...]:
+    """The share of the rotor's weight each bearing carries (N, along gravity -y): the
+    static reactions of ``rig``'s rotor with every bearing made rigid (1e12 N/m, no
+    pedestal; the casing's weight rests on its own supports). For the two bearings of the
+    presets the rotor is statically determinate, so the answer is the lever rule's,
+    whatever the real bearings' stiffness."""
+    import scipy.sparse.linalg as spla
+
+    from rubdiag.assembly import assemble
+    from rubdiag.model.rig import Bearing
+    from rubdiag.simulate.static_load import StaticLoad
+
+    rigid = dataclasses.replace(rig, bearings=tuple(
+        Bearing(b.node, 1e12, 1e12) for b in rig.bearings))
+    model = assemble(rigid)
+    weight = StaticLoad(gravity_m_s2=-gravity_m_s2).vector(model.M, model.dofs)
+    x = spla.spsolve(model.K.tocsc(), weight)
+    return tuple(round(-1e12 * float(x[model.dofs.index(b.node, "y")]), 9)
+                 for b in rigid.bearings)
