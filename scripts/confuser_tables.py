@@ -1,0 +1,249 @@
+#!/usr/bin/env python
+"""The README tables of "Telling rub from its confusers", on the dataset of
+``data/designs/faults_journal.toml`` (fixed seeds: the same rows on any machine).
+
+    rubdiag dataset data/designs/faults_journal.toml --out faults-data --jobs 2
+    python scripts/confuser_tables.py faults-data   # -> data/confuser_*.csv, data/one_vs_one.csv
+    python scripts/confuser_tables.py --table       # the README blocks, from the CSVs
+
+**Goals** (:data:`CELLS`): :func:`rubdiag.learn.evaluate` with the forest on the shaft
+probes only (``channels="shaft"``: every probe but the casing's) and the order families
+plus the probe pairs' full spectrum and orbit (:data:`FAMILIES`), held out by design point
+(``group``), by speed band (``speed_ratio``, 5 quantile bands of design points) and by each
+model-uncertainty factor (one level held out at a time), for the targets ``rub`` (rub
+against everything else) and ``fault`` (the ``faults`` label). Per cell: macro-F1 with its
+95 % interval over design points, the best baseline, the shuffled-label control, the runs
+left unscored (their class absent from a training fold) — into
+``data/confuser_cells.csv`` — and the false rub alarm per confuser and the rub recall
+beside each — into ``data/confuser_rates.csv``. :data:`GOALS` are what the issue set.
+
+**One against one** (:func:`one_vs_one`): for rub against each confuser and each pair of
+confusers (runs whose ``faults`` label is exactly the one fault), the held-out macro-F1
+(5 grouped folds) of a forest on one feature family at a time (:data:`FAMILY_GROUPS`) —
+into ``data/one_vs_one.csv``.
+
+``tests/learn/test_confuser_tables.py`` checks the README blocks against the CSVs and the
+goals against the stored numbers (those not met as strict xfails with their numbers).
+"""
+
+from __future__ import annotations
+
+import argparse
+import itertools
+import re
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+ROOT = Path(__file__).resolve().parents[1]
+CELLS_CSV = ROOT / "data" / "confuser_cells.csv"
+RATES_CSV = ROOT / "data" / "confuser_rates.csv"
+ONE_CSV = ROOT / "data" / "one_vs_one.csv"
+FAMILIES = ("orders", "sidebands", "combinations", "full_spectrum", "orbit")
+UNCERTAINTY = ("casing_stiffness_scale", "damping_ratio", "disc_mass_scale",
+               "oil_viscosity_scale", "bearing_clearance_scale")
+#: (target, split) of every goals cell
+CELLS = ([("rub", "group"), ("rub", "speed_ratio"), ("fault", "group"),
+          ("fault", "speed_ratio")] + [("rub", f) for f in UNCERTAINTY])
+#: What the issue sets: rub macro-F1 >= 0.95 and every false rub alarm <= 5 % (with at
+#: least 60 held-out runs) under the group and speed splits; fault macro-F1 >= 0.90 under
+#: both; rub macro-F1 within 0.05 of the grouped score with a factor's band held out.
+GOALS = {"rub_macro_f1": 0.95, "false_alarm": 0.05, "min_runs": 60, "fault_macro_f1": 0.90,
+         "band_drop": 0.05}
+CONFUSER_KINDS = ("misalignment", "crack", "looseness", "whirl")
+
+
+def _channels_and_features(data):
+    """The shaft channels and every row's derived features of FAMILIES (a per-row
+    transform: fitting it learns nothing from other rows)."""
+    from rubdiag.learn.evaluate import resolve_channels
+    from rubdiag.learn.features import OrderFeatures
+
+    channels = resolve_channels(data, "shaft")
+    features = OrderFeatures(channels=channels, families=FAMILIES).fit(data)
+    return channels, pd.DataFrame(features.transform(data),
+                                  columns=features.get_feature_names_out())
+
+
+def goals_cell(data, target: str, split: str) -> tuple[dict, pd.DataFrame]:
+    from rubdiag.learn import evaluate
+
+    start = time.perf_counter()
+    full = split == "group"      # the baselines where they speak (each a cross-prediction)
+    ev = evaluate(data, target=target, split=split, estimator="rf", channels="shaft",
+                  families=FAMILIES, importances=False, baselines=full, audit=False,
+                  n_shuffles=2 if full else 1)
+    s = ev.scores["macro_f1"]
+    row = {"target": target, "split": split, "n_rows": ev.n_rows, "n_classes": len(ev.classes),
+           "unscored": sum(ev.unscored.values()), "macro_f1": s.value, "macro_f1_lo": s.lo,
+           "macro_f1_hi": s.hi}
+    if ev.baselines is not None:
+        best = ev.baselines["macro_f1"].map(lambda b: b.value).idxmax()
+        row.update(best_baseline=best, baseline=ev.baselines.loc[best, "macro_f1"].value)
+    row.update(shuffled=ev.shuffled["macro_f1"], shuffled_inside=ev.shuffled["inside"],
+               wall_s=round(time.perf_counter() - start, 1))
+    rates = ev.confusers.assign(target=target, split=split)
+    return row, rates
+
+
+FAMILY_GROUPS = {
+    "study": r"rel_amp_4x$|sb_|bb_|combo_|n_half_orders|n_third_orders|"
+             r"(rel_amp|dev)_\d+p\d+x$",
+    "harmonics": r"rel_amp_\d+x$|dev_\d+x$",
+    "full spectrum": r"fwd_rel_|rev_rel_|reverse_share|ellipticity_1x|precession_1x",
+    "orbit": r"flattening|near_limit_share|limit_radius_rel",
+    "all": r".",
+}
+FAMILY_NOTES = {
+    "study": "the study's features: 4x, sidebands and the broadband around each harmonic, "
+             "half and third orders, the combination pair",
+    "harmonics": "1x, 2x, 3x ... over the channel's level",
+    "full spectrum": "forward and reverse lines of each probe pair, reverse share, 1x "
+                     "ellipticity and precession",
+    "orbit": "flattening, the clearance-limited radius and the share of time near it",
+    "all": "everything above",
+}
+#: the macro-F1 below which a family is said not to separate a pair
+SEPARATES = 0.9
+
+
+def one_vs_one(data, features) -> pd.DataFrame:
+    """Held-out macro-F1 of each family on each pair of pure classes (module docstring)."""
+    from sklearn.model_selection import StratifiedGroupKFold
+
+    from rubdiag.learn.metrics import score
+    from rubdiag.learn.pipelines import make_estimator
+
+    faults = data["faults"].astype(str).to_numpy()
+    groups = data["point_id"].to_numpy()
+    pairs = [("rub", k) for k in CONFUSER_KINDS] + list(itertools.combinations(
+        CONFUSER_KINDS, 2))
+    rows = []
+    for a, b in pairs:
+        keep = np.flatnonzero((faults == a) | (faults == b))
+        y, g = faults[keep], groups[keep]
+        for family, pattern in FAMILY_GROUPS.items():
+            cols = [c for c in features.columns if re.search(pattern, c.split("__")[-1])]
+            X = features.iloc[keep][cols].to_numpy()
+            predicted = np.empty(keep.size, dtype=object)
+            splitter = StratifiedGroupKFold(n_splits=5, shuffle=True, random_state=0)
+            for train, test in splitter.split(X, y, g):
+                model = make_estimator("rf", random_state=0).fit(X[train], y[train])
+                predicted[test] = model.predict(X[test])
+            s = score(y, predicted.astype(str), g, sorted({a, b}))["macro_f1"]
+            rows.append({"a": a, "b": b, "n_a": int((y == a).sum()), "n_b": int((y == b).sum()),
+                         "family": family, "n_columns": len(cols), "macro_f1": s.value,
+                         "lo": s.lo, "hi": s.hi})
+    return pd.DataFrame(rows)
+
+
+# --- the README blocks ---------------------------------------------------------------------
+def _f(v, lo=None, hi=None) -> str:
+    if v != v:
+        return "–"
+    text = f"{v:.3f}"
+    return text if lo is None or lo != lo else f"{text} [{lo:.3f}, {hi:.3f}]"
+
+
+def goals_table(cells: pd.DataFrame, rates: pd.DataFrame) -> str:
+    """Goals: per cell, macro-F1 and each confuser's false rub alarm (called / runs)."""
+    kinds = ["none", *CONFUSER_KINDS]
+    lines = ["| target | held out | macro-F1 [95 %] | unscored | "
+             + " | ".join(f"false rub alarm: {k}" for k in kinds) + " |",
+             "|---|---|---|---:|" + "---|" * len(kinds)]
+    for _, c in cells.iterrows():
+        r = rates[(rates.target == c.target) & (rates.split == c.split)
+                  & (rates.measure == "false rub alarm")].set_index("faults")
+        alarms = [f"{_f(r.loc[k, 'rate'])} ({int(r.loc[k, 'n_called_rub'])}/{int(r.loc[k, 'n'])})"
+                  for k in kinds]
+        split = "design point" if c.split == "group" else f"band of {c.split}"
+        lines.append(f"| {c.target} | {split} | {_f(c.macro_f1, c.macro_f1_lo, c.macro_f1_hi)} "
+                     f"| {int(c.unscored)} | " + " | ".join(alarms) + " |")
+    return "\n".join(lines)
+
+
+def recall_table(rates: pd.DataFrame) -> str:
+    """Rub recall beside each fault, rub target, per split of the speed and the points."""
+    lines = ["| held out | " + " | ".join(f"rub recall: {k}" for k in
+                                           ["rub", *[f"rub+{k}" for k in CONFUSER_KINDS]])
+             + " |", "|---|" + "---|" * 5]
+    for split in ("group", "speed_ratio"):
+        r = rates[(rates.target == "rub") & (rates.split == split)
+                  & (rates.measure == "rub recall")].set_index("faults")
+        cells = [f"{_f(r.loc[k, 'rate'], r.loc[k, 'lo'], r.loc[k, 'hi'])} "
+                 f"({int(r.loc[k, 'n_called_rub'])}/{int(r.loc[k, 'n'])})"
+                 for k in ["rub", *[f"rub+{k}" for k in CONFUSER_KINDS]]]
+        name = "design point" if split == "group" else f"band of {split}"
+        lines.append(f"| {name} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def one_vs_one_table(one: pd.DataFrame) -> str:
+    families = list(FAMILY_GROUPS)
+    lines = ["| pair | runs | " + " | ".join(families) + " |",
+             "|---|---:|" + "---|" * len(families)]
+    for (a, b), rows in one.groupby(["a", "b"], sort=False):
+        rows = rows.set_index("family")
+        best = rows.loc[[f for f in families if f != "all"], "macro_f1"].max()
+        cells = []
+        for f in families:
+            text = _f(rows.loc[f, "macro_f1"], rows.loc[f, "lo"], rows.loc[f, "hi"])
+            cells.append(f"**{text}**" if f != "all" and rows.loc[f, "macro_f1"] == best
+                         else text)
+        n = f"{int(rows.n_a.iloc[0])}/{int(rows.n_b.iloc[0])}"
+        lines.append(f"| {a} vs {b} | {n} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def study_failures(one: pd.DataFrame) -> str:
+    """The pairs the study's features do not separate (held-out macro-F1 < SEPARATES)."""
+    study = one[one.family == "study"]
+    weak = study[study.macro_f1 < SEPARATES]
+    if weak.empty:
+        return (f"The study's features separate every pair (held-out macro-F1 ≥ "
+                f"{SEPARATES:g}).")
+    parts = [f"{r.a} vs {r.b} ({r.macro_f1:.3f})" for _, r in weak.iterrows()]
+    return (f"The study's features alone fall below {SEPARATES:g} held-out macro-F1 on: "
+            + "; ".join(parts) + ".")
+
+
+def blocks() -> dict[str, str]:
+    cells, rates, one = (pd.read_csv(p) for p in (CELLS_CSV, RATES_CSV, ONE_CSV))
+    return {"confuser-goals": goals_table(cells, rates), "confuser-recall": recall_table(rates),
+            "one-vs-one": one_vs_one_table(one) + "\n\n" + study_failures(one)}
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("dataset", nargs="?", help="the dataset folder of the design")
+    parser.add_argument("--table", action="store_true", help="print the README blocks")
+    args = parser.parse_args(argv)
+    if not args.table:
+        if args.dataset is None:
+            parser.error("give the dataset folder, or --table")
+        from rubdiag.learn import read_dataset
+
+        data = read_dataset(args.dataset)
+        data = data[data["status"] == "ok"].reset_index(drop=True)
+        _, features = _channels_and_features(data)
+        one = one_vs_one(data, features)
+        one.to_csv(ONE_CSV, index=False, float_format="%.6g")
+        print(one_vs_one_table(one), flush=True)
+        cells, rates = [], []
+        for target, split in CELLS:
+            row, r = goals_cell(data, target, split)
+            cells.append(row)
+            rates.append(r)
+            print(row, flush=True)
+            pd.DataFrame(cells).to_csv(CELLS_CSV, index=False, float_format="%.6g")
+            pd.concat(rates).to_csv(RATES_CSV, index=False, float_format="%.6g")
+    for name, body in blocks().items():
+        print(f"<!-- {name} -->\n{body}\n<!-- /{name} -->\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
