@@ -62,18 +62,10 @@ def measure(d, factor: str, value: float) -> dict:
         point = {"case": case, **base}
         row[f"crit{case}_rpm"] = d.critical_speed_rad_s(point) * RPM
         run = d.run_for({**point, "speed_ratio": SPEED_RATIO, "fault": "rub",
-                         "interference_ratio": 1.0, **_severities(d)})
+                         "interference_ratio": 1.0})
         row[f"approach{case}_um"] = sweep_linear_approach_m(run) * 1e6
     row["threshold_rpm"] = d.whirl_threshold_rad_s(base) * RPM
     return row
-
-
-def _severities(d) -> dict:
-    """Any level of the design's severity factors (a rub run ignores them)."""
-    from rubdiag.dataset.fault_levels import SEVERITY_FACTORS
-
-    return {f.name: f.low if f.is_range else f.levels[0] for f in d.factors
-            if f.name in SEVERITY_FACTORS}
 
 
 def table(rows: pd.DataFrame) -> str:

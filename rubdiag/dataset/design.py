@@ -124,7 +124,12 @@ from rubdiag.dataset.labels import LabelRules
 from rubdiag.dataset.noise import NoiseFloors
 from rubdiag.dataset.ramp import KEYS as RAMP_KEYS
 from rubdiag.dataset.ramp import SpeedRamp
-from rubdiag.dataset.rig_factors import check_rig_factors, varied_rig
+from rubdiag.dataset.rig_factors import (
+    CRITICAL_FACTORS,
+    THRESHOLD_FACTORS,
+    check_rig_factors,
+    varied_rig,
+)
 from rubdiag.dataset.sampling import (
     MAX_REPLICATES,
     METHODS,
@@ -490,9 +495,10 @@ class Design:
         """The threshold of instability (rad/s) of ``point``'s rig, which its
         ``whirl_speed_ratio`` multiplies (rounded to 10 significant digits, as
         :meth:`critical_speed_rad_s`, when a model-uncertainty factor moves it)."""
-        names = ("damping_ratio", *_MODAL_FACTORS)
-        threshold = whirl_threshold_rad_s(_rotor_rig(self.rig, point, names))
-        return threshold if not any(n in point for n in names) else float(f"{threshold:.10g}")
+        threshold = whirl_threshold_rad_s(_rotor_rig(self.rig, point, THRESHOLD_FACTORS))
+        if not any(name in point for name in THRESHOLD_FACTORS):
+            return threshold
+        return float(f"{threshold:.10g}")
 
     def critical_speed_rad_s(self, point: Mapping) -> float:
         """The reference speed of ``point``'s ``speed_ratio``: its case's critical speed on
@@ -500,9 +506,9 @@ class Design:
         viscosity and clearance) gets it from that rig's critical speed map, rounded to 10
         significant digits so that a run's speed (and id) is the same on every machine;
         otherwise it is the design's ``critical_speeds_rad_s``."""
-        if not any(name in point for name in _MODAL_FACTORS):
+        if not any(name in point for name in CRITICAL_FACTORS):
             return self.critical_speeds_rad_s[point["case"] - 1]
-        rig = _rotor_rig(self.rig, point, _MODAL_FACTORS)
+        rig = _rotor_rig(self.rig, point, CRITICAL_FACTORS)
         return float(f"{_rig_critical_speeds(rig, point['case'])[-1]:.10g}")
 
     def run_for(self, point: Mapping, replicate: int = 0) -> Run:
@@ -685,12 +691,6 @@ def _contact(rig: Rig, point: Mapping):
         changes["normal_stiffness_n_m"] = law.normal_stiffness_n_m * s
         changes["tangential_stiffness_n_m"] = law.tangential_stiffness_n_m * s
     return dataclasses.replace(law, **changes) if changes else None
-
-
-#: the rig factors that move the critical speeds and the threshold of instability (the
-#: casing is coupled to the rotor only through contact, and the critical speed map is
-#: undamped: neither casing_stiffness_scale nor damping_ratio moves the critical speeds)
-_MODAL_FACTORS = ("disc_mass_scale", "oil_viscosity_scale", "bearing_clearance_scale")
 
 
 def _rotor_rig(rig: Rig, point: Mapping, names) -> Rig:

@@ -34,14 +34,20 @@ import dataclasses
 import functools
 from collections.abc import Mapping
 
-__all__ = ["JOURNAL_FACTORS", "RIG_FACTORS", "bearing_loads_n", "check_rig_factors",
-           "varied_rig"]
+__all__ = ["CRITICAL_FACTORS", "JOURNAL_FACTORS", "RIG_FACTORS", "THRESHOLD_FACTORS",
+           "bearing_loads_n", "check_rig_factors", "varied_rig"]
 
 #: the factors that change the rig, in the order they are applied
 RIG_FACTORS = ("casing_stiffness_scale", "damping_ratio", "disc_mass_scale",
                "oil_viscosity_scale", "bearing_clearance_scale")
 #: the factors that need journal bearings
 JOURNAL_FACTORS = ("oil_viscosity_scale", "bearing_clearance_scale")
+#: the factors that move the critical speeds (the casing meets the rotor only through
+#: contact, and the critical speed map is undamped: neither casing_stiffness_scale nor
+#: damping_ratio moves them)
+CRITICAL_FACTORS = ("disc_mass_scale", *JOURNAL_FACTORS)
+#: the factors that move the threshold of instability: those and the damping
+THRESHOLD_FACTORS = ("damping_ratio", *CRITICAL_FACTORS)
 
 
 def check_rig_factors(rig, names) -> None:
