@@ -62,14 +62,15 @@ from _threads import cpu_model, limit_threads  # benchmarks/ is on sys.path as a
 SHORT_S = 1.0     # below this duration the design uses case 2 only (see the docstring)
 
 
-def design_toml(runs: int, duration_s: float) -> str:
+def design_toml(runs: int, duration_s: float, reduced: bool = False) -> str:
     """The benchmark's design (see the module docstring)."""
     discard_s = round(min(0.3, duration_s / 3), 9)    # 0.3 / 3 is 0.0999…: round
     cases = "[1, 2]" if duration_s >= SHORT_S else "[2]"
+    model = "reduced = true\n" if reduced else ""
     return f"""
 [base]
 rig = "paper"
-duration_s = {duration_s!r}
+{model}duration_s = {duration_s!r}
 discard_s = {discard_s!r}
 
 [sampling]
@@ -164,6 +165,106 @@ def bare_simulations(design) -> tuple[float, list[float]]:
     return sum(per_run), per_run
 
 
+#: (module, function, part): what a row's parts are timed by (:func:`part_times`)
+PARTS = (
+    ("rubdiag.simulate.simulation", "damped_model", "set-up: model (rig cache)"),
+    ("rubdiag.reduce", "reduced_model", "set-up: reduced model (cache)"),
+    ("rubdiag.simulate.simulation", "rig_system", "set-up: start state"),
+    ("rubdiag.simulate.system", "_level_operators", "set-up: step operators"),
+    ("rubdiag.simulate.simulation", "simulate_system", "set-up: integrator, other"),
+    ("rubdiag.simulate", "simulate", "set-up: simulate, other"),
+    ("rubdiag.simulate.system", "_integrate", "kernel"),
+    ("rubdiag.simulate.system", "_package", "kernel's records to a result"),
+    ("rubdiag.simulate.simulation", "sensor_signals", "sensor signals (filter + decimation)"),
+    ("rubdiag.dataset.rows", "add_noise", "noise"),
+    ("rubdiag.dataset.rows", "_spectral_features", "spectral features"),
+    ("rubdiag.dataset.rows", "_pair_features", "pair features"),
+    ("rubdiag.dataset.rows", "_truth", "contact statistics"),
+    ("rubdiag.dataset.rows", "_labels", "labels"),
+)
+KERNEL = "kernel"
+REST = "rest (row building, BLAS limits)"
+
+
+class PartClock:
+    """Seconds per part of one row: each wrapped function's own time, less that of the
+    wrapped functions it calls (the kernel is not counted in the ``simulate_system`` that
+    calls it), so that the parts add up to the row's wall time."""
+
+    def __init__(self):
+        self.seconds: dict[str, float] = {}
+        self._inner: list[float] = []
+
+    def wrap(self, part: str, fn):
+        import functools
+
+        @functools.wraps(fn)
+        def timed(*args, **kwargs):
+            self._inner.append(0.0)
+            start = time.perf_counter()
+            try:
+                return fn(*args, **kwargs)
+            finally:
+                elapsed = time.perf_counter() - start
+                own = elapsed - self._inner.pop()
+                self.seconds[part] = self.seconds.get(part, 0.0) + own
+                if self._inner:
+                    self._inner[-1] += elapsed
+        return timed
+
+
+def part_times(design) -> tuple[dict[str, list[float]], list[float]]:
+    """``make_row`` of every run of the design in this process, with the functions of
+    :data:`PARTS` timed; ``({part: seconds per run}, wall seconds per run)``. The rest of a
+    row's wall time (``wall_s``) is :data:`REST`."""
+    import importlib
+    from contextlib import ExitStack
+    from unittest import mock
+
+    from rubdiag.dataset.rows import make_row
+
+    clock = PartClock()
+    per_part: dict[str, list[float]] = {part: [] for *_, part in PARTS}
+    per_part[REST] = []
+    walls = []
+    with ExitStack() as stack, warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for module, name, part in PARTS:
+            owner = importlib.import_module(module)
+            stack.enter_context(mock.patch.object(owner, name,
+                                                  clock.wrap(part, getattr(owner, name))))
+        for item in design.runs():
+            clock.seconds = {}
+            row = make_row(item)
+            if row["status"] != "ok":
+                continue
+            for *_, part in PARTS:
+                per_part[part].append(clock.seconds.get(part, 0.0))
+            per_part[REST].append(row["wall_s"] - sum(clock.seconds.values()))
+            walls.append(row["wall_s"])
+    return per_part, walls
+
+
+def parts_table(per_part: dict[str, list[float]], walls: list[float]) -> list[str]:
+    """Markdown: each part's median seconds per run, and the non-stepping total."""
+    kernel = per_part[KERNEL]
+    other = [w - k for w, k in zip(walls, kernel, strict=True)]
+    lines = ["| part of a row (make_row, this process) | s per run, median | share of "
+             "the wall |", "|---|---:|---:|"]
+    wall = statistics.median(walls)
+    for part, values in per_part.items():
+        m = statistics.median(values)
+        lines.append(f"| {part} | {m:.4f} | {m / wall:.1%} |")
+    setup = [sum(v[i] for p, v in per_part.items() if p.startswith("set-up"))
+             for i in range(len(walls))]
+    lines += [f"| *set-up before the kernel (the set-up rows)* | {statistics.median(setup):.4f}"
+              f" | {statistics.median(setup) / wall:.1%} |",
+              f"| **everything but the kernel** (wall − kernel) | "
+              f"**{statistics.median(other):.4f}** | {statistics.median(other) / wall:.1%} |",
+              f"| wall (`wall_s`) | {wall:.4f} | 100% |"]
+    return lines
+
+
 def comparable(rows):
     """The rows without provenance (wall times, version), by run id, for equality checks."""
     from rubdiag.dataset.rows import PROVENANCE
@@ -231,6 +332,8 @@ def main(argv=None) -> int:
                     f"below {SHORT_S:g} s the design is case 2 only")
     ap.add_argument("--repeat", type=int, default=3, help="timed runs of (a), (b), (c)")
     ap.add_argument("--skip-dask", action="store_true", help="leave (c) out")
+    ap.add_argument("--reduced", action="store_true",
+                    help="the reduced model ([base] reduced = true) instead of the full one")
     ap.add_argument("--out", type=Path, default=None, help="also write the Markdown here")
     args = ap.parse_args(argv)
     if args.runs < 1:
@@ -247,7 +350,7 @@ def main(argv=None) -> int:
 
     now = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
     n, d = args.runs, args.duration_s
-    text = design_toml(n, d)
+    text = design_toml(n, d, args.reduced)
     try:
         design = Design.from_toml(text)
     except ValueError as exc:
@@ -258,8 +361,8 @@ def main(argv=None) -> int:
     print(f"{now}; {os.cpu_count()} CPUs ({cpu_model()}); Python {platform.python_version()}, "
           f"numpy {np.__version__}, rubdiag {rubdiag.__version__} ({git_commit()}); "
           f"BLAS/OpenMP in this process: {pools}", flush=True)
-    print(f"design: {n} runs x {d:g} s (discard {design.discard_s:g} s), cases {cases}",
-          flush=True)
+    print(f"design: {n} runs x {d:g} s (discard {design.discard_s:g} s), cases {cases}, "
+          f"{'reduced' if args.reduced else 'full'} model", flush=True)
 
     load_start = load1()
     warm_s = warm_up(design)
@@ -270,6 +373,10 @@ def main(argv=None) -> int:
     bare_load = (before, load1())
     print(f"bare simulate: {bare_sum:.1f} s for {n} runs "
           f"(median {statistics.median(bare_runs):.2f} s per run)", flush=True)
+
+    per_part, part_walls = part_times(design)
+    parts = parts_table(per_part, part_walls)
+    print("\n".join(["", f"parts of a row, {len(part_walls)} runs:", *parts, ""]), flush=True)
 
     a, b, c = Timing(), Timing(), Timing()
     reference, mismatches = None, []
@@ -288,7 +395,7 @@ def main(argv=None) -> int:
                   f"(load {timing.loads[-1][0]:.2f}→{timing.loads[-1][1]:.2f})", flush=True)
 
     markdown = report(args, design, cases, now, pools, bare_sum, bare_runs, bare_load, a, b, c,
-                      reference, mismatches, load_start, warm_s)
+                      reference, mismatches, load_start, warm_s, parts)
     print()
     print(markdown)
     if args.out is not None:
@@ -297,7 +404,7 @@ def main(argv=None) -> int:
 
 
 def report(args, design, cases, now, pools, bare_sum, bare_runs, bare_load, a, b, c, rows,
-           mismatches, load_start, warm_s) -> str:
+           mismatches, load_start, warm_s, parts) -> str:
     import numpy as np
 
     import rubdiag
@@ -309,7 +416,8 @@ def report(args, design, cases, now, pools, bare_sum, bare_runs, bare_load, a, b
 
     lines = [
         f"Dataset generation — {n} runs × {d:g} s (discard {design.discard_s:g} s; LHS seed 1 "
-        f"of case {cases}, speed_ratio 0.9–1.1, gap_mm 1.5–4.0, mu 0.2–0.5, paper rig), "
+        f"of case {cases}, speed_ratio 0.9–1.1, gap_mm 1.5–4.0, mu 0.2–0.5, paper rig, "
+        f"{'reduced' if args.reduced else 'full'} model), "
         f"median of {args.repeat}. {now}, {os.cpu_count()} CPUs (`nproc`; {cpu_model()}), "
         f"Python {platform.python_version()}, numpy {np.__version__}, rubdiag "
         f"{rubdiag.__version__} ({git_commit()}); BLAS/OpenMP: {pools}.",
@@ -356,6 +464,8 @@ def report(args, design, cases, now, pools, bare_sum, bare_runs, bare_load, a, b
         lines.append(f"- Labels of the design's runs: rub {rub} of {len(ok)}; severity none "
                      f"{int(sev.get('none', 0))}, light {int(sev.get('light', 0))}, serious "
                      f"{int(sev.get('serious', 0))}.")
+    lines += ["", "Parts of a row, median over the design's runs (`make_row` of each run in "
+              "this process, after the bare runs):", "", *parts, ""]
     same = ("(a), (b)" + (", (c)" if c.times else "")) + " wrote the same rows"
     lines.append(f"- {same if not mismatches else 'ROWS DIFFER in ' + ', '.join(mismatches)} "
                  "(provenance columns aside); load average at start "

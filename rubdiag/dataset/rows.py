@@ -153,12 +153,6 @@ def make_row_and_waveforms(item, rules: LabelRules | None = None,
 
 def _simulate_and_describe(item, rules, noise, run_timeout_s,
                            start) -> tuple[dict, dict]:
-    from rubdiag.dataset.approach import sweep_linear_approach_m
-    from rubdiag.dataset.faults import fault_labels
-    from rubdiag.runs import contact_statistics
-    from rubdiag.runs.features import order_tracked
-    from rubdiag.signal.fullspectrum import pair_features
-    from rubdiag.signal.table import prefixed_features
     from rubdiag.simulate import simulate
 
     def watchdog(t, duration):
@@ -168,40 +162,82 @@ def _simulate_and_describe(item, rules, noise, run_timeout_s,
                              f"of {duration:.4g} s (--run-timeout {run_timeout_s:g} s)")
 
     run = item.run
-    varying = run.speed_profile is not None
     result = simulate(run, progress=None if run_timeout_s is None else watchdog)
-    labelled = label_run(result, rules,
-                         sweep_linear_approach_m(run) if varying else None)
-    if "fault" in item.point:           # a design with a fault factor: each fault's labels
-        labelled.update(fault_labels(result, labelled["rub"]))
+    labelled = _labels(item, result, rules)
     # noise over the whole record (what --waveforms stores), features over the window
     measured = add_noise(result.sensor_signals(),
                          {s.name: noise.floor(s.quantity) for s in run.sensors},
                          noise_seed(item.run_id))
+    computed, record, fs, speed_rpm = _record(result, measured)
+    features = _spectral_features(record, fs, speed_rpm)
+    features.update(_pair_features(run.sensors, record, fs, speed_rpm))
+    features.update(_truth(result))
+    waves = {"fs": result.fs,
+             "channels": {k: v.astype(np.float32) for k, v in measured.items()}}
+    if run.speed_profile is not None:
+        waves["angle_rad"] = result.angle_rad
+    return {**computed, **labelled, **{k: _plain(v) for k, v in features.items()},
+            "simulate_s": result.wall_s}, waves
+
+
+def _labels(item, result, rules) -> dict:
+    """The run's measures and labels (and each fault's, with a design's fault factor)."""
+    from rubdiag.dataset.approach import sweep_linear_approach_m
+    from rubdiag.dataset.faults import fault_labels
+
+    run = item.run
+    labelled = label_run(result, rules, sweep_linear_approach_m(run)
+                         if run.speed_profile is not None else None)
+    if "fault" in item.point:           # a design with a fault factor: each fault's labels
+        labelled.update(fault_labels(result, labelled["rub"]))
+    return labelled
+
+
+def _record(result, measured) -> tuple[dict, dict, float, float]:
+    """``(columns, record, fs, speed_rpm)``: the measured channels over the analysis window
+    as the features see them; along a speed ramp one constant-speed record at the sweep's
+    mean speed (``columns``: its ``ramp_mean_rpm``)."""
+    from rubdiag.runs.features import order_tracked
+
     window = result.window
     windowed = {k: v[window] for k, v in measured.items()}
-    computed = {}
-    if varying:                 # one constant-speed record at the sweep's mean speed
-        record, fs, speed_rpm = order_tracked(windowed, result.fs, result.angle_rad[window])
-        computed["ramp_mean_rpm"] = float(speed_rpm)
-    else:
-        record, fs, speed_rpm = windowed, result.fs, run.speed_rpm
+    if result.run.speed_profile is None:
+        return {}, windowed, result.fs, result.run.speed_rpm
+    record, fs, speed_rpm = order_tracked(windowed, result.fs, result.angle_rad[window])
+    return {"ramp_mean_rpm": float(speed_rpm)}, record, fs, speed_rpm
+
+
+def _spectral_features(record, fs, speed_rpm) -> dict:
+    """``CHANNEL__FEATURE`` of every channel of the record (:mod:`rubdiag.signal.table`)."""
+    from rubdiag.signal.table import prefixed_features
+
     spectra = prefixed_features(record, fs, speed_rpm, separator=SEPARATOR)
-    features = spectra.iloc[0].drop("speed_rpm").to_dict()
-    for channel, y, z in sensor_pairs(run.sensors):
+    return spectra.iloc[0].drop("speed_rpm").to_dict()
+
+
+def _pair_features(sensors, record, fs, speed_rpm) -> dict:
+    """``PAIR__FEATURE`` of every probe pair among ``sensors`` (module docstring)."""
+    from rubdiag.signal.fullspectrum import pair_features
+
+    features = {}
+    for channel, y, z in sensor_pairs(sensors):
         pair = pair_features(record[y], record[z], fs, speed_rpm)
         features.update((f"{channel}{SEPARATOR}{n}", pair[n]) for n in PAIR_FEATURES)
+    return features
+
+
+def _truth(result) -> dict:
+    """The ground truth a plant cannot measure: ``contact<k>__…``, ``contacts__…`` and
+    ``truth__…`` (:mod:`rubdiag.runs.contact_stats`)."""
+    from rubdiag.runs import contact_statistics
+
+    features = {}
     for name, value in contact_statistics(result).items():
         if name == "window_s":          # the design's, not the run's
             continue
         channel, stat = name.split("_", 1) if name.startswith("contact") else ("truth", name)
         features[f"{channel}{SEPARATOR}{stat}"] = value
-    waves = {"fs": result.fs,
-             "channels": {k: v.astype(np.float32) for k, v in measured.items()}}
-    if varying:
-        waves["angle_rad"] = result.angle_rad
-    return {**computed, **labelled, **{k: _plain(v) for k, v in features.items()},
-            "simulate_s": result.wall_s}, waves
+    return features
 
 
 def _plain(value):
