@@ -209,21 +209,24 @@ def _record(result, measured) -> tuple[dict, dict, float, float]:
 
 def _spectral_features(record, fs, speed_rpm) -> dict:
     """``CHANNEL__FEATURE`` of every channel of the record (:mod:`rubdiag.signal.table`)."""
-    from rubdiag.signal.table import prefixed_features
+    from rubdiag.signal.table import prefixed_feature_row
 
-    spectra = prefixed_features(record, fs, speed_rpm, separator=SEPARATOR)
-    return spectra.iloc[0].drop("speed_rpm").to_dict()
+    row = prefixed_feature_row(record, fs, speed_rpm, separator=SEPARATOR)
+    del row["speed_rpm"]
+    return row
 
 
 def _pair_features(sensors, record, fs, speed_rpm) -> dict:
-    """``PAIR__FEATURE`` of every probe pair among ``sensors`` (module docstring)."""
-    from rubdiag.signal.fullspectrum import pair_features
+    """``PAIR__FEATURE`` of every probe pair among ``sensors`` (module docstring), the pairs
+    sharing the record's lock-in references."""
+    from rubdiag.signal.fullspectrum import pairs_features
 
-    features = {}
-    for channel, y, z in sensor_pairs(sensors):
-        pair = pair_features(record[y], record[z], fs, speed_rpm)
-        features.update((f"{channel}{SEPARATOR}{n}", pair[n]) for n in PAIR_FEATURES)
-    return features
+    pairs = {channel: (record[y], record[z]) for channel, y, z in sensor_pairs(sensors)}
+    if not pairs:
+        return {}
+    rows = pairs_features(pairs, fs, speed_rpm)
+    return {f"{channel}{SEPARATOR}{n}": row[n] for channel, row in rows.items()
+            for n in PAIR_FEATURES}
 
 
 def _truth(result) -> dict:

@@ -19,6 +19,8 @@ precession at positive frequencies and reverse precession at negative ones. A ci
   orders);
 * :func:`pair_features` — both as one row: ``fwd_<order>``, ``rev_<order>`` at the half and
   third orders the feature table searches, and the orbit measures;
+  :func:`pairs_features` — the rows of several pairs of one record, sharing its lock-in
+  references (the costly part: complex exponentials of every order at every sample);
 * :func:`orbit_measures` — the 1× ellipticity and precession, the reverse share of the
   non-1× motion, and the orbit's shape: its flattening, its clearance-limited radius and
   the share of time it spends near that radius (definitions in the function's docstring).
@@ -35,7 +37,7 @@ import numpy as np
 from rubdiag import _check
 
 __all__ = ["ROTATIONS", "OrbitMeasures", "full_spectrum", "full_spectrum_lines",
-           "orbit_measures", "pair_features"]
+           "orbit_measures", "pair_features", "pairs_features"]
 
 #: the senses of rotation: +1 from y towards z, -1 from z towards y
 ROTATIONS = (1, -1)
@@ -95,14 +97,27 @@ def full_spectrum_lines(y, z, fs: float, speed_hz: float, orders, *,
     fs = _check.positive("fs", fs, unit="Hz")
     speed_hz = _check.positive("speed_hz", speed_hz, unit="Hz")
     s = _complex(y, z, rotation)
-    n = min(_whole_revolutions(s.size, fs, speed_hz), s.size)
-    s = s[:n] - s[:n].mean()
+    return _lines(s, _references(s.size, fs, speed_hz, orders))
+
+
+def _references(size: int, fs: float, speed_hz: float, orders) -> np.ndarray:
+    """The lock-in references ``e^{-ikΩt}`` (rows: the orders k) over the whole revolutions
+    of a record of ``size`` samples: what :func:`full_spectrum_lines` costs (a complex
+    exponential per order and sample), so that the pairs of one record share them."""
+    n = min(_whole_revolutions(size, fs, speed_hz), size)
     phase = 2.0 * np.pi * speed_hz * np.arange(n) / fs
     k = np.atleast_1d(np.asarray(orders, dtype=np.float64))
-    turn = np.exp(-1j * np.outer(k, phase))
-    forward = np.abs(turn @ s) / n
-    reverse = np.abs(np.conj(turn) @ s) / n
-    return forward, reverse
+    return np.exp(-1j * np.outer(k, phase))
+
+
+def _lines(s: np.ndarray, turn: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(forward, reverse)`` of the complex signal ``s`` at the orders of the references
+    ``turn`` (:func:`_references`). The reverse lock-in ``conj(turn) @ s`` is taken as
+    ``turn @ conj(s)``: the same bits (conjugation only flips signs), without conjugating
+    the references."""
+    n = turn.shape[1]
+    s = s[:n] - s[:n].mean()
+    return np.abs(turn @ s) / n, np.abs(turn @ np.conj(s)) / n
 
 
 @dataclass(frozen=True)
@@ -150,10 +165,16 @@ def orbit_measures(y, z, fs: float, speed_hz: float, orders, *,
     k = np.atleast_1d(np.asarray(orders, dtype=np.float64))
     forward, reverse = full_spectrum_lines(y, z, fs, speed_hz, np.r_[1.0, k],
                                            rotation=rotation)
+    return _orbit(_complex(y, z, rotation), k, forward, reverse)
+
+
+def _orbit(s: np.ndarray, k: np.ndarray, forward: np.ndarray,
+           reverse: np.ndarray) -> OrbitMeasures:
+    """:func:`orbit_measures` of the complex signal ``s`` from its lines at 1× then at the
+    orders ``k`` (``forward``, ``reverse``: 1 + len(k) values)."""
     f1, r1 = float(forward[0]), float(reverse[0])
     others = np.abs(k - 1.0) > 1e-9
     motion = float(np.sum(forward[1:][others] ** 2 + reverse[1:][others] ** 2))
-    s = _complex(y, z, rotation)
     radius = np.abs(s - s.mean())
     r_max = float(radius.max())
     limit = float(np.percentile(radius, RADIUS_PERCENTILE))
@@ -175,15 +196,30 @@ def pair_features(y, z, fs: float, speed_rpm: float, *, rotation: int = 1) -> di
     orders 0.5× … 8× and the third orders the feature table searches
     (:mod:`rubdiag.signal.orders`; column labels as its ``order_label``), and the fields of
     :func:`orbit_measures` over those orders."""
+    return pairs_features({"pair": (y, z)}, fs, speed_rpm, rotation=rotation)["pair"]
+
+
+def pairs_features(pairs, fs: float, speed_rpm: float, *, rotation: int = 1) -> dict:
+    """:func:`pair_features` of every pair of ``pairs`` (name -> ``(y, z)``), as
+    ``{name: row}``: the pairs of one record (of equal length) share one set of lock-in
+    references, the costly part; the rows are those of :func:`pair_features`, bit for bit."""
     from rubdiag.signal.orders import HALF_ORDERS, THIRD_ORDERS, order_label
 
+    fs = _check.positive("fs", fs, unit="Hz")
     speed_hz = _check.positive("speed_rpm", speed_rpm, unit="rpm") / 60.0
     orders = np.array(sorted(HALF_ORDERS + THIRD_ORDERS))
-    forward, reverse = full_spectrum_lines(y, z, fs, speed_hz, orders, rotation=rotation)
-    row = {}
-    for k, f, r in zip(orders, forward, reverse, strict=True):
-        row[f"fwd_{order_label(k)}"] = float(f)
-        row[f"rev_{order_label(k)}"] = float(r)
-    measures = orbit_measures(y, z, fs, speed_hz, orders, rotation=rotation)
-    row.update({name: getattr(measures, name) for name in OrbitMeasures.__dataclass_fields__})
-    return row
+    labels = [order_label(k) for k in orders]
+    rows, turns = {}, {}
+    for name, (y, z) in pairs.items():
+        s = _complex(y, z, rotation)
+        if s.size not in turns:     # 1× first, for the orbit; then the orders
+            turns[s.size] = _references(s.size, fs, speed_hz, np.r_[1.0, orders])
+        forward, reverse = _lines(s, turns[s.size])
+        row = {}
+        for label, f, r in zip(labels, forward[1:], reverse[1:], strict=True):
+            row[f"fwd_{label}"] = float(f)
+            row[f"rev_{label}"] = float(r)
+        measures = _orbit(s, orders, forward, reverse)
+        row.update({n: getattr(measures, n) for n in OrbitMeasures.__dataclass_fields__})
+        rows[name] = row
+    return rows

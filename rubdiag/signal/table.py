@@ -349,6 +349,14 @@ def prefixed_features(signals: Mapping[str, object], fs: float, speed_rpm: float
         signal that never moves (a casing no blade touched) has every line absent
         (:func:`still_features`), even when no signal moves.
     """
+    return pd.DataFrame([prefixed_feature_row(signals, fs, speed_rpm, separator, **options)])
+
+
+def prefixed_feature_row(signals: Mapping[str, object], fs: float, speed_rpm: float,
+                         separator: str = "_", **options) -> dict:
+    """:func:`prefixed_features`' row as a dict (column -> value): the same values without
+    building a one-row DataFrame of thousands of columns, which costs as much as the
+    features of a run's few channels."""
     if not signals:
         raise ValueError("signals is empty: give at least one {prefix: signal}")
     lengths = {name: np.shape(x) for name, x in signals.items()}
@@ -362,7 +370,7 @@ def prefixed_features(signals: Mapping[str, object], fs: float, speed_rpm: float
     for prefix, v in zip(signals, values, strict=True):
         row.update({f"{prefix}{separator}{n}": v[j] for j, n in enumerate(FEATURE_NAMES)
                     if n not in SPEED_NAMES})
-    return pd.DataFrame([row])
+    return row
 
 
 def still_features() -> dict[str, float]:

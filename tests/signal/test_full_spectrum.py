@@ -164,3 +164,31 @@ def test_a_simulation_result_has_no_pair_yet(tmp_path, capsys):
     assert main(["features", str(out), "--pair", "shaft,blade"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "simulation result's channels are y only" in err[0]
+
+
+def test_pairs_of_one_record_share_references_and_keep_every_bit():
+    """pairs_features (one set of lock-in references per record length) gives, bit for bit,
+    what full_spectrum_lines and orbit_measures give each pair alone."""
+    from rubdiag.signal.fullspectrum import pairs_features
+    from rubdiag.signal.orders import HALF_ORDERS, THIRD_ORDERS, order_label
+
+    rng = np.random.default_rng(7)
+    pairs = {}
+    for name, n in (("a", T.size), ("b", T.size), ("short", T.size - 333)):
+        t = T[:n]
+        pairs[name] = (np.cos(W * t) + 0.3 * np.cos(2.5 * W * t) + rng.normal(0, 0.1, n),
+                       0.5 * np.sin(W * t) - 0.2 * np.sin(W * t / 3) + rng.normal(0, 0.1, n))
+    orders = np.array(sorted(HALF_ORDERS + THIRD_ORDERS))
+    rows = pairs_features(pairs, FS, 60.0 * SPEED)
+    assert list(rows) == list(pairs)
+    for name, (y, z) in pairs.items():
+        forward, reverse = full_spectrum_lines(y, z, FS, SPEED, orders)
+        measures = orbit_measures(y, z, FS, SPEED, orders)
+        expected = {}
+        for k, f, r in zip(orders, forward, reverse, strict=True):
+            expected[f"fwd_{order_label(k)}"] = float(f)
+            expected[f"rev_{order_label(k)}"] = float(r)
+        expected.update(vars(measures))
+        assert list(rows[name]) == list(expected)
+        for key, value in expected.items():
+            assert np.float64(rows[name][key]).tobytes() == np.float64(value).tobytes(), key

@@ -359,3 +359,17 @@ def test_numpy_scalars_are_numbers(channels):
     assert Options(threshold=np.float32(2.3)).threshold == pytest.approx(2.3)
     assert type(Options(threshold=np.float32(2.3)).threshold) is float
     assert features(channels, FS, np.float32(1500.0))["speed_rpm"].iloc[0] == 1500.0
+
+
+def test_prefixed_feature_row_is_the_frame_s_row(synth):
+    """The dict path that dataset rows use holds the one-row frame's values bit for bit."""
+    from rubdiag.signal.table import prefixed_feature_row
+
+    shaft = synth([(F1, 2e-3), (0.5 * F1, 4e-4)], FS, 2.0)
+    casing = synth([(F1, 5e-5), (3 * F1, 1e-6)], FS, 2.0)
+    frame = prefixed_features({"shaft": shaft, "casing": casing}, FS, RPM)
+    row = prefixed_feature_row({"shaft": shaft, "casing": casing}, FS, RPM)
+    assert list(row) == list(frame.columns)
+    values = frame.iloc[0]
+    for key, value in row.items():
+        assert np.float64(value).tobytes() == np.float64(values[key]).tobytes(), key
