@@ -125,12 +125,20 @@ def made_on() -> str:
     return llvm.get_host_cpu_name()
 
 
+#: SystemResult fields added after the references were made, for what those runs do not
+#: do (``n_rejected_error`` counts long steps, which they do not take: 0)
+ADDED_SINCE = {"n_rejected_error": 0}
+
+
 def arrays(system) -> dict[str, np.ndarray]:
     """Every array a run computed: the SystemResult's array fields, and those of its logs,
-    by name (``episodes.t_start`` …). Wall times (``extra``) are left out."""
+    by name (``episodes.t_start`` …). Wall times (``extra``) are left out, and so are the
+    fields :data:`ADDED_SINCE` when they hold the value the references' runs imply."""
     out = {}
     for f in dataclasses.fields(system):
         value = getattr(system, f.name)
+        if f.name in ADDED_SINCE and value == ADDED_SINCE[f.name]:
+            continue
         if isinstance(value, np.ndarray):
             out[f.name] = value
         elif dataclasses.is_dataclass(value):

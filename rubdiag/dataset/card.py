@@ -148,7 +148,8 @@ makes the same runs, bit for bit, on any machine and any number of workers.
 ## Design
 
 Sampling: {design.method}, {design.n} design points × {design.replicates} replicate(s) =
-{design.n_runs} runs (seed {design.seed}); {_timing(design)}; model: {_model(design)}.
+{design.n_runs} runs (seed {design.seed}); {_timing(design)}; model: {_model(design)};
+{_steps(design)}.
 Factors:
 
 {factors}
@@ -214,6 +215,14 @@ line, frequencies are in Hz at that speed, `rms` covers the orders up to 12.5.
 `interference_ratio` is the largest linear approach over the sweep, over g0; `…_per_rev`
 counts the window's revolutions.
 """
+
+
+def _steps(design) -> str:
+    if not design.step_error:
+        return "steps: 10 µs or shorter (`step_error = 0`)"
+    return (f"steps: 10 µs or shorter while a contact is closed, up to 40 µs where the "
+            f"Newmark local error estimate stays below {design.step_error:g} of the largest "
+            f"recorded displacement (`step_error`)")
 
 
 def _model(design) -> str:

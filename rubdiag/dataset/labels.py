@@ -31,13 +31,15 @@ with other thresholds:
     Sticking time / closed time over all elements and window episodes; NaN without
     contact.
 ``n_rub_episodes``
-    Episodes of at least :data:`MIN_RUB_STEPS` steps that overlap the window.
+    Episodes closed for at least 15 µs (:data:`rubdiag.runs.contact_stats.MIN_EPISODE_S`)
+    that overlap the window.
 
 Labels (rules :class:`LabelRules`, written in the design's ``[labels]`` table):
 
 ``rub``
-    At least one contact episode of at least 2 steps overlaps the window (a one-step graze
-    is not a rub).
+    At least one contact episode closed for at least 15 µs overlaps the window: a one-step
+    graze (10 µs) is not a rub, two 10-µs steps are (the rule is stated in time, so that it
+    does not depend on the step).
 ``rub_state``
     ``none`` without rub; ``full`` when some element is closed during at least
     ``full_contact_share`` (default 0.95) of the window (continuous contact); otherwise
@@ -61,11 +63,9 @@ import numpy as np
 
 from rubdiag import _check
 
-__all__ = ["LABELS", "MEASURES", "MIN_RUB_STEPS", "RUB_STATES", "SEVERITIES", "LabelRules",
+__all__ = ["LABELS", "MEASURES", "RUB_STATES", "SEVERITIES", "LabelRules",
            "label_run", "labels_from_measures"]
 
-#: An episode shorter than this many steps is a graze, not a rub.
-MIN_RUB_STEPS = 2
 RUB_STATES = ("none", "partial", "full")
 SEVERITIES = ("none", "light", "serious")
 LABELS = ("rub", "rub_state", "severity")
@@ -122,6 +122,8 @@ def run_measures(result, linear_approach_m: float | None = None) -> dict:
     """The raw measures of the module docstring (``linear_approach_m``: as for
     :func:`label_run`)."""
     run, system = result.run, result.system
+    from rubdiag.runs.contact_stats import MIN_EPISODE_S, closed_time
+
     varying = getattr(run, "speed_profile", None) is not None
     if linear_approach_m is None:
         if varying:
@@ -139,7 +141,7 @@ def run_measures(result, linear_approach_m: float | None = None) -> dict:
     others = n_elements < system.contact_fn.shape[1]
     ep = result.contact_episodes() if others else system.episodes
     overlap = (ep.t_end > start) & (ep.t_start < end)
-    lasting = overlap & (ep.n_steps >= MIN_RUB_STEPS)
+    lasting = overlap & (closed_time(ep) >= MIN_EPISODE_S)
     closed = np.clip(ep.t_end, start, end) - np.clip(ep.t_start, start, end)
     per_element = np.zeros(max(n_elements, 1))
     np.add.at(per_element, ep.element[overlap] - 1, closed[overlap])

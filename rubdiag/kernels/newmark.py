@@ -140,6 +140,13 @@ WN_MDQ = 4  # C x (gamma != 1/2), then M dq
 WN_SIZE = 5
 WC_SIZE = 5
 
+#: a step may double past the base step when its error estimate is at most this share of
+#: the tolerance: the estimate grows as h³, so the doubled step's is about 8 times this one's
+GROW_ERROR = 0.7 / 8.0
+#: a long step keeps each open impact element's gap above this many times the gap's change
+#: over the step (twice that before the step doubles)
+GAP_MARGIN = 2.0
+
 # CPU cycles per section of a step, in a profiled run (``prof`` (P_SIZE) int64)
 P_RHS = 0  # right-hand side of the increment equation (force, M v, K q, Bᵀp)
 P_SOLVE = 1  # the linear solve with K_eff
@@ -378,6 +385,7 @@ def _level_needed(run, lev, el, track, trial):
     when an element open at the start ends deeper than ``run.gap_jump`` (an abrupt
     closing), and at least the ``lev_req`` of every element engaged at the start or end."""
     gap_jump = run[0].gap_jump
+    long_step = lev < run[0].base
     need = lev
     for e in range(el.shape[0]):
         was_open = track[e].status == OPEN
@@ -388,7 +396,118 @@ def _level_needed(run, lev, el, track, trial):
             need = max(need, lev + 1)
         if (not was_open or not now_open) and lev_req > need:
             need = lev_req
+        if long_step and el[e].impact != 0 and now_open:
+            # the gap predictor: one more such step could close it (or it closed and
+            # opened again within this one): back to the base step
+            g1 = trial[e].gap
+            if g1 <= GAP_MARGIN * abs(g1 - track[e].gap):
+                need = max(need, run[0].base)
     return need
+
+
+# ---- steps longer than the base step: where they may go, their error, the sensor stream
+
+
+@njit
+def _step_level(lev, base, top, tick, out_ticks, tick_stop):
+    """The level of the next step: ``lev``, or for a long one (``lev < base``) the longest
+    not longer that starts on a multiple of its own length and ends by the next recorded
+    sample and by ``tick_stop``, so that samples stay exact step ends (the base step and
+    shorter ones are never cut: ``out_ticks`` is a multiple of the base step)."""
+    while lev < base:
+        nt = np.int64(1) << (top - lev)
+        next_sample = (tick // out_ticks + 1) * out_ticks
+        if tick % nt == 0 and tick + nt <= next_sample and tick + nt <= tick_stop:
+            break
+        lev += 1
+    return lev
+
+
+@njit(error_model="numpy")
+def _local_error(nb, h, dq, v, a, w, rec_dof, rec_map, sen_dof, sen_map, el, rmap, tmat, wc):
+    """The trial's local error estimate (m) by Zienkiewicz and Xie (1991): ``e = (β - 1/6)
+    h² (a_{n+1} - a_n) = (1 - 1/(6β)) (Δq - h v_n - h² a_n / 2)`` (from the Newmark
+    relation for ``a_{n+1}``), largest over the recorded DOFs, the sensor DOFs and the
+    impact elements' local coordinates. Reads the state at the step's start; ``w`` (n) and
+    ``wc[V]`` work. Called only for a long step or one that may lengthen (its reference
+    counting is then the controller's, on those steps only)."""
+    c = abs(1.0 - 1.0 / (6.0 * nb))
+    half_h2 = 0.5 * h * h
+    for i in range(w.shape[0]):
+        w[i] = dq[i] - h * v[i] - half_h2 * a[i]
+    err = max(_largest(rec_map, rec_dof, w), _largest(sen_map, sen_dof, w))
+    local_coords(el, el.shape[0], rmap, tmat, w, wc, V)
+    for e in range(el.shape[0]):
+        if el[e].impact != 0:
+            for r in range(el[e].row, el[e].row + el[e].n):
+                err = max(err, abs(wc[V, r]))
+    return c * err
+
+
+@njit(error_model="numpy")
+def _largest(mapt, dofs, x):
+    """``max |x[dofs]|``, or ``max |mapᵀ x|`` for a non-empty ``mapt`` (n, n_out)
+    (:func:`_recover`)."""
+    big = 0.0
+    if mapt.shape[0] == 0:
+        for r in range(dofs.shape[0]):
+            big = max(big, abs(x[dofs[r]]))
+        return big
+    for r in range(mapt.shape[1]):
+        acc = 0.0
+        for j in range(mapt.shape[0]):
+            acc += mapt[j, r] * x[j]
+        big = max(big, abs(acc))
+    return big
+
+
+@njit(error_model="numpy")
+def _levels_down(ratio, room):
+    """How many levels a long step rejected at ``ratio`` = error / tolerance goes down, at
+    most ``room``: the error grows as h³, so a step ``2^-k`` as long has ``8^-k`` of it,
+    with a margin of 0.9 on the step."""
+    k = 1
+    while k < room and ratio > 0.729 * 8.0 ** k:
+        k += 1
+    return k
+
+
+@njit(error_model="numpy")
+def _may_lengthen(err, tol, el, track, trial):
+    """Whether the step may double past the base step: its error estimate ``err`` leaves
+    room for a step twice as long (:data:`GROW_ERROR`), and every impact element stays open
+    with the margin of a step twice as long (committed state in ``track``, the step's end in
+    ``trial``). False without an estimate (``err`` < 0)."""
+    ok = 0.0 <= err <= GROW_ERROR * tol
+    for e in range(el.shape[0]):
+        if el[e].impact != 0:
+            g1 = trial[e].gap
+            opened = track[e].status == OPEN and trial[e].status == OPEN
+            ok = ok and opened and g1 > 2.0 * GAP_MARGIN * abs(g1 - track[e].gap)
+    return ok
+
+
+@njit(error_model="numpy")
+def _interpolate_sensors(i0, i1, h, sq, sv, sa):
+    """The sensor samples strictly between ``i0`` and ``i1``, the ends of a long step of
+    length ``h`` (both recorded): cubic Hermite in displacement (from q and v at the ends)
+    and in velocity (from v and a), linear in acceleration — the base step's stream, whose
+    anti-alias filter then sees the same rate wherever the step is."""
+    n = i1 - i0
+    for k in range(1, n):
+        s = k / n
+        s2 = s * s
+        s3 = s2 * s
+        h00 = 2.0 * s3 - 3.0 * s2 + 1.0
+        h10 = (s3 - 2.0 * s2 + s) * h
+        h01 = 3.0 * s2 - 2.0 * s3
+        h11 = (s3 - s2) * h
+        for c in range(sq.shape[1]):
+            sq[i0 + k, c] = (h00 * sq[i0, c] + h10 * sv[i0, c] + h01 * sq[i1, c]
+                             + h11 * sv[i1, c])
+            sv[i0 + k, c] = (h00 * sv[i0, c] + h10 * sa[i0, c] + h01 * sv[i1, c]
+                             + h11 * sa[i1, c])
+            sa[i0 + k, c] = (1.0 - s) * sa[i0, c] + s * sa[i1, c]
 
 
 # ---- the accept: the increment, its products, the new state
@@ -683,20 +802,24 @@ def _change_level(prog, lv_t, lv_l, t, level):
 
 
 @njit(error_model="numpy")
-def _advance(run, prog, lev, nt, el, track, lvl_count):
+def _advance(run, prog, lev, nt, el, track, lvl_count, lengthen):
     """Count the accepted step of ``nt`` ticks at ``lev`` and move the clock on. Returns the
     new tick and whether the next step may be twice as long: after ``grow_after`` quiet
-    steps at this level, when the new tick is aligned to it and every engaged element
-    allows it (``lev_req``)."""
+    steps at this level (the level asked for, not one cut short), when the new tick is
+    aligned to it, every engaged element allows it (``lev_req``) and, past the base step,
+    ``lengthen`` (:func:`_may_lengthen`)."""
     fixed = run[0].fixed != 0
     grow_after = run[0].grow_after
+    asked = prog[0].level == lev
+    past_base = lev <= run[0].base
     tick = prog[0].tick + nt
     prog[0].tick = tick
     prog[0].n_accepted += 1
     lvl_count[lev] += 1
     quiet = prog[0].quiet + 1
     prog[0].quiet = quiet
-    grow = not fixed and lev > 0 and quiet >= grow_after and tick % (2 * nt) == 0
+    grow = (not fixed and lev > 0 and quiet >= grow_after and tick % (2 * nt) == 0
+            and asked and (lengthen or not past_base))
     for e in range(el.shape[0]):
         engaged = track[e].status != OPEN
         lev_req = el[e].lev_req
@@ -718,9 +841,14 @@ def _logs_full(ne, prog, ep, sg, lv_t):
 
 @njit
 def _record(idx, q, v, mv, kq, rec_dof, rec_map, track, prog, out_q, out_el, out_en):
-    """Record sample ``idx``: the recorded DOFs, each element's record, and the energy
-    ledger with the kinetic and strain energies ``vᵀ M v / 2``, ``qᵀ K q / 2``."""
+    """Record sample ``idx``: the recorded DOFs (their largest magnitude is the scale of the
+    long steps' error tolerance until the next sample), each element's record, and the
+    energy ledger with the kinetic and strain energies ``vᵀ M v / 2``, ``qᵀ K q / 2``."""
     _recover(rec_map, rec_dof, q, out_q[idx])
+    scale = 0.0
+    for r in range(out_q.shape[1]):
+        scale = max(scale, abs(out_q[idx, r]))
+    prog[0].scale = scale
     for e in range(track.shape[0]):
         k = track[e]
         o = out_el[idx, e]
@@ -787,6 +915,7 @@ def newmark_contact(linear, factors, force, elements, run, state, outputs, logs,
     pr = prog[0]
     ne = el.shape[0]
     dt0, nb, ng = rp.dt, rp.beta, rp.gamma
+    base, tol, grow_after = rp.base, rp.step_error, rp.grow_after
     trapezoid = nb == 0.25 and ng == 0.5
     top, fixed = rp.n_lev - 1, rp.fixed != 0
     out_ticks, sen_ticks = rp.out_ticks, rp.sen_ticks
@@ -808,7 +937,7 @@ def newmark_contact(linear, factors, force, elements, run, state, outputs, logs,
         if _logs_full(ne, prog, ep, sg, lv_t):
             return STATUS_LOG_FULL
         c0 = cycles() if prof.shape[0] else 0
-        lev = pr.level
+        lev = _step_level(pr.level, base, top, tick, out_ticks, rp.tick_stop)
         nt = np.int64(1) << (top - lev)
         h = dt0 / (1 << lev)
         t_n = tick * tick_dt
@@ -836,14 +965,29 @@ def newmark_contact(linear, factors, force, elements, run, state, outputs, logs,
         code = _count_iterations(code, nit, naug, prog)
         if code == NONFINITE or (code != 0 and (fixed or lev == top)):
             return _element_failure(prog, rmap, code, worst, t_1)
-        # rejected: the element solve failed (one level down), or converged to an abrupt
-        # closing or too stiff a contact for this step (down to the level needed)
+        # the trial's increment (dq += S Δp) and, for a long step or one that may lengthen,
+        # its local error estimate
+        _increment(lev, s_mat, pc, p_new, el, rmap, tmat, dp, dq, rhs)
+        tol_m = tol * pr.scale
+        err = -1.0
+        if code == 0 and tol > 0.0 and lev <= base and (lev < base
+                                                        or pr.quiet + 1 >= grow_after):
+            err = _local_error(nb, h, dq, v, a, x, rec_dof, rec_map, sen_dof, sen_map, el,
+                               rmap, tmat, wc)
+        # rejected: the element solve failed (one level down), converged to an abrupt
+        # closing or too stiff a contact for this step, or a long step's error is too large
+        # (down to the level needed)
         need = lev + 1 if code != 0 else _level_needed(run, lev, el, track, trial)
+        by_error = need == lev and lev < base and err > tol_m
+        if by_error:
+            need = lev + _levels_down(err / tol_m, base - lev)
         if need > lev and not fixed:
             if lev < top:
                 _change_level(prog, lv_t, lv_l, t_n, min(need, top))
                 if code != 0:
                     pr.n_rej_newton += 1
+                elif by_error:
+                    pr.n_rej_error += 1
                 else:
                     pr.n_rej_abrupt += 1
                 _lap(prof, P_CONTACT, c0)
@@ -851,10 +995,10 @@ def newmark_contact(linear, factors, force, elements, run, state, outputs, logs,
             pr.n_abrupt_at_min += 1  # abrupt at the smallest step: accepted, counted
         c0 = _lap(prof, P_CONTACT, c0)
 
-        # ---- accept: dq, the new state, the books
+        # ---- accept: the new state, the books
         pr.newton_max = max(pr.newton_max, nit)
         pr.aug_max = max(pr.aug_max, naug)
-        _increment(lev, s_mat, pc, p_new, el, rmap, tmat, dp, dq, rhs)
+        lengthen = _may_lengthen(err, tol_m, el, track, trial)
         if dense:   # M and K are symmetric: row j is column j
             _mk_dense(rp.coupled, m_dense, k_dense, dq, mdq, kdq)
             dvisc = _dissipation(nb, ng, h, dq, rhs, mdq, kdq)
@@ -875,13 +1019,16 @@ def newmark_contact(linear, factors, force, elements, run, state, outputs, logs,
         c0 = _lap(prof, P_LEDGER, c0)
 
         # ---- the next step's size, the samples
-        tick, grow = _advance(run, prog, lev, nt, el, track, lvl_count)
+        tick, grow = _advance(run, prog, lev, nt, el, track, lvl_count, lengthen)
         if grow:
             _change_level(prog, lv_t, lv_l, t_1, lev - 1)
         if tick % out_ticks == 0:
             _record(tick // out_ticks, q, v, mv, kq, rec_dof, rec_map, track, prog, out_q,
                     out_el, out_en)
         if tick % sen_ticks == 0:
-            _record_sensors(tick // sen_ticks, q, v, a, sen_dof, sen_map, out_sq, out_sv, out_sa)
+            i1 = tick // sen_ticks
+            _record_sensors(i1, q, v, a, sen_dof, sen_map, out_sq, out_sv, out_sa)
+            # a long step: the base step's samples within it (none for the others)
+            _interpolate_sensors(i1 - nt // sen_ticks, i1, h, out_sq, out_sv, out_sa)
         _lap(prof, P_OUTPUT, c0)
     return STATUS_DONE

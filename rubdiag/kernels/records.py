@@ -80,6 +80,9 @@ RUN = _record(
     ("sen_ticks", _I),       # ticks between sensor samples
     ("coupled", _I),         # dense system: its leading coordinates coupled in M and K
     ("kinematics", _I),      # 1: a kind reads the local velocity, acceleration or the angle
+    ("base", _I),            # the level of the base step: longer ones (lev < base) are long
+    ("tick_stop", _I),       # a long step does not cross this tick (the run's or stretch's end)
+    ("step_error", _F),      # long steps' local error tolerance, of ``scale``; 0: none
 )
 
 #: The loop's state carried from call to call: counters, the energy ledger (J), the failure,
@@ -92,6 +95,8 @@ PROGRESS = _record(
     ("aug_pending", _I),     # steps accepted with the penetration band not yet reached
     ("n_episodes", _I), ("n_segments", _I), ("n_level_changes", _I),
     ("sample0_done", _I),
+    ("n_rej_error", _I),     # long steps rejected by the local error estimate
+    ("scale", _F),           # the largest recorded displacement at the last sample (m)
     ("fail_element", _I), ("fail_code", _I),
     ("w_ext", _F), ("w_drive", _F), ("d_visc", _F), ("d_fric", _F), ("d_num", _F),
     ("e_contact", _F),       # the elements' elastic energy at the current state
@@ -106,9 +111,10 @@ PROGRESS = _record(
 #: One nonlinear element as the seam sees it: its kind, its local rows ``row .. row + n - 1``
 #: of the local vectors, the augmented Lagrangian (``aug`` 1: multiplier iterated into the
 #: band ``-eps < gap <= 0``) and the smallest step level it may be engaged at (``lev_req``:
-#: its step requirement).
+#: its step requirement; an element that can close on impact (``impact`` 1: a contact, a
+#: pedestal's seat) is engaged at the base level or below, and long steps keep it open).
 ELEMENT = _record(("kind", _I), ("row", _I), ("n", _I), ("aug", _I), ("eps", _F),
-                  ("lev_req", _I))
+                  ("lev_req", _I), ("impact", _I))
 
 #: An element's law at the trial state (written by its kind's law, read by the books):
 #: status, normal and tangential force (N), gap (m, < 0 penetration), the engagement

@@ -198,6 +198,7 @@ class BreathingCrack:
     angle: float = 0.0
 
     kernel: ClassVar = crack_kernel
+    impacts: ClassVar[bool] = False     # a smooth stiffness change, no impact
 
     def __post_init__(self):
         name = "BreathingCrack"

@@ -20,6 +20,9 @@ with
   ``B K_eff⁻¹ Bᵀ`` at a step size; an engaged element allows that step when the ratio is at
   most the run's ``contact_stiffness_ratio`` (0: any step);
 * ``multiplier_stiffness(w, boost)`` → the multiplier update stiffness (N/m; 0 without one);
+* ``impacts`` (ClassVar, default True): whether it can close on impact; such an element is
+  engaged only at the base step dt or shorter ones, and steps longer than dt
+  (``TimeGrid.dt_max``) keep it open (False for a smooth law: a film, a crack);
 * ``dofs()`` → every DOF it acts on (checked against the system; a reduced model keeps them
   physical: :func:`rubdiag.reduce.boundary_dofs` lists those of the rig's elements).
 

@@ -39,6 +39,7 @@ class JournalBearing:
     clearance_m: float
 
     kernel: ClassVar = journal
+    impacts: ClassVar[bool] = False     # a smooth film: long steps may run through it
 
     def __post_init__(self):
         set_ = object.__setattr__

@@ -145,11 +145,13 @@ class SystemResult:
     ``max_penetration`` (m, 0 if never closed); ``max_cone_excess`` (N): max of
     ``|F_T| - mu F_N`` over all steps and elements (≤ round-off if the law holds).
 
-    Step control: ``dt_levels`` (n_lev,) s, the step sizes dt/2^k; ``steps_per_level``
+    Step control: ``dt_levels`` (n_lev,) s, the step sizes dt_max/2^k (dt_max = dt unless
+    long steps were allowed: ``TimeGrid.dt_max``); ``steps_per_level``
     (n_lev,) accepted steps per level; ``level_change_t`` (s), ``level_change_level`` — every
     change of level (the time at which the new level starts and the new level index);
     ``n_steps`` accepted steps; ``n_rejected_newton`` / ``n_rejected_abrupt`` rejected steps
-    (contact iteration failed / abrupt closing); ``n_abrupt_at_min`` abrupt closings accepted at
+    (contact iteration failed / abrupt closing), ``n_rejected_error`` long steps rejected by
+    the local error estimate; ``n_abrupt_at_min`` abrupt closings accepted at
     the smallest step; ``newton_iterations`` (total) and ``newton_iterations_max`` (per step);
     ``augment_iterations`` / ``augment_iterations_max`` (multiplier updates).
 
@@ -217,6 +219,7 @@ class SystemResult:
     sensor_q: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
     sensor_v: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
     sensor_a: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    n_rejected_error: int = 0
     extra: dict = field(default_factory=dict)
 
     @property

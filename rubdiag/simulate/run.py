@@ -24,12 +24,19 @@ from rubdiag.simulate.sensors import Sensor, check_sensors
 from rubdiag.simulate.speed_profile import SpeedProfile
 from rubdiag.simulate.static_load import StaticLoad
 
-__all__ = ["SPEED_TOLERANCE", "GapRampInWindow", "Run", "critical_speed_for_case"]
+__all__ = ["LONG_STEP_FACTOR", "SPEED_TOLERANCE", "GapRampInWindow", "Run",
+           "critical_speed_for_case"]
 
 #: How far Ω(t) may move from the speed its gyroscopic term is held at before the step
 #: operators are refactorised (relative; ``tests/simulate/test_speed_profile.py`` measures
 #: the effect against refactorising at every step).
 SPEED_TOLERANCE = 0.005
+#: the longest step with a step-error tolerance, in base steps: 40 µs at dt_s = 10 µs. Steps
+#: end at every 10-kHz sample (100 µs), so 40 µs steps come as 40 + 40 + 20 µs; the 10-kHz
+#: stream's anti-alias filter (cut-off 4 kHz) would allow about 50 µs; the average
+#: acceleration rule's period error, (ω h)² / 12, is 0.44 % at 40 µs for the features'
+#: highest line (8× at 6840 rpm, 912 Hz), and the error estimate keeps the rest in check
+LONG_STEP_FACTOR = 4
 
 
 class GapRampInWindow(UserWarning):
@@ -59,7 +66,17 @@ class Run:
         Start of the analysis window (s), default 0.3: statistics and spectra use
         ``discard_s <= t <= duration_s``.
     dt_s, dt_min_s : float
-        Largest and smallest time step (s); default 1e-5 and dt/64.
+        Base and smallest time step (s); default 1e-5 and dt/64. The base step is the first,
+        the longest while a contact is closed, and the sensor stream's interval.
+    step_error : float, optional
+        Steps longer than ``dt_s`` where nothing is in contact: the tolerance of the Newmark
+        local error estimate on the recorded and sensor DOFs and the contacts' local
+        coordinates, relative to the largest recorded displacement (``Solver.step_error``
+        of :func:`~rubdiag.simulate.simulate_system`). Default None: every step at most
+        ``dt_s``. Part of the run's description only when set.
+    dt_max_s : float, optional
+        The longest step with ``step_error`` (s): ``dt_s`` times 1, 2, 4 or 8; default
+        :data:`LONG_STEP_FACTOR` × ``dt_s``.
     fixed_step : bool
         Constant step ``dt_s`` (convergence studies).
     output_rate_hz : float, optional
@@ -128,6 +145,8 @@ class Run:
     speed_profile: SpeedProfile | None = None
     static_load: StaticLoad | None = None
     faults: Faults | None = None
+    step_error: float | None = None
+    dt_max_s: float | None = None
 
     def __post_init__(self):
         if not isinstance(self.rig, Rig):
@@ -160,6 +179,7 @@ class Run:
         if self.dt_min_s is None:
             object.__setattr__(self, "dt_min_s", self.dt_s / 64)
         _check.number("dt_min_s", self.dt_min_s, lo=0.0, hi=self.dt_s, lo_open=True)
+        self._check_long_steps()
         _check.number("duration_s", self.duration_s, lo=self.dt_s)
         _check.number("discard_s", self.discard_s, lo=0.0, hi=self.duration_s, hi_open=True)
         if self.output_rate_hz is None:
@@ -198,6 +218,22 @@ class Run:
         if self.contact is not None and self.rig.contact is None:
             raise ValueError("contact is given but the rig has no blade-casing contact "
                              "geometry (blades and casing)")
+
+    def _check_long_steps(self) -> None:
+        if self.step_error is None:
+            if self.dt_max_s is not None:
+                raise ValueError(f"dt_max_s = {self.dt_max_s!r} without step_error "
+                                 "(allowed: None, or a step_error with it)")
+            return
+        _check.number("step_error", self.step_error, lo=0.0, hi=0.01, lo_open=True)
+        if self.fixed_step:
+            raise ValueError("step_error with fixed_step = True (allowed: one of them)")
+        if self.dt_max_s is None:
+            object.__setattr__(self, "dt_max_s", LONG_STEP_FACTOR * self.dt_s)
+        factor = self.dt_max_s / self.dt_s
+        if not any(math.isclose(factor, k, rel_tol=1e-9) for k in (1, 2, 4, 8)):
+            raise _check.out_of_range("dt_max_s", self.dt_max_s,
+                                      f"dt_s = {self.dt_s:g} s times 1, 2, 4 or 8")
 
     @property
     def contact_law(self) -> BladeContact | None:

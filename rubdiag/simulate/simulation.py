@@ -123,6 +123,7 @@ def _simulate(run: Run, progress, raise_on_failure: bool) -> SimulationResult:
             rs.x0, rs.v0,
             duration=run.duration_s, dt=run.dt_s, dt_min=run.dt_min_s,
             fixed_step=run.fixed_step, output_dt=run.output_dt_s, record_dofs=record,
+            dt_max=run.dt_max_s, step_error=run.step_error,
             sensor_dofs=sensor_dofs(run), gap_ramp=gap_ramp, omega=speed,
             linear_solver=rs.linear_solver, recovery=rs.recovery,
             progress=progress, raise_on_failure=True, **varying)
@@ -434,6 +435,10 @@ def run_to_dict(run: Run) -> dict:
             if value is not None:
                 out[f.name] = {"times_s": list(value.times_s),
                                "speeds_rad_s": list(value.speeds_rad_s)}
+            continue
+        if f.name in ("step_error", "dt_max_s"):  # written only when set, like the reduction
+            if value is not None:
+                out[f.name] = value
             continue
         if f.name in ("static_load", "faults"):     # written only when set, like the reduction
             if value is not None:

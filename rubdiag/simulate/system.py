@@ -61,6 +61,7 @@ __all__ = [
 ]
 
 _MAX_LEVELS = 31      # step levels dt / 2^k at most (the tick count stays an int64)
+_MAX_LONG = 3         # long steps: dt_max <= 8 dt
 
 
 # --------------------------------------------------------------------------------------------
@@ -320,20 +321,36 @@ def _checked_system(M, C, K, force, contacts, q0, v0):
 
 
 class _TimeGrid(NamedTuple):
-    """A run's checked step sizes and its grid of ticks (a tick is the smallest step)."""
+    """A run's checked step sizes and its grid of ticks (a tick is the smallest step).
 
-    dt: float  # the largest step (s)
+    The levels are ``dt_max / 2^k``: the first ``base`` are the long steps (``dt_max =
+    2^base dt``, taken where the local error allows and no impact element is near), level
+    ``base`` is dt, the base step (the first, the longest an impact element may be engaged
+    at, and the sensor stream's interval)."""
+
+    dt: float  # the base step (s)
     dt_min: float  # the smallest step asked for (s)
-    n_lev: int  # step levels dt / 2^k, k < n_lev
-    n_big: int  # the run's length in largest steps
+    n_lev: int  # step levels dt_max / 2^k, k < n_lev
+    n_big: int  # the run's length in base steps
     output_dt: float  # s
     tick_total: np.int64  # the run's length in ticks
     out_ticks: np.int64  # ticks between recorded samples
+    base: int = 0  # the base step's level
 
     @property
     def top(self) -> int:
         """The smallest step's level."""
         return self.n_lev - 1
+
+    @property
+    def dt_max(self) -> float:
+        """The longest step (s)."""
+        return self.dt * 2**self.base
+
+    @property
+    def tick_dt(self) -> float:
+        """A tick (s)."""
+        return self.dt / 2 ** (self.top - self.base)
 
     @property
     def n_out(self) -> int:
@@ -342,16 +359,25 @@ class _TimeGrid(NamedTuple):
 
     @property
     def sen_ticks(self) -> np.int64:
-        """Ticks between sensor samples: every largest step."""
-        return np.int64(1) << self.top
+        """Ticks between sensor samples: every base step."""
+        return np.int64(1) << (self.top - self.base)
 
     def n_sensor_samples(self, n_sensors: int) -> int:
         return int(self.tick_total // self.sen_ticks) + 1 if n_sensors else 0
 
 
-def _time_grid(duration, dt, dt_min, fixed_step: bool, output_dt) -> _TimeGrid:
+def _time_grid(duration, dt, dt_min, fixed_step: bool, output_dt,
+               dt_max=None) -> _TimeGrid:
     """The checked step sizes and tick grid of a run (parameters as :func:`simulate_system`)."""
     dt = _check_scalar("dt", dt, 0.0, lo_open=True, allowed="finite and > 0 s")
+    base = 0
+    if dt_max is not None:
+        dt_max = _check_scalar("dt_max", dt_max, dt, allowed=f">= dt = {dt:g} s")
+        base = round(math.log2(dt_max / dt))
+        if abs(dt_max - dt * 2**base) > 1e-9 * dt_max or base > _MAX_LONG:
+            raise _bad("dt_max", dt_max, f"dt = {dt:g} s times 1, 2, 4 … {2**_MAX_LONG}")
+        if fixed_step and base:
+            raise _bad("dt_max", dt_max, f"dt = {dt:g} s with fixed_step")
     duration = _check_scalar("duration", duration, 0.0, lo_open=True, allowed="finite and > 0 s")
     if duration < dt * (1 - 1e-9):
         raise _bad("duration", duration, f">= one step dt = {dt:g} s")
@@ -366,7 +392,8 @@ def _time_grid(duration, dt, dt_min, fixed_step: bool, output_dt) -> _TimeGrid:
     n_lev = 1 + math.floor(math.log2(dt / dt_min_) + 1e-9)
     if n_lev > _MAX_LEVELS:
         raise _bad("dt_min", dt_min_, f">= dt / 2^{_MAX_LEVELS - 1}")
-    top = n_lev - 1
+    top = n_lev - 1     # ticks per base step: 2^top
+    n_lev += base
     ratio = duration / dt
     n_big = round(ratio) if abs(ratio - round(ratio)) < 1e-9 * max(1.0, ratio) else int(ratio)
     if output_dt is None:
@@ -380,7 +407,7 @@ def _time_grid(duration, dt, dt_min, fixed_step: bool, output_dt) -> _TimeGrid:
             raise _bad("output_dt", output_dt, f"a positive integer multiple of dt = {dt:g} s")
     tick_total = np.int64(n_big) << top
     out_ticks = np.int64(m_out) << top
-    return _TimeGrid(dt, dt_min_, n_lev, n_big, output_dt, tick_total, out_ticks)
+    return _TimeGrid(dt, dt_min_, n_lev, n_big, output_dt, tick_total, out_ticks, base)
 
 
 def _checked_records(grid: _TimeGrid, n: int, record_dofs, sensor_dofs, recovery):
@@ -425,6 +452,7 @@ class _Settings:
     gap_jump: float
     contact_stiffness_ratio: float | None
     episode_capacity: int
+    step_error: float
 
     @property
     def beta(self) -> float:
@@ -448,6 +476,9 @@ class _Settings:
                 "contact_stiffness_ratio", ratio, 0.0, lo_open=True),
             episode_capacity=_check.integer("episode_capacity", solver.episode_capacity,
                                             lo=1),
+            step_error=0.0 if solver.step_error is None else _check_scalar(
+                "step_error", solver.step_error, 0.0, lo_open=True,
+                allowed="finite and > 0 (relative), or None"),
         )
 
 
@@ -520,7 +551,7 @@ def _level_operators(M, C, K, B, elements, grid: _TimeGrid, settings: _Settings,
     criterion), the multiplier update stiffness ``aug_k`` (n_lev, n_e), the factors packed
     for the kernel (first axis the level) and, ``dense``, the transposed inverses ``inv_t``
     (n_lev, n, n) (else (n_lev, 0, 0))."""
-    dt, n_lev = grid.dt, grid.n_lev
+    dt, n_lev = grid.dt_max, grid.n_lev
     gamma, beta_nm, augment_boost = settings.gamma, settings.beta, settings.augment_boost
     n = M.shape[0]
     m = B.shape[0]
@@ -565,6 +596,11 @@ def _level_operators(M, C, K, B, elements, grid: _TimeGrid, settings: _Settings,
                 if element.stiffness_ratio(block(k, e)) <= contact_stiffness_ratio:
                     lev_req[e] = k
                     break
+    # an impact element is engaged at the base step or shorter ones: long steps are for
+    # open stretches only
+    for e, element in enumerate(elements):
+        if impacts(element):
+            lev_req[e] = max(lev_req[e], grid.base)
     # multiplier update stiffness: eq. (2) uses k_N; with the step's dynamic stiffness at the
     # contact, 1 / W_ee, far above k_N (small steps) that converges by a factor
     # 1 / (1 + k_N W_ee) per update only. We add 0.9 / W_ee (the Newton update of the
@@ -672,7 +708,7 @@ class _Schedule:
     runs stretch by stretch, with Ω_ref G in K_eff (:func:`simulate_system`)."""
 
     def __init__(self, stretches, grid: _TimeGrid, operators):
-        tick_dt = grid.dt / 2**grid.top
+        tick_dt = grid.tick_dt
         self.ends = [min(grid.tick_total, round(t / tick_dt)) for t, _ in stretches]
         self.ends[-1] = grid.tick_total
         self.speeds = [w for _, w in stretches]
@@ -695,7 +731,13 @@ class _Schedule:
         return self.operators(self.speeds[index])
 
 
-def _element_bundle(packed: Sequence[Packed], lev_req, aug_k) -> Elements:
+def impacts(element) -> bool:
+    """Whether ``element`` can close on impact (a contact, a pedestal's seat): its
+    description's ``impacts`` (True when it does not say: the safe side)."""
+    return bool(getattr(element, "impacts", True))
+
+
+def _element_bundle(packed: Sequence[Packed], lev_req, aug_k, elements) -> Elements:
     """The elements as the kernel reads them (:data:`~rubdiag.kernels.newmark.Elements`)."""
     ne = len(packed)
     el = np.zeros(ne, records.ELEMENT)
@@ -708,6 +750,7 @@ def _element_bundle(packed: Sequence[Packed], lev_req, aug_k) -> Elements:
         k = p.rows.shape[0]
         el[e]["kind"], el[e]["row"], el[e]["n"] = p.kind, r0, k
         el[e]["aug"], el[e]["eps"], el[e]["lev_req"] = int(p.augmented), p.eps, lev_req[e]
+        el[e]["impact"] = impacts(elements[e])
         rmap[r0:r0 + k, :2] = p.rows
         rmap[r0:r0 + k, 2] = e
         tmat[r0:r0 + k, :k] = p.tmat
@@ -817,7 +860,10 @@ def _work(n: int, m: int, ne: int, profile: bool) -> Work:
 def _parameters(grid: _TimeGrid, settings: _Settings, fixed_step: bool) -> np.ndarray:
     """The kernel's ``run`` record (the end tick is set per call)."""
     run = np.zeros(1, records.RUN)
-    run["dt"] = grid.dt
+    run["dt"] = grid.dt_max
+    run["base"] = grid.base
+    run["step_error"] = settings.step_error if grid.base else 0.0
+    run["tick_stop"] = grid.tick_total
     run["newton_tol"] = settings.newton_tol
     run["gap_jump"] = settings.gap_jump
     # the boosted update's landing point in the band (see augment_boost)
@@ -884,7 +930,8 @@ def _simulate(system: LinearSystem, elements, grid: TimeGrid, outputs: Recording
     M, C, K, force, elements, q0, v0 = _checked_system(system.M, system.C, system.K,
                                                        system.force, elements, q0, v0)
     n, ne = M.shape[0], len(elements)
-    ticks = _time_grid(grid.duration, grid.dt, grid.dt_min, grid.fixed_step, grid.output_dt)
+    ticks = _time_grid(grid.duration, grid.dt, grid.dt_min, grid.fixed_step, grid.output_dt,
+                       grid.dt_max)
     speed_profile = system.speed_profile
     rot, stretches, G = _checked_profile(speed_profile, system.speed_tolerance,
                                          system.gyroscopic, force, n, ticks)
@@ -896,6 +943,8 @@ def _simulate(system: LinearSystem, elements, grid: TimeGrid, outputs: Recording
     recovery, record_dofs, sensor_dofs = _checked_records(ticks, n, outputs.record_dofs,
                                                           outputs.sensor_dofs, system.recovery)
     settings = _Settings.checked(solver, omega)
+    if ticks.base and not settings.step_error:
+        raise _bad("dt_max", ticks.dt_max, f"dt = {ticks.dt:g} s without a step_error")
     ramps = _checked_gap_ramp(gap_ramp, elements)
     fixed_step = grid.fixed_step
     kernel = kernel_for(elements)
@@ -905,11 +954,12 @@ def _simulate(system: LinearSystem, elements, grid: TimeGrid, outputs: Recording
     B = b_matrix(packed, n)
     ratio = None if fixed_step else settings.contact_stiffness_ratio
     ops = _level_operators(M, C, K, B, elements, ticks, settings, ratio, dense)
-    bundle = _element_bundle(packed, ops.lev_req, ops.aug_k)
+    bundle = _element_bundle(packed, ops.lev_req, ops.aug_k, elements)
     state, _ = _state(M, K, q0, v0, B, bundle, packed, kernel.at_rest, settings.omega)
     a0 = _initial_acceleration(M, C, K, load_vector(force, speed_profile, 0.0, n), B, state.pc,
                                q0, v0, system.a0)
     _with_acceleration(state, a0, B)
+    state.prog["level"] = ticks.base       # the first step is the base step
     recorded = _outputs(ticks, ne, record_dofs, sensor_dofs, recovery)
     run = _parameters(ticks, settings, fixed_step)
     linear = _linear(M, C, K, dense)
@@ -930,7 +980,7 @@ def _simulate(system: LinearSystem, elements, grid: TimeGrid, outputs: Recording
             new = _level_operators(M, C_ref, K, B, elements, ticks, settings, ratio, dense)
             return (_linear(M, C_ref, K, dense), new.kernel,
                     _element_bundle(_packed(elements, omega_ref, ramps), new.lev_req,
-                                    new.aug_k))
+                                    new.aug_k, elements))
 
         schedule = _Schedule(stretches, ticks, operators)
     code, logs, t_kernel = _integrate(kernel.newmark_contact, arrays, logs, work, ticks,
@@ -977,6 +1027,7 @@ def _integrate(kernel, arrays: tuple, logs: Logs, work: Work, grid: _TimeGrid, p
             if ops is not None:
                 linear, factors, elements = ops
             end = min(end, schedule.tick_end())
+            run["tick_stop"] = schedule.tick_end()
         run["tick_end"] = end
         tk = time.perf_counter()
         code = kernel(linear, factors, force, elements, run, state, outputs, logs, work)
@@ -987,7 +1038,7 @@ def _integrate(kernel, arrays: tuple, logs: Logs, work: Work, grid: _TimeGrid, p
         if code != STATUS_DONE:
             return code, logs, t_kernel
         if progress is not None:
-            progress(float(prog[0]["tick"]) * grid.dt / 2**grid.top, grid.n_big * grid.dt)
+            progress(float(prog[0]["tick"]) * grid.tick_dt, grid.n_big * grid.dt)
         if prog[0]["tick"] >= grid.tick_total:
             return code, logs, t_kernel
 
@@ -1009,7 +1060,7 @@ def _package(code, grid: _TimeGrid, state: State, outputs: Outputs, logs: Logs) 
     """The kernel's arrays as a :class:`SystemResult`, cut to what the run reached."""
     pr = state.prog[0]
     tick = int(pr["tick"])
-    t_final = tick * grid.dt / 2**grid.top
+    t_final = tick * grid.tick_dt
     n_written = tick // int(grid.out_ticks) + 1
     n_sen = tick // int(grid.sen_ticks) + 1 if outputs.sen_dof.size else 0
     episodes, segments = _episode_logs(state, logs, t_final)
@@ -1032,9 +1083,9 @@ def _package(code, grid: _TimeGrid, state: State, outputs: Outputs, logs: Logs) 
         status_segments=segments,
         max_cone_excess=float(pr["cone_excess"]),
         dt=grid.dt,
-        dt_min=grid.dt / 2**grid.top,
+        dt_min=grid.tick_dt,
         output_dt=grid.output_dt,
-        dt_levels=grid.dt / 2.0 ** np.arange(grid.n_lev),
+        dt_levels=grid.dt_max / 2.0 ** np.arange(grid.n_lev),
         steps_per_level=logs.lvl_count.copy(),
         level_change_t=logs.lv_t[:nl].copy(),
         level_change_level=logs.lv_l[:nl].copy(),
@@ -1042,6 +1093,7 @@ def _package(code, grid: _TimeGrid, state: State, outputs: Outputs, logs: Logs) 
         n_rejected_newton=int(pr["n_rej_newton"]),
         n_rejected_abrupt=int(pr["n_rej_abrupt"]),
         n_abrupt_at_min=int(pr["n_abrupt_at_min"]),
+        n_rejected_error=int(pr["n_rej_error"]),
         newton_iterations=int(pr["newton_total"]),
         newton_iterations_max=int(pr["newton_max"]),
         augment_iterations=int(pr["aug_total"]),
@@ -1055,7 +1107,7 @@ def _package(code, grid: _TimeGrid, state: State, outputs: Outputs, logs: Logs) 
         failure_time=float(pr["fail_time"]) if status else float("nan"),
         failure_element=int(pr["fail_element"]) + 1 if status else 0,  # 0: none
         sensor_dofs=outputs.sen_dof,
-        sensor_dt=float(grid.dt * int(grid.sen_ticks) / 2**grid.top),
+        sensor_dt=float(grid.tick_dt * int(grid.sen_ticks)),
         sensor_q=outputs.sq[:n_sen],
         sensor_v=outputs.sv[:n_sen],
         sensor_a=outputs.sa[:n_sen],

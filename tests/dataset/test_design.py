@@ -112,15 +112,19 @@ def test_critical_speeds_are_the_cases_forward_critical_speeds(issue_design, pap
 
 def test_study_cell_is_the_paper_run(paper_rig):
     """case = [c], speed_ratio = [1], gap_mm = [2.3] is Run.paper_case(c, 2.3) with the
-    default sensors: same Run (but for the label), same run_id."""
+    default sensors and the design's step tolerance: same Run (but for the label), same
+    run_id; with ``step_error = 0`` the study's run itself."""
     from rubdiag.dataset import run_id
+    from rubdiag.dataset.design import DEFAULT_STEP_ERROR
     from rubdiag.simulate import default_sensors
 
-    for case in (1, 2):
-        design = Design.from_dict({"factors": {"case": [case], "speed_ratio": [1.0],
+    for case, step_error in ((1, DEFAULT_STEP_ERROR), (2, DEFAULT_STEP_ERROR), (1, 0.0)):
+        design = Design.from_dict({"base": {"step_error": step_error},
+                                   "factors": {"case": [case], "speed_ratio": [1.0],
                                                "gap_mm": [2.3]}})
         (item,) = design.runs()
-        paper = Run.paper_case(case, 2.3, sensors=default_sensors(paper_rig))
+        paper = Run.paper_case(case, 2.3, sensors=default_sensors(paper_rig),
+                               step_error=step_error or None)
         assert item.run == dataclasses.replace(paper, label=item.run.label)
         assert item.run_id == run_id(paper)
 
@@ -356,7 +360,7 @@ BAD = [
      r"unknown key 'sampling.replicate' \(allowed: method, n, seed, replicates\)"),
     (edit("base", duration=2.3),
      r"unknown key 'base.duration' \(allowed: rig, duration_s, discard_s, reduced, "
-     r"reduction_cutoff_hz, critical_speeds_rad_s, gravity_m_s2, crack_element, "
+     r"reduction_cutoff_hz, step_error, critical_speeds_rad_s, gravity_m_s2, crack_element, "
      r"crack_law, coupling_node, drive_torque_n_m, spacer_length_m, misalignment_offset_m, "
      r"loose_bearing, loose_direction, loose_stiffness_n_m\)"),
     ({**GOOD, "noises": {}},

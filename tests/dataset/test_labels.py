@@ -122,16 +122,21 @@ def test_an_episode_spanning_the_window_is_a_full_rub():
 
 
 def test_a_one_step_graze_is_no_rub_and_fractions_add_per_element():
+    """The rule is in closed time (15 µs): one 10-µs step is a graze, two are a rub, and so
+    is one 10-µs step with a 5-µs one; two 5-µs steps are not."""
     fake = _fake({"element": [1, 1, 2], "t_start": [0.12, 0.20, 0.15],
                   "t_end": [0.14, 0.25, 0.150001], "n_steps": [2000, 5000, 1],
-                  "peak_normal_force": [10.0, 20.0, 1.0]})
+                  "slide_time": [0.02, 0.05, 1e-5], "peak_normal_force": [10.0, 20.0, 1.0]})
     m = L.label_run(fake)
     assert m["n_rub_episodes"] == 2                          # the graze is not counted
     assert m["contact_time_fraction"] == pytest.approx((0.02 + 0.05) / 0.2)
     assert m["rub_state"] == "partial"
-    graze = _fake({"element": [1], "t_start": [0.15], "t_end": [0.15001], "n_steps": [1],
-                   "peak_normal_force": [1.0]})
-    assert L.label_run(graze)["rub"] is False
+    for steps, rub in (([1e-5], False), ([1e-5, 1e-5], True), ([1e-5, 5e-6], True),
+                       ([5e-6, 5e-6], False)):
+        one = _fake({"element": [1], "t_start": [0.15], "t_end": [0.15 + sum(steps)],
+                     "n_steps": [len(steps)], "slide_time": [sum(steps)],
+                     "peak_normal_force": [1.0]})
+        assert L.label_run(one)["rub"] is rub, steps
 
 
 @pytest.mark.parametrize(("ratio", "fraction", "expected"), [

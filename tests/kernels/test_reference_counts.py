@@ -29,6 +29,8 @@ PER_STEP = ("_rhs_average", "_rhs_general", "_load_increment", "_clock", "_eleme
             "_energy_ledger", "_log_episodes", "_commit_elements", "_advance",
             "_count_iterations", "_lap", "_logs_full", "_change_level", "_force_work",
             "load_factors", "csr_matvec", "lu_solve",
+            # the long steps' parts called at every step
+            "_step_level", "_may_lengthen", "_interpolate_sensors",
             # the seam: each kind's law and books on its elements, per Newton iteration
             "element_laws", "element_books")
 #: the CPU the guard compiles for (NUMBA_CPU_NAME): one whose inliner lets Numba prune
@@ -38,7 +40,9 @@ TARGET_CPU = "haswell"
 #: more with the speed profile's knots; 174 since the load's terms come in groups by order
 #: and law, three more arrays in the load's bundle; 132 behind the element seam, whose
 #: records replace a dozen arrays)
-CONTROLLER_MAX = 132
+#: 145 with the long steps (2026-11-27): their error estimate is called in a branch, on
+#: long steps and on those that may lengthen only, and its arrays are counted there
+CONTROLLER_MAX = 145
 #: the element solve counts its arguments once per call (a trial step): 17 on 2026-11-25 (the
 #: contact solve before the seam: 28). Each kind's laws run in a loop of their own with the
 #: law inlined (``element_laws``, counted above); a branch over kinds per element brought

@@ -111,9 +111,9 @@ def test_described_call_equals_the_old_call_bit_for_bit():
 
 def test_old_call_refuses_an_unknown_keyword_like_python():
     ts = tip_casing_system()
-    with pytest.raises(TypeError, match="unexpected keyword argument 'dt_max'"):
+    with pytest.raises(TypeError, match="unexpected keyword argument 'dt_maximum'"):
         simulate_system(ts.M, ts.C, ts.K, ts.force, None, np.zeros(ts.n), np.zeros(ts.n),
-                        duration=0.01, dt=1e-5, dt_max=1e-4)
+                        duration=0.01, dt=1e-5, dt_maximum=1e-4)
 
 
 def test_contacts_convert_to_one_description_per_element_in_order():
