@@ -31,7 +31,7 @@ with other thresholds:
     Sticking time / closed time over all elements and window episodes; NaN without
     contact.
 ``n_rub_episodes``
-    Episodes closed for at least 15 µs (:data:`rubdiag.runs.contact_stats.MIN_EPISODE_S`)
+    Episodes closed for at least 15 µs (:data:`rubdiag._episodes.MIN_EPISODE_S`)
     that overlap the window.
 
 Labels (rules :class:`LabelRules`, written in the design's ``[labels]`` table):
@@ -62,6 +62,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rubdiag import _check
+from rubdiag._episodes import MIN_EPISODE_S, closed_time
 
 __all__ = ["LABELS", "MEASURES", "RUB_STATES", "SEVERITIES", "LabelRules",
            "label_run", "labels_from_measures"]
@@ -122,8 +123,6 @@ def run_measures(result, linear_approach_m: float | None = None) -> dict:
     """The raw measures of the module docstring (``linear_approach_m``: as for
     :func:`label_run`)."""
     run, system = result.run, result.system
-    from rubdiag.runs.contact_stats import MIN_EPISODE_S, closed_time
-
     varying = getattr(run, "speed_profile", None) is not None
     if linear_approach_m is None:
         if varying:

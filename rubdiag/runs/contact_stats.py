@@ -36,6 +36,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from rubdiag._episodes import MIN_EPISODE_S, closed_time
+
 __all__ = ["CONTACT_STAT_NAMES", "contact_statistics"]
 
 CONTACT_STAT_NAMES = (
@@ -44,16 +46,6 @@ CONTACT_STAT_NAMES = (
     "sliding_entries_per_rev", "sticking_entries_per_rev", "contact_fraction",
     "sticking_share", "mean_force_sliding_n", "mean_force_sticking_n",
 )
-#: An episode closed for less than this (s) is a graze: a single 10-µs step is, two are not,
-#: nor is a 10-µs step with a 5-µs one. Stated in time, not in steps, so that it means the
-#: same whatever the step (the rule was "at least 2 steps" when every step was 10 µs or
-#: shorter).
-MIN_EPISODE_S = 15e-6
-
-
-def closed_time(ep) -> np.ndarray:
-    """Each episode's closed time (s): its steps' lengths, sliding and sticking."""
-    return ep.slide_time + ep.stick_time
 
 
 def _ratio(num: float, den: float) -> float:
