@@ -17,7 +17,9 @@ output Nyquist frequency (3.25 kHz; the 8th harmonic of case 2 is 760 Hz) is fla
 0.02 %, and everything at or above the output Nyquist frequency is attenuated by ≥ 80 dB
 instead of aliasing (``tests/simulate/test_sensors.py`` measures both). The filter's edge
 transient (20·q input samples, 2 ms at each end of the record) lies in the discarded start
-and in the last 2 ms of the window, where the spectra's Hann window is near zero.
+and in the last 2 ms of the window, where the spectra's Hann window is near zero. The
+filter is that of ``scipy.signal.resample_poly(..., padtype="line")``, bit for bit, computed
+for all channels at once (:mod:`rubdiag.simulate.decimation`: 4× faster on a run's stream).
 """
 
 from __future__ import annotations
@@ -131,14 +133,25 @@ def anti_alias_taps(factor: int) -> np.ndarray:
 
 
 def decimate(x: np.ndarray, factor: int) -> np.ndarray:
-    """Low-pass filter and keep every ``factor``-th sample (axis 0), zero phase: output
-    sample k is the filtered input at sample k·factor."""
+    """Low-pass filter and keep every ``factor``-th sample (axis 0 of a 1-D or 2-D ``x``),
+    zero phase: output sample k is the filtered input at sample k·factor. The bits of
+    ``scipy.signal.resample_poly(x, 1, factor, axis=0, window=anti_alias_taps(factor),
+    padtype="line")``, every channel in one call (:mod:`rubdiag.simulate.decimation`)."""
+    x = np.asarray(x, dtype=np.float64)
     if factor == 1:
-        return np.array(x, dtype=np.float64)
-    from scipy.signal import resample_poly
+        return x.copy()
+    columns = x if x.ndim == 2 else x[:, np.newaxis]
+    rows = _decimated([columns[:, j] for j in range(columns.shape[1])], factor)
+    return rows[0] if x.ndim == 1 else rows.T
 
-    return resample_poly(x, 1, factor, axis=0, window=anti_alias_taps(factor),
-                         padtype="line")
+
+def _decimated(channels: list[np.ndarray], factor: int) -> np.ndarray:
+    """:func:`decimate` of 1-D channels of one length, as rows (channel, output sample)."""
+    from rubdiag.simulate.decimation import fir_decimate
+
+    if factor == 1:
+        return np.array(channels)
+    return fir_decimate(channels, anti_alias_taps(factor), factor)
 
 
 def sensor_signals(run, system) -> dict[str, np.ndarray]:
@@ -152,21 +165,19 @@ def sensor_signals(run, system) -> dict[str, np.ndarray]:
     dofs = dof_map(run.rig)
     column = {int(d): j for j, d in enumerate(system.sensor_dofs)}
     factor = round(run.output_dt_s / run.dt_s)
-    raw = np.empty((system.sensor_q.shape[0], len(run.sensors)))
-    for j, s in enumerate(run.sensors):
+    streams = {"displacement": system.sensor_q, "velocity": system.sensor_v,
+               "acceleration": system.sensor_a}
+    raw = []                    # the stream's columns, read in place by the filter
+    for s in run.sensors:
         c = column[dofs.index(s.point, s.direction)]
-        if s.quantity == "displacement":
-            raw[:, j] = system.sensor_q[:, c]
-        elif s.quantity == "velocity":
-            raw[:, j] = system.sensor_v[:, c]
-        elif s.quantity == "acceleration":
-            raw[:, j] = system.sensor_a[:, c]
+        if s.quantity in streams:
+            raw.append(streams[s.quantity][:, c])
         else:
             b = _bearing(run.rig, s.point)
             k, cv = (b.k_y_n_m, b.c_y_ns_m) if s.direction == "y" else (b.k_z_n_m, b.c_z_ns_m)
-            raw[:, j] = k * system.sensor_q[:, c] + cv * system.sensor_v[:, c]
-    out = decimate(raw, factor)[: system.t.size]
-    return {s.name: np.ascontiguousarray(out[:, j]) for j, s in enumerate(run.sensors)}
+            raw.append(k * system.sensor_q[:, c] + cv * system.sensor_v[:, c])
+    rows = _decimated(raw, factor)[:, : system.t.size]
+    return {s.name: rows[j] for j, s in enumerate(run.sensors)}
 
 
 def sensor_dofs(run) -> list[int]:

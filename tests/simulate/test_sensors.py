@@ -136,3 +136,24 @@ def test_bad_sensor_fields_are_refused(kwargs, fragment):
 def test_sensor_names_are_unique():
     with pytest.raises(ValueError, match="sensor name 'shaft4_y_disp' is given twice"):
         Run.paper_case(1, 2.3, sensors=(Sensor("shaft 4", "y"), Sensor("shaft 4", "y")))
+
+
+@pytest.mark.parametrize("factor", [2, 3, 10])
+@pytest.mark.parametrize("n", [0, 1, 2, 3, 11, 401, 4001, 23_007])
+def test_decimation_has_the_bits_of_scipy_resample_poly(factor, n):
+    """rubdiag.simulate.decimation sums the same products in the same order as scipy's
+    resample_poly (line-extended ends), only many output samples at once."""
+    from scipy.signal import resample_poly
+
+    rng = np.random.default_rng(n + factor)
+    x = np.cumsum(rng.standard_normal((n, 7)), axis=0) * 1e-6 + 3e-5
+    with np.errstate(invalid="ignore"):         # one sample: scipy's line is 0 / 0
+        expected = resample_poly(x, 1, factor, axis=0, window=S.anti_alias_taps(factor),
+                                 padtype="line")
+    got, one = S.decimate(x, factor), S.decimate(x[:, 3], factor)
+    assert got.shape == expected.shape and one.shape == expected[:, 3].shape
+    if n < 2:                                   # NaN (of either sign) or nothing
+        np.testing.assert_array_equal(got, expected)
+        return
+    assert got.tobytes() == np.ascontiguousarray(expected).tobytes()
+    assert one.tobytes() == np.ascontiguousarray(expected[:, 3]).tobytes()
