@@ -67,6 +67,20 @@ def run_id(run: Run) -> str:
     return _digest("run", canonical_run(run))
 
 
+#: the fields that say how a run is integrated, not what it simulates
+STEP_FIELDS = ("step_error", "dt_max_s")
+
+
+def noise_id(run: Run) -> str:
+    """The id a run's measurement noise is drawn from: its :func:`run_id` without the step
+    settings (:data:`STEP_FIELDS`), so that a run with long steps and the same run at 10 µs
+    carry the same noise draw (a run without long steps: its run id)."""
+    data = canonical_run(run)
+    for name in STEP_FIELDS:
+        data.pop(name, None)
+    return _digest("run", data)
+
+
 def point_id(run: Run) -> str:
     """16 hex digits identifying ``run`` without its replicate (its start history)."""
     data = canonical_run(run)

@@ -6,10 +6,12 @@ each run's signal power: scaled noise would make the noise level a copy of the s
 and leak it (a louder run would carry louder noise). A channel that is exactly zero (the
 casing of a run without rub) therefore reads pure noise, as a real sensor would.
 
-The seed of a run is derived from its ``run_id`` (:func:`noise_seed`), so the noise is part
-of the run's identity: the same run gets the same noise on any worker, and two runs never
-share a noise draw. The classifier layer uses the same function to add noise to signals it
-did not simulate.
+The seed of a run is derived from its id (:func:`noise_seed` of
+:func:`rubdiag.dataset.ids.noise_id`: the ``run_id`` without the step settings), so the
+noise is part of the run's identity: the same run gets the same noise on any worker, two
+runs never share a noise draw — except a run with long steps and its twin at 10 µs, which
+simulate the same thing and are measured with the same noise. The classifier layer uses
+the same function to add noise to signals it did not simulate.
 """
 
 from __future__ import annotations

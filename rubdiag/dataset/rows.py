@@ -153,6 +153,7 @@ def make_row_and_waveforms(item, rules: LabelRules | None = None,
 
 def _simulate_and_describe(item, rules, noise, run_timeout_s,
                            start) -> tuple[dict, dict]:
+    from rubdiag.dataset.ids import noise_id
     from rubdiag.simulate import simulate
 
     def watchdog(t, duration):
@@ -167,7 +168,7 @@ def _simulate_and_describe(item, rules, noise, run_timeout_s,
     # noise over the whole record (what --waveforms stores), features over the window
     measured = add_noise(result.sensor_signals(),
                          {s.name: noise.floor(s.quantity) for s in run.sensors},
-                         noise_seed(item.run_id))
+                         noise_seed(noise_id(run)))
     computed, record, fs, speed_rpm = _record(result, measured)
     features = _spectral_features(record, fs, speed_rpm)
     features.update(_pair_features(run.sensors, record, fs, speed_rpm))

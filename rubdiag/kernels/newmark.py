@@ -36,6 +36,20 @@ counted. After ``grow_after`` accepted steps at a level the step doubles (when a
 not below any closed element's ``lev_req``). In fixed-step mode nothing is rejected: (i)
 stops the run.
 
+Long steps. With ``run.base`` > 0 the levels above it (``lev < base``) are longer than the
+base step dt (level ``base``; ``dt0 = 2^base dt``). They are taken only where every element
+that can close on impact (``impact``) is open: such an element's ``lev_req`` is at least
+``base``, so a closing rejects a long step back to the base step, and so does the gap
+predictor of :func:`_level_needed` (an open element whose gap is within
+:data:`GAP_MARGIN` gap changes of closing). Their size follows Zienkiewicz and Xie's local
+error estimate (:func:`_local_error`) against ``run.step_error`` times the largest recorded
+displacement: a long step above it is retried shorter (:func:`_levels_down`), and the step
+doubles past the base step only when the estimate is at most :data:`GROW_ERROR` of it and
+the elements keep twice the margin (:func:`_may_lengthen`). A long step starts aligned to
+its length and ends by the next recorded sample and ``run.tick_stop`` (:func:`_step_level`),
+so recorded samples stay exact step ends; the sensor stream keeps the base step's samples,
+filled in within a long step by cubic Hermite interpolation (:func:`_interpolate_sensors`).
+
 The kernel, part by part. :func:`newmark_contact` is the step controller: the loop, the
 order of the parts, rejections and level changes. A trial step:
 :func:`~rubdiag.kernels.load.load_factors` (the load's factors at the step's ends, once per

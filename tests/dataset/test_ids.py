@@ -96,12 +96,14 @@ def _changes(run):
         "speed_profile": SpeedProfile((0.0, 1.0), (run.speed_rad_s, 1.5 * run.speed_rad_s)),
         "static_load": StaticLoad(gravity_m_s2=-9.81),
         "faults": Faults(crack=Crack(element=10, depth_ratio=0.3)),
+        "step_error": 1e-5,
     }
 
 
 def test_changing_any_field_changes_the_run_id(run):
     changes = _changes(run)
-    fields = {f.name for f in dataclasses.fields(Run)} - {"label"}
+    # dt_max_s needs a step_error: test_step_settings_change_the_run_id_not_the_noise
+    fields = {f.name for f in dataclasses.fields(Run)} - {"label", "dt_max_s"}
     assert set(changes) == fields, "a new Run field: add it here"
     ids = {run_id(run)}
     for name, value in changes.items():
@@ -109,6 +111,19 @@ def test_changing_any_field_changes_the_run_id(run):
         assert getattr(other, name) != getattr(run, name)
         ids.add(run_id(other))
     assert len(ids) == len(changes) + 1
+
+
+def test_step_settings_change_the_run_id_not_the_noise(run):
+    """A run with long steps is another run (another id) measured with the noise of its
+    twin at 10 µs; a run without long steps draws its noise from its run id."""
+    from rubdiag.dataset.ids import noise_id
+
+    long = dataclasses.replace(run, step_error=1e-5)
+    longer = dataclasses.replace(long, dt_max_s=8 * run.dt_s)
+    assert len({run_id(run), run_id(long), run_id(longer)}) == 3
+    assert noise_id(run) == noise_id(long) == noise_id(longer) == run_id(run)
+    other = dataclasses.replace(long, gap_ramp_s=0.099)
+    assert noise_id(other) != noise_id(long)
 
 
 def test_point_id_ignores_the_start_history_only(run):
