@@ -32,49 +32,59 @@ __all__ = ["fir_decimate"]
 _BLOCK = 512
 
 
-def fir_decimate(channels, taps: np.ndarray, q: int) -> np.ndarray:
-    """Every channel of ``channels`` (1-D float64 arrays of one length n, strided views
-    too) low-pass filtered by ``taps`` and decimated by ``q`` (module docstring), as rows:
-    ``(len(channels), ⌈n / q⌉)``, output k centred on input sample k·q. A view is read in
-    place: the columns of a run's (samples × DOFs) stream need no copy first."""
-    n = channels[0].shape[0]
+def fir_decimate(streams, taps: np.ndarray, q: int) -> np.ndarray:
+    """Channels low-pass filtered by ``taps`` and decimated by ``q`` (module docstring), as
+    rows ``(channel, ⌈n / q⌉)``, output k centred on input sample k·q. ``streams`` are
+    ``(x, columns)`` pairs, ``x`` an (n, d) float64 array whose columns ``columns`` are
+    channels; the rows follow the pairs, then the columns. Each stream is read once, row
+    after row (a run's stream holds every streamed DOF; a pass per channel would sweep all
+    of it for one column)."""
+    n = streams[0][0].shape[0]
     half = (taps.size - 1) // 2
     if taps.size % 2 == 0 or half % q:
         raise ValueError(f"fir_decimate needs an odd number of taps and (taps - 1) / 2 a "
                          f"multiple of q = {q} (got {taps.size} taps)")
     n_out = -(-n // q)
+    n_ch = sum(len(columns) for _, columns in streams)
     if n < 2:       # no line through one sample: NaN, as scipy gives (nothing for none)
-        return np.full((len(channels), n_out), np.nan)
+        return np.full((n_ch, n_out), np.nan)
     length = (n_out - 1) * q + taps.size            # the extended record the sums read
-    phases = np.empty((len(channels), q, -(-length // q)))
-    for c, x in enumerate(channels):
-        if x.shape != (n,) or x.dtype != np.float64:
-            raise ValueError(f"channel {c}: shape {x.shape}, {x.dtype} (allowed: ({n},) "
-                             "float64, as the first)")
-        _split_phases(x, (x[-1] - x[0]) / (n - 1), half, length, phases[c])
-    out = np.empty((len(channels), n_out))
+    phases = np.empty((n_ch, q, -(-length // q)))
+    first = 0
+    for x, columns in streams:
+        x = np.ascontiguousarray(x, dtype=np.float64)
+        columns = np.asarray(columns, dtype=np.int64)
+        if x.ndim != 2 or x.shape[0] != n:
+            raise ValueError(f"a stream of shape {x.shape} (allowed: ({n}, d), as the first)")
+        slopes = (x[-1, columns] - x[0, columns]) / (n - 1)
+        _split_phases(x, columns, slopes, half, length, phases[first:first + columns.size])
+        first += columns.size
+    out = np.empty((n_ch, n_out))
     _phase_sums(phases, np.ascontiguousarray(taps[::-1], dtype=np.float64), out)
     return out
 
 
 @njit
-def _split_phases(x, slope, before, length, phases):
-    """``phases[r, i]``: sample ``i·q + r − before`` of ``x``, extended beyond the record
-    by the line through its first and last samples, with scipy's arithmetic
-    (``x[0] + i·s``, ``x[n−1] + (i − n + 1)·s``); zeros from ``length`` on, never read."""
+def _split_phases(x, columns, slopes, before, length, phases):
+    """``phases[k, r, i]``: sample ``i·q + r − before`` of column ``columns[k]`` of ``x``,
+    extended beyond the record by the line through its first and last samples, with
+    scipy's arithmetic (``x[0] + i·s``, ``x[n−1] + (i − n + 1)·s``); zeros from ``length``
+    on, never read."""
     n = x.shape[0]
-    q, per_phase = phases.shape
+    q, per_phase = phases.shape[1], phases.shape[2]
     for i in range(per_phase):
         for r in range(q):
             e = i * q + r - before
-            if e >= length - before:
-                phases[r, i] = 0.0
-            elif e < 0:
-                phases[r, i] = x[0] + e * slope
-            elif e >= n:
-                phases[r, i] = x[n - 1] + (e - n + 1) * slope
-            else:
-                phases[r, i] = x[e]
+            for k in range(columns.size):
+                c = columns[k]
+                if e >= length - before:
+                    phases[k, r, i] = 0.0
+                elif e < 0:
+                    phases[k, r, i] = x[0, c] + e * slopes[k]
+                elif e >= n:
+                    phases[k, r, i] = x[n - 1, c] + (e - n + 1) * slopes[k]
+                else:
+                    phases[k, r, i] = x[e, c]
 
 
 @njit

@@ -141,17 +141,18 @@ def decimate(x: np.ndarray, factor: int) -> np.ndarray:
     if factor == 1:
         return x.copy()
     columns = x if x.ndim == 2 else x[:, np.newaxis]
-    rows = _decimated([columns[:, j] for j in range(columns.shape[1])], factor)
+    rows = _decimated([(columns, range(columns.shape[1]))], factor)
     return rows[0] if x.ndim == 1 else rows.T
 
 
-def _decimated(channels: list[np.ndarray], factor: int) -> np.ndarray:
-    """:func:`decimate` of 1-D channels of one length, as rows (channel, output sample)."""
+def _decimated(streams, factor: int) -> np.ndarray:
+    """:func:`decimate` of the channels of ``streams`` (``(x, columns)`` pairs: the columns
+    of x (n, d) that are channels), as rows (channel, output sample)."""
     from rubdiag.simulate.decimation import fir_decimate
 
     if factor == 1:
-        return np.array(channels)
-    return fir_decimate(channels, anti_alias_taps(factor), factor)
+        return np.array([x[:, c] for x, columns in streams for c in columns])
+    return fir_decimate(streams, anti_alias_taps(factor), factor)
 
 
 def sensor_signals(run, system) -> dict[str, np.ndarray]:
@@ -165,19 +166,28 @@ def sensor_signals(run, system) -> dict[str, np.ndarray]:
     dofs = dof_map(run.rig)
     column = {int(d): j for j, d in enumerate(system.sensor_dofs)}
     factor = round(run.output_dt_s / run.dt_s)
-    streams = {"displacement": system.sensor_q, "velocity": system.sensor_v,
+    sources = {"displacement": system.sensor_q, "velocity": system.sensor_v,
                "acceleration": system.sensor_a}
-    raw = []                    # the stream's columns, read in place by the filter
-    for s in run.sensors:
+    picked = {}                 # stream -> (sensor indices, its columns): one pass each
+    reactions = []
+    for j, s in enumerate(run.sensors):
         c = column[dofs.index(s.point, s.direction)]
-        if s.quantity in streams:
-            raw.append(streams[s.quantity][:, c])
+        if s.quantity in sources:
+            js, cs = picked.setdefault(s.quantity, ([], []))
+            js.append(j)
+            cs.append(c)
         else:
             b = _bearing(run.rig, s.point)
             k, cv = (b.k_y_n_m, b.c_y_ns_m) if s.direction == "y" else (b.k_z_n_m, b.c_z_ns_m)
-            raw.append(k * system.sensor_q[:, c] + cv * system.sensor_v[:, c])
-    rows = _decimated(raw, factor)[:, : system.t.size]
-    return {s.name: rows[j] for j, s in enumerate(run.sensors)}
+            reactions.append((j, k * system.sensor_q[:, c] + cv * system.sensor_v[:, c]))
+    streams = [(sources[quantity], cs) for quantity, (_, cs) in picked.items()]
+    order = [j for js, _ in picked.values() for j in js]
+    if reactions:
+        streams.append((np.column_stack([r for _, r in reactions]), range(len(reactions))))
+        order += [j for j, _ in reactions]
+    rows = _decimated(streams, factor)[:, : system.t.size]
+    row_of = {j: i for i, j in enumerate(order)}
+    return {s.name: rows[row_of[j]] for j, s in enumerate(run.sensors)}
 
 
 def sensor_dofs(run) -> list[int]:
