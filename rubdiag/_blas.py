@@ -61,8 +61,9 @@ def kernels_in_use() -> str | None:
     return names.pop() if len(names) == 1 else None
 
 
-def one_thread():
-    """A context in which the BLAS libraries run on one thread (threadpoolctl).
+def one_thread(user_api: str | None = "blas"):
+    """A context in which the BLAS libraries (``user_api=None``: OpenMP ones too) run on
+    one thread (threadpoolctl).
 
     Used around a run's dense linear algebra (the reduction, the steady state, the step
     operators). The matrices are small (≤ a few hundred rows), where threads gain nothing;
@@ -70,9 +71,24 @@ def one_thread():
     (a reduced run's set-up took 6 s instead of 0.1 s beside two CPU-bound processes); and a
     multithreaded product sums in another order, so that a reduced run's bits depended on
     the machine's core count."""
-    from threadpoolctl import threadpool_limits
+    return _controller().limit(limits=1, user_api=user_api)
 
-    return threadpool_limits(limits=1, user_api="blas")
+
+_CONTROLLER: tuple = (-1, None)     # (modules loaded when it was made, the controller)
+
+
+def _controller():
+    """This process's thread-pool libraries (a ``threadpoolctl.ThreadpoolController``),
+    found again only when a module was imported since: finding them walks every loaded
+    shared object (2–3 ms, twice per dataset row, where a run's rest takes 0.1 s), and a
+    library can only have come with a new module."""
+    global _CONTROLLER
+    from threadpoolctl import ThreadpoolController
+
+    loaded = len(sys.modules)
+    if _CONTROLLER[0] != loaded:
+        _CONTROLLER = (loaded, ThreadpoolController())
+    return _CONTROLLER[1]
 
 
 def blas_signature() -> list[list[str]]:

@@ -39,3 +39,22 @@ def test_a_users_setting_and_a_loaded_numpy_are_left_alone():
             "import json; print(json.dumps([no_threads_in_this_process(), "
             "os.environ.get('OPENBLAS_NUM_THREADS')]))")
     assert _fresh(code) == [False, None]     # too late: nothing changed
+
+
+def test_one_thread_finds_a_library_loaded_after_its_first_use():
+    """rubdiag._blas.one_thread looks the libraries up once, and again after any new import:
+    a BLAS loaded later (here scipy's, after a first use with numpy's alone) is held to one
+    thread too."""
+    code = ("import numpy\n"
+            "from rubdiag._blas import one_thread\n"
+            "with one_thread():\n"
+            "    pass\n"
+            "import scipy.linalg, threadpoolctl, json\n"
+            "with one_thread(user_api=None):\n"
+            "    inside = sorted({i['num_threads'] for i in threadpoolctl.threadpool_info()})\n"
+            "blas = [i['filepath'] for i in threadpoolctl.threadpool_info()\n"
+            "        if i['user_api'] == 'blas']\n"
+            "print(json.dumps([inside, len(blas)]))")
+    inside, n_blas = _fresh(code)
+    assert inside == [1]
+    assert n_blas >= 1

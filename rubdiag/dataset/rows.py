@@ -61,6 +61,7 @@ import time
 
 import numpy as np
 
+from rubdiag._blas import one_thread
 from rubdiag._version import __version__
 from rubdiag.dataset.labels import LabelRules, label_run
 from rubdiag.dataset.noise import NoiseFloors, add_noise, noise_seed
@@ -119,8 +120,6 @@ def make_row_and_waveforms(item, rules: LabelRules | None = None,
     """The row of ``item`` and its measured waveforms: ``{"fs": Hz, "channels": {name:
     float32 array over the whole run, noise included}}``, for a run along a speed profile
     also ``"angle_rad"`` (the shaft angle at the samples), or None when the run failed."""
-    from threadpoolctl import threadpool_limits  # installed with scikit-learn
-
     rules = LabelRules() if rules is None else rules
     noise = NoiseFloors() if noise is None else noise
     start = time.perf_counter()
@@ -132,7 +131,7 @@ def make_row_and_waveforms(item, rules: LabelRules | None = None,
                    ramp_rate_rpm_s=item.ramp.rate_rpm_s, ramp_mean_rpm=float("nan"))
     row[MODEL_COLUMN] = item.run.model_kind
     waves = None
-    with threadpool_limits(limits=1):
+    with one_thread(user_api=None):     # BLAS and OpenMP
         try:
             computed, waves = _simulate_and_describe(item, rules, noise, run_timeout_s, start)
             status, message = "ok", ""
