@@ -42,9 +42,10 @@ TARGET_CPU = "haswell"
 #: more with the speed profile's knots; 174 since the load's terms come in groups by order
 #: and law, three more arrays in the load's bundle; 132 behind the element seam, whose
 #: records replace a dozen arrays)
-#: 145 with the long steps (2026-11-27): their error estimate is called in a branch, on
-#: long steps and on those that may lengthen only, and its arrays are counted there
-CONTROLLER_MAX = 145
+#: 121 once the sensor recording counted nothing (2026-11-27); 134 with the long steps: their
+#: error estimate is called in a branch, on long steps and on those that may lengthen only,
+#: and its arrays are counted there
+CONTROLLER_MAX = 134
 #: the element solve counts its arguments once per call (a trial step): 17 on 2026-11-25 (the
 #: contact solve before the seam: 28). Each kind's laws run in a loop of their own with the
 #: law inlined (``element_laws``, counted above); a branch over kinds per element brought
