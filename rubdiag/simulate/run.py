@@ -32,7 +32,8 @@ __all__ = ["LONG_STEP_FACTOR", "SPEED_TOLERANCE", "GapRampInWindow", "Run",
 #: the effect against refactorising at every step).
 SPEED_TOLERANCE = 0.005
 #: the longest step with a step-error tolerance, in base steps: 40 µs at dt_s = 10 µs. Steps
-#: end at every 10-kHz sample (100 µs), so 40 µs steps come as 40 + 40 + 20 µs; the 10-kHz
+#: end at every 10-kHz sample (100 µs) and start aligned to their length, so they come as
+#: 40, 40, 20 | 20, 40, 40 µs per 200 µs; the 10-kHz
 #: stream's anti-alias filter (cut-off 4 kHz) would allow about 50 µs; the average
 #: acceleration rule's period error, (ω h)² / 12, is 0.44 % at 40 µs for the features'
 #: highest line (8× at 6840 rpm, 912 Hz), and the error estimate keeps the rest in check
