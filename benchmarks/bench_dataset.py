@@ -3,11 +3,14 @@
 Usage::
 
     .venv/bin/python benchmarks/bench_dataset.py [--runs 100] [--duration-s 2.3] [--repeat 3]
-        [--skip-dask] [--out FILE]
+        [--skip-dask] [--reduced] [--out FILE]
+
+A quick run: ``--runs 24 --duration-s 2.3 --reduced --repeat 1 --skip-dask`` (≈ 1.5 min).
 
 The design is fixed here (``design_toml``): ``--runs`` LHS points (seed 1) of
 ``case = [1, 2]``, ``speed_ratio`` 0.9–1.1, ``gap_mm`` 1.5–4.0, ``mu`` 0.2–0.5 on the
-paper rig, so that some runs rub and some do not; each run lasts ``--duration-s`` with the
+paper rig (``--reduced``: its reduced model, ``[base] reduced = true``), so that some
+runs rub and some do not; each run lasts ``--duration-s`` with the
 first ``min(0.3, duration/3)`` s discarded. For a duration below 1 s the design is
 ``case = [2]`` only: case 1 runs at ≈ 1350–1650 rpm and its analysis window would hold
 fewer than the 10 revolutions a design requires (≥ 0.45 s of window); case 2, at
@@ -19,6 +22,14 @@ Numba kernels are compiled and cached on disk, and the feature code is imported)
 
 * bare: ``simulate(item.run)`` of every run of the design, one after the other in this
   process (BLAS held to one thread, as the workers do), once; the sum;
+* parts: ``make_row`` of every run of the design in this process, once, with the functions
+  of :data:`PARTS` timed, each less the timed functions it calls: the set-up before the
+  kernel (model and reduced model from the rig caches, start state, step operators, the
+  rest of ``simulate_system``'s and ``simulate``'s set-up), the kernel, its records made a
+  result, the sensor signals (anti-alias filter and decimation), noise, spectral features,
+  pair features, contact statistics, labels, and the rest of the row's wall time; each
+  part's median over the runs, and the median of everything but the kernel (wall − kernel:
+  the figure issue 29 wants ≤ 0.1 s per run);
 * (a) ``generate(design, tmp, jobs=1, progress=False)``;
 * (b) ``generate(design, tmp, jobs=2, progress=False)`` (a fresh ProcessPoolExecutor per
   call: starting the workers is part of the cost; on Linux they are forked and inherit this
@@ -184,39 +195,45 @@ PARTS = (
 )
 KERNEL = "kernel"
 REST = "rest (row building, BLAS limits)"
+ROW = "the row (`make_row`)"
 
 
 class PartClock:
-    """Seconds per part of one row: each wrapped function's own time, less that of the
-    wrapped functions it calls (the kernel is not counted in the ``simulate_system`` that
-    calls it), so that the parts add up to the row's wall time."""
+    """Seconds per part of one row, on two clocks (wall: ``perf_counter``; CPU of this
+    process: ``process_time``, which other jobs on a busy machine stretch less): each
+    wrapped function's own time, less that of the wrapped functions it calls (the kernel is
+    not counted in the ``simulate_system`` that calls it), so that the parts add up to the
+    row's time."""
 
     def __init__(self):
-        self.seconds: dict[str, float] = {}
-        self._inner: list[float] = []
+        self.seconds: dict[str, tuple[float, float]] = {}     # part -> (wall, CPU)
+        self._inner: list[list[float]] = []
 
     def wrap(self, part: str, fn):
         import functools
 
         @functools.wraps(fn)
         def timed(*args, **kwargs):
-            self._inner.append(0.0)
-            start = time.perf_counter()
+            self._inner.append([0.0, 0.0])
+            start = (time.perf_counter(), time.process_time())
             try:
                 return fn(*args, **kwargs)
             finally:
-                elapsed = time.perf_counter() - start
-                own = elapsed - self._inner.pop()
-                self.seconds[part] = self.seconds.get(part, 0.0) + own
+                elapsed = (time.perf_counter() - start[0], time.process_time() - start[1])
+                inner = self._inner.pop()
+                wall, cpu = self.seconds.get(part, (0.0, 0.0))
+                self.seconds[part] = (wall + elapsed[0] - inner[0],
+                                      cpu + elapsed[1] - inner[1])
                 if self._inner:
-                    self._inner[-1] += elapsed
+                    self._inner[-1][0] += elapsed[0]
+                    self._inner[-1][1] += elapsed[1]
         return timed
 
 
-def part_times(design) -> tuple[dict[str, list[float]], list[float]]:
+def part_times(design) -> dict[str, list[tuple[float, float]]]:
     """``make_row`` of every run of the design in this process, with the functions of
-    :data:`PARTS` timed; ``({part: seconds per run}, wall seconds per run)``. The rest of a
-    row's wall time (``wall_s``) is :data:`REST`."""
+    :data:`PARTS` timed: ``{part: [(wall, CPU) s of each run]}``, with :data:`REST` (the
+    rest of the row) and :data:`ROW` (the whole ``make_row``)."""
     import importlib
     from contextlib import ExitStack
     from unittest import mock
@@ -224,9 +241,8 @@ def part_times(design) -> tuple[dict[str, list[float]], list[float]]:
     from rubdiag.dataset.rows import make_row
 
     clock = PartClock()
-    per_part: dict[str, list[float]] = {part: [] for *_, part in PARTS}
-    per_part[REST] = []
-    walls = []
+    per_part: dict[str, list[tuple[float, float]]] = {part: [] for *_, part in PARTS}
+    per_part[REST], per_part[ROW] = [], []
     with ExitStack() as stack, warnings.catch_warnings():
         warnings.simplefilter("ignore")
         for module, name, part in PARTS:
@@ -235,33 +251,42 @@ def part_times(design) -> tuple[dict[str, list[float]], list[float]]:
                                                   clock.wrap(part, getattr(owner, name))))
         for item in design.runs():
             clock.seconds = {}
+            start = (time.perf_counter(), time.process_time())
             row = make_row(item)
+            total = (time.perf_counter() - start[0], time.process_time() - start[1])
             if row["status"] != "ok":
                 continue
             for *_, part in PARTS:
-                per_part[part].append(clock.seconds.get(part, 0.0))
-            per_part[REST].append(row["wall_s"] - sum(clock.seconds.values()))
-            walls.append(row["wall_s"])
-    return per_part, walls
+                per_part[part].append(clock.seconds.get(part, (0.0, 0.0)))
+            per_part[REST].append(tuple(t - sum(v[i] for v in clock.seconds.values())
+                                        for i, t in enumerate(total)))
+            per_part[ROW].append(total)
+    return per_part
 
 
-def parts_table(per_part: dict[str, list[float]], walls: list[float]) -> list[str]:
-    """Markdown: each part's median seconds per run, and the non-stepping total."""
-    kernel = per_part[KERNEL]
-    other = [w - k for w, k in zip(walls, kernel, strict=True)]
-    lines = ["| part of a row (make_row, this process) | s per run, median | share of "
-             "the wall |", "|---|---:|---:|"]
-    wall = statistics.median(walls)
-    for part, values in per_part.items():
-        m = statistics.median(values)
-        lines.append(f"| {part} | {m:.4f} | {m / wall:.1%} |")
-    setup = [sum(v[i] for p, v in per_part.items() if p.startswith("set-up"))
-             for i in range(len(walls))]
-    lines += [f"| *set-up before the kernel (the set-up rows)* | {statistics.median(setup):.4f}"
-              f" | {statistics.median(setup) / wall:.1%} |",
-              f"| **everything but the kernel** (wall − kernel) | "
-              f"**{statistics.median(other):.4f}** | {statistics.median(other) / wall:.1%} |",
-              f"| wall (`wall_s`) | {wall:.4f} | 100% |"]
+def parts_table(per_part: dict[str, list[tuple[float, float]]]) -> list[str]:
+    """Markdown: each part's median seconds per run (wall and CPU), the set-up before the
+    kernel, and everything but the kernel (the issue's figure)."""
+    def median(values, i):
+        return statistics.median(v[i] for v in values)
+
+    rows = per_part[ROW]
+    runs = range(len(rows))
+    sums = {
+        "*set-up before the kernel (the set-up rows)*": [
+            tuple(sum(v[r][i] for p, v in per_part.items() if p.startswith("set-up"))
+                  for i in (0, 1)) for r in runs],
+        "**everything but the kernel** (row − kernel)": [
+            tuple(rows[r][i] - per_part[KERNEL][r][i] for i in (0, 1)) for r in runs],
+    }
+    wall = median(rows, 0)
+    lines = ["| part of a row (make_row, this process) | wall s per run, median | CPU s "
+             "per run, median | share of the wall |", "|---|---:|---:|---:|"]
+    for part, values in {**{p: v for p, v in per_part.items() if p != ROW}, **sums,
+                         ROW: rows}.items():
+        w, c = median(values, 0), median(values, 1)
+        bold = "**" if part.startswith("**") else ""
+        lines.append(f"| {part} | {bold}{w:.4f}{bold} | {c:.4f} | {w / wall:.1%} |")
     return lines
 
 
@@ -374,9 +399,11 @@ def main(argv=None) -> int:
     print(f"bare simulate: {bare_sum:.1f} s for {n} runs "
           f"(median {statistics.median(bare_runs):.2f} s per run)", flush=True)
 
-    per_part, part_walls = part_times(design)
-    parts = parts_table(per_part, part_walls)
-    print("\n".join(["", f"parts of a row, {len(part_walls)} runs:", *parts, ""]), flush=True)
+    before = load1()
+    per_part = part_times(design)
+    parts = (f"{len(per_part[ROW])} runs, load average {before:.2f}→{load1():.2f}",
+             parts_table(per_part))
+    print("\n".join(["", f"parts of a row, {parts[0]}:", *parts[1], ""]), flush=True)
 
     a, b, c = Timing(), Timing(), Timing()
     reference, mismatches = None, []
@@ -465,7 +492,7 @@ def report(args, design, cases, now, pools, bare_sum, bare_runs, bare_load, a, b
                      f"{int(sev.get('none', 0))}, light {int(sev.get('light', 0))}, serious "
                      f"{int(sev.get('serious', 0))}.")
     lines += ["", "Parts of a row, median over the design's runs (`make_row` of each run in "
-              "this process, after the bare runs):", "", *parts, ""]
+              f"this process, after the bare runs; {parts[0]}):", "", *parts[1], ""]
     same = ("(a), (b)" + (", (c)" if c.times else "")) + " wrote the same rows"
     lines.append(f"- {same if not mismatches else 'ROWS DIFFER in ' + ', '.join(mismatches)} "
                  "(provenance columns aside); load average at start "
