@@ -135,7 +135,8 @@ def main(argv=None) -> int:
                              f"{args.duration_s:g}: {exc}") from None
     pools = limit_threads(None)
     load_start = load1()
-    print(f"{now}; {os.cpu_count()} CPUs ({cpu_model()}); {git_commit()}; load {load_start:.2f}",
+    commit = git_commit()     # at the start: others may commit while this runs
+    print(f"{now}; {os.cpu_count()} CPUs ({cpu_model()}); {commit}; load {load_start:.2f}",
           flush=True)
     warm = {name: warm_up(design) for name, design in designs.items()}
     print("warm-up (0.3 s through the row path): "
@@ -154,7 +155,8 @@ def main(argv=None) -> int:
                 print(f"  pass {i + 1}/{args.repeat} {scheduler} {name}: "
                       f"{m.timing.times[-1]:.1f} s (load {before:.2f}→{after:.2f})", flush=True)
 
-    markdown = report(args, designs["A"], now, pools, load_start, warm, measured, schedulers)
+    markdown = report(args, designs["A"], now, commit, pools, load_start, warm, measured,
+                      schedulers)
     print()
     print(markdown)
     if args.out is not None:
@@ -162,7 +164,7 @@ def main(argv=None) -> int:
     return 1 if any(m.mismatches or m.failed for m in measured.values()) else 0
 
 
-def report(args, design, now, pools, load_start, warm, measured, schedulers) -> str:
+def report(args, design, now, commit, pools, load_start, warm, measured, schedulers) -> str:
     import numpy as np
 
     import rubdiag
@@ -177,7 +179,7 @@ def report(args, design, now, pools, load_start, warm, measured, schedulers) -> 
         f"{WORKERS} workers, median of {args.repeat} interleaved passes; C's step_error = "
         f"{DEFAULT_STEP_ERROR:g} (`DEFAULT_STEP_ERROR`). {now}, {os.cpu_count()} CPUs "
         f"({cpu_model()}), Python {platform.python_version()}, numpy {np.__version__}, "
-        f"rubdiag {rubdiag.__version__} ({git_commit()}); BLAS/OpenMP: {pools}.",
+        f"rubdiag {rubdiag.__version__} ({commit}); BLAS/OpenMP: {pools}.",
         "",
         "| configuration | wall, median (s) | min–max (s) | runs / min | s per run "
         "(wall × 2 / N) | s per run (median `wall_s`) | worker s per simulated s "
@@ -216,6 +218,13 @@ def report(args, design, now, pools, load_start, warm, measured, schedulers) -> 
                for name in CONFIGS}
         lines.append(f"- Dask split, medians: {'; '.join(split)}. Speed-up on `generate` "
                      f"alone: B {gen['A'] / gen['B']:.2f}×, C {gen['A'] / gen['C']:.2f}×.")
+    for scheduler in schedulers:
+        a = measured[scheduler, "A"].timing.times
+        paired = {k: ", ".join(f"{x / y:.2f}" for x, y in
+                               zip(a, measured[scheduler, k].timing.times, strict=True))
+                  for k in ("B", "C")}
+        lines.append(f"- Speed-up over A within each pass ({scheduler}): B {paired['B']}; "
+                     f"C {paired['C']}.")
     a, c = measured["local", "A"].timing.median, measured["local", "C"].timing.median
     lines.append(f"- C against A on 2 local workers: **{a / c:.2f}×** — "
                  f"{'meets' if a / c >= 4.5 else 'misses'} the issue's goal of ≥ 4.5×.")
