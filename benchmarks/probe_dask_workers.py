@@ -73,6 +73,7 @@ def perturbed_rows(items, repeats: int, seed: int = 0) -> tuple[list[str], int]:
     import numpy as np
     from threadpoolctl import threadpool_limits
 
+    from rubdiag.dataset.ids import noise_id
     from rubdiag.dataset.noise import NoiseFloors, add_noise, noise_seed
     from rubdiag.signal.table import prefixed_features
     from rubdiag.simulate import simulate
@@ -80,7 +81,7 @@ def perturbed_rows(items, repeats: int, seed: int = 0) -> tuple[list[str], int]:
     def after_simulation(item, result) -> str:
         signals = result.sensor_signals()
         floors = {s.name: NoiseFloors().floor(s.quantity) for s in item.run.sensors}
-        measured = add_noise(signals, floors, noise_seed(item.run_id))
+        measured = add_noise(signals, floors, noise_seed(noise_id(item.run)))
         window = {k: v[result.window] for k, v in measured.items()}
         table = prefixed_features(window, result.fs, item.run.speed_rpm, separator="__")
         return _digest([*signals.values(), table.to_numpy(dtype=float)])
