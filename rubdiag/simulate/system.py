@@ -817,11 +817,11 @@ def _outputs(grid: _TimeGrid, ne: int, record_dofs, sensor_dofs, recovery) -> Ou
     """The recorded samples and the sensor stream, zeros, with the recovery maps."""
     n_out, n_sen = grid.n_out, grid.n_sensor_samples(sensor_dofs.size)
     empty = np.zeros((0, 0))
-    sensors = np.zeros((n_sen, sensor_dofs.size))
+    shape = (n_sen, sensor_dofs.size)     # np.zeros, not zeros_like: pages untouched
     return Outputs(
         record_dofs, np.zeros((n_out, record_dofs.size)), np.zeros((n_out, ne), records.SAMPLE),
-        np.zeros(n_out, records.ENERGY), sensor_dofs, sensors, np.zeros_like(sensors),
-        np.zeros_like(sensors),
+        np.zeros(n_out, records.ENERGY), sensor_dofs, np.zeros(shape), np.zeros(shape),
+        np.zeros(shape),
         empty if recovery is None else np.ascontiguousarray(recovery[record_dofs].T),
         empty if recovery is None else np.ascontiguousarray(recovery[sensor_dofs].T))
 
