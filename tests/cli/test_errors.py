@@ -262,6 +262,8 @@ CATALOGUE = [
     ("simulate-discard-beyond-duration", [*SIM, "--gap-mm", "2.3", "--discard-s", "0.5"],
      "discard_s = 0.5 is out of range"),
     ("simulate-dt-zero", [*SIM, "--gap-mm", "2.3", "--dt-s", "0"], "dt_s = 0.0 is out of range"),
+    ("simulate-negative-step-error", [*SIM, "--gap-mm", "2.3", "--step-error", "-1e-5"],
+     "step_error = -1e-05 is out of range"),
     ("simulate-dt-too-long", [*SIM, "--gap-mm", "2.3", "--dt-s", "0.1"],
      "duration_s = 0.02 is out of range"),
     ("simulate-negative-mu", [*SIM, "--gap-mm", "2.3", "--mu", "-0.1"],
