@@ -10,7 +10,10 @@ with the same noise draw: :func:`rubdiag.dataset.ids.noise_id`):
 * ``rub``: the paper rig, reduced model, both cases, 0.8–1.2 of the critical speed, gaps
   0.5–4 mm, μ 0.1–0.5 (LHS, 16 points): runs without rub, light and serious rub;
 * ``faults``: ``data/designs/faults_small.toml`` (crack, misalignment, looseness, each
-  alone and with rub, healthy; reduced model, gravity), 16 points.
+  alone and with rub, healthy; reduced model, gravity), 16 points;
+* ``journal``: ``data/designs/faults_journal.toml`` (the rig on plain journal bearings:
+  oil whirl and whip beside the other faults and rub, the model-uncertainty factors), 20
+  points (two per fault level).
 
 For every stored numeric quantity (features, pair features, contact statistics, measures)
 the **change** is the median over runs of |value with long steps − value at 10 µs| and the
@@ -42,8 +45,10 @@ import pandas as pd
 ROOT = Path(__file__).resolve().parents[1]
 CSV = ROOT / "data" / "step_study.csv"
 FAULTS = ROOT / "data" / "designs" / "faults_small.toml"
+JOURNAL = ROOT / "data" / "designs" / "faults_journal.toml"
 REPLICATES = 3
 POINTS = 16
+JOURNAL_POINTS = 20
 #: a quantity's change counts against max(scatter, FLOOR × its median magnitude)
 FLOOR = 1e-3
 #: the goal: every change below this share of the scatter (or the floor)
@@ -82,8 +87,10 @@ def designs(step_error: float) -> dict:
     rub = Design.from_dict(tomllib.loads(RUB))
     faults = Design.from_toml(FAULTS)
     faults = dataclasses.replace(faults, n=POINTS, replicates=REPLICATES)
+    journal = Design.from_toml(JOURNAL)
+    journal = dataclasses.replace(journal, n=JOURNAL_POINTS, replicates=REPLICATES)
     return {name: dataclasses.replace(d, step_error=step_error)
-            for name, d in (("rub", rub), ("faults", faults))}
+            for name, d in (("rub", rub), ("faults", faults), ("journal", journal))}
 
 
 def generate(out: Path, step_error: float, jobs: int) -> dict[str, pd.DataFrame]:

@@ -17,8 +17,8 @@ import pytest
 
 from rubdiag.dataset import Design, generate, load, load_waveforms
 from rubdiag.dataset.approach import sweep_linear_approach_m
-from rubdiag.dataset.labels import LABELS, MEASURES
 from rubdiag.dataset.ids import noise_id
+from rubdiag.dataset.labels import LABELS, MEASURES
 from rubdiag.dataset.noise import add_noise, noise_seed
 from rubdiag.dataset.ramp import SpeedRamp
 from rubdiag.dataset.rows import PROVENANCE, RAMP_COLUMNS
