@@ -162,3 +162,44 @@ def test_bad_settings_are_refused():
         run(force, step_error=1e-5, dt_max=4 * DT, fixed_step=True)
     with pytest.raises(ValueError, match=r"^step_error = -1"):
         run(force, step_error=-1.0, dt_max=4 * DT)
+
+
+def test_a_run_in_chunks_is_the_run_in_one_call():
+    """A progress callback runs the kernel in chunks of about 1 % of the run, which end on
+    any tick: long steps end at recorded samples, never at a chunk's end, so the bits are
+    those of one call."""
+    force = HarmonicForce([0], [1.0], 2 * np.pi * 40.0)
+    contacts = impact_oscillator()
+    one = run(force, contacts, duration=0.2, step_error=1e-5, dt_max=4 * DT)
+    seen = []
+    chunked = run(force, contacts, duration=0.2, step_error=1e-5, dt_max=4 * DT,
+                  progress=lambda t, total: seen.append(t))
+    assert len(seen) >= 50
+    assert one.steps_per_level[0] > 0
+    np.testing.assert_array_equal(chunked.sensor_q, one.sensor_q)
+    np.testing.assert_array_equal(chunked.q, one.q)
+    np.testing.assert_array_equal(chunked.steps_per_level, one.steps_per_level)
+
+
+def test_a_run_up_with_long_steps_follows_the_base_step_run():
+    """Along a speed profile the step operators change stretch by stretch: a long step
+    ends at each stretch's end. A run-up from 30 to 50 Hz through the 60-Hz oscillator's
+    flank: long steps taken, the sensor stream within 0.5 % of the 10-µs run's amplitude."""
+    from rubdiag.simulate.speed_profile import SpeedProfile
+
+    M, C, K = oscillator()
+    w0 = 2 * np.pi * 30.0
+    profile = SpeedProfile((0.0, 0.3), (w0, 2 * np.pi * 50.0))
+    force = HarmonicForce([0, 1], [1.0, -1j], w0)
+
+    def go(tol):
+        return simulate_system(M, C, K, force, None, np.zeros(2), np.zeros(2), duration=0.3,
+                               dt=DT, output_dt=1e-4, sensor_dofs=[0, 1], omega=w0,
+                               gyroscopic=np.zeros((2, 2)), speed_profile=profile,
+                               step_error=tol, dt_max=None if tol is None else 4 * DT)
+
+    base, long = go(None), go(1e-5)
+    assert long.extra["speed_stretches"] > 1
+    assert long.steps_per_level[:2].sum() > 0.5 * long.n_steps
+    scale = np.abs(base.sensor_q).max()
+    assert np.abs(long.sensor_q - base.sensor_q).max() < 5e-3 * scale
