@@ -7,7 +7,11 @@ into non-overlapping windows of the model's ``window_s`` at the record's own sam
 rate, and each window's features are computed exactly as a dataset row's
 (:func:`rubdiag.signal.table.prefixed_features` with the model's feature options) at the
 window's speed: given, from a tacho, or the median over the model's channels of the
-dominant line (assumed 1×). A dataset folder's stored rows are predicted as they are.
+dominant line (assumed 1×). Every y/z probe pair among the model's channels (named as a
+pair: :func:`rubdiag.dataset.schema.pair_channel`) gets its full-spectrum and orbit
+columns too, as a dataset row's (:func:`rubdiag.signal.fullspectrum.pairs_features`), so a
+model with the ``full_spectrum`` or ``orbit`` family reads a measured file as it read its
+dataset. A dataset folder's stored rows are predicted as they are.
 
 Refused (ValueError): a missing channel (every one named, with the ``rubdiag train
 --channels`` that makes a model without them), an unknown unit, a record shorter than one
@@ -28,7 +32,7 @@ import pandas as pd
 from threadpoolctl import threadpool_limits  # installed with scikit-learn
 
 from rubdiag import _check
-from rubdiag.dataset.schema import SEPARATOR
+from rubdiag.dataset.schema import PAIR_FEATURES, SEPARATOR, pair_channel
 from rubdiag.learn.columns import channels_of, read_dataset
 from rubdiag.learn.confusers import calls_rub
 from rubdiag.learn.persist import Model, load_model
@@ -210,8 +214,9 @@ def _predict_file(model: Model, path: Path, columns: dict, factors: dict, fs, sp
         else:
             speed = _dominant_speed(X[:, part], fs, model.channels, options, where)
         _check_fs(model, fs, speed, where)
-        row = prefixed_features(dict(zip(model.channels, X[:, part], strict=True)), fs,
-                                speed, separator=SEPARATOR, **options)
+        signals = dict(zip(model.channels, X[:, part], strict=True))
+        row = prefixed_features(signals, fs, speed, separator=SEPARATOR, **options)
+        row = pd.concat([row, pd.DataFrame([pair_columns(signals, fs, speed)])], axis=1)
         _check_measured(model, row, fs, speed, where)
         rows.append(row)
     data = pd.concat(rows, ignore_index=True)
@@ -379,6 +384,20 @@ def _check_fs(model: Model, fs: float, speed: float, where: str) -> None:
             f"{where}: fs = {fs:g} Hz is too low for the model: its features reach "
             f"{top['reach']:g}x ({top['order']:g}x and its band, {top['feature']}) of "
             f"{speed / 60.0:.4g} Hz; fs >= {np.ceil(need):.0f} Hz is needed")
+
+
+def pair_columns(signals: dict, fs: float, speed_rpm: float) -> dict:
+    """``PAIR__FEATURE`` of every y/z probe pair among ``signals`` (channel -> window),
+    named as a dataset row names them (:func:`rubdiag.dataset.schema.pair_channel`), from
+    the same function; empty without a pair."""
+    from rubdiag.signal.fullspectrum import pairs_features
+
+    pairs = {name: (signals[y], signals[z]) for y in signals for z in signals
+             if (name := pair_channel(y, z)) is not None}
+    if not pairs:
+        return {}
+    rows = pairs_features(pairs, fs, speed_rpm)
+    return {f"{name}{SEPARATOR}{n}": row[n] for name, row in rows.items() for n in PAIR_FEATURES}
 
 
 def _check_measured(model: Model, row: pd.DataFrame, fs: float, speed: float,
