@@ -159,7 +159,10 @@ def standard_noise(run_id: str, shape, seed: int = 0) -> np.ndarray:
 
 def window_features(x: np.ndarray, fs: float, speed_rpm, channels) -> pd.DataFrame:
     """``CHANNEL__FEATURE`` columns of windows ``x[run, channel, sample]``, one row per run,
-    with the dataset's feature options; ``speed_rpm`` one per run."""
+    with the dataset's feature options; ``speed_rpm`` one per run. Every y/z probe pair
+    among ``channels`` adds its ``PAIR__FEATURE`` columns, as a dataset row's
+    (:func:`rubdiag.learn.predict.pair_columns`)."""
+    from rubdiag.learn.predict import pair_columns
     from rubdiag.signal.table import FEATURE_NAMES, SPEED_NAMES, feature_matrix
 
     n_runs, n_channels, n_samples = x.shape
@@ -169,7 +172,13 @@ def window_features(x: np.ndarray, fs: float, speed_rpm, channels) -> pd.DataFra
     values = values.reshape(n_runs, n_channels, len(FEATURE_NAMES))
     keep = [j for j, n in enumerate(FEATURE_NAMES) if n not in SPEED_NAMES]
     columns = [f"{c}{SEPARATOR}{FEATURE_NAMES[j]}" for c in channels for j in keep]
-    return pd.DataFrame(values[:, :, keep].reshape(n_runs, -1), columns=columns)
+    frame = pd.DataFrame(values[:, :, keep].reshape(n_runs, -1), columns=columns)
+    per_run = np.asarray(speed_rpm, dtype=np.float64).reshape(-1)
+    pairs = [pair_columns(dict(zip(channels, x[r].astype(np.float64), strict=True)), fs,
+                          per_run[r]) for r in range(n_runs)]
+    if n_runs and pairs[0]:
+        frame = pd.concat([frame, pd.DataFrame(pairs)], axis=1)
+    return frame
 
 
 def noise_curve(dataset, target: str = "rub", split: str = "group", estimator: str = "rf",

@@ -83,3 +83,31 @@ def test_a_csv_of_the_two_probes_predicts_as_the_stored_rows(model, windows, sma
     p = [c for c in table.columns if c.startswith("p_")]
     assert np.abs(table[p].to_numpy() - stored[p].to_numpy()).max() <= 0.05
     np.testing.assert_allclose(table["speed_rpm"], speed[stored.index], rtol=1e-3)
+
+
+def test_the_noise_curves_recompute_the_pair_columns(small_dataset, small_rows):
+    """The noise curves' features of the stored windows (no noise added) hold every pair
+    column, within 1e-4 of the rows' as above; with noise added they move."""
+    from rubdiag.learn.robustness import (
+        analysis_windows,
+        noisy_windows,
+        reference_power,
+        window_features,
+    )
+
+    windows = analysis_windows(small_dataset, small_rows["run_id"], [Y, Z])
+    speed = small_rows["speed_rpm"].to_numpy()
+    clean = window_features(windows.x, windows.fs, speed, [Y, Z])
+    columns = [f"{PAIR}{SEPARATOR}{n}" for n in PAIR_FEATURES]
+    assert set(columns) <= set(clean.columns)
+    scale = small_rows[f"{PAIR}{SEPARATOR}forward_1x"].to_numpy()
+    for n, column in zip(PAIR_FEATURES, columns, strict=True):
+        atol = 1e-4 * (scale if n in LENGTHS else 1.0)
+        got, want = clean[column].to_numpy(), small_rows[column].to_numpy()
+        same = np.isclose(got, want, rtol=0, atol=atol) | (np.isnan(got) & np.isnan(want))
+        assert same.all(), n
+    p_ref = reference_power(windows, small_rows["rub"].to_numpy(dtype=bool))
+    noisy = window_features(noisy_windows(windows, p_ref, 10.0, 0), windows.fs, speed,
+                            [Y, Z])
+    reverse = f"{PAIR}{SEPARATOR}reverse_share"
+    assert np.abs(noisy[reverse] - clean[reverse]).max() > 0.01
