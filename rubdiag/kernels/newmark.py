@@ -508,6 +508,22 @@ def _largest(mapt, dofs, x):
     return big
 
 
+@njit
+def _error_wanted(code, tol, lev, base, may_grow):
+    """Whether a converged trial needs its error estimate: a long step, or a base step
+    that may grow past the base (``may_grow``: quiet long enough), with a tolerance."""
+    return code == 0 and tol > 0.0 and (lev < base or (lev == base and may_grow))
+
+
+@njit(error_model="numpy")
+def _error_level(need, lev, base, err, tol):
+    """``(level, by_error)``: a long step otherwise accepted (``need == lev``) whose error
+    ``err`` is above ``tol`` goes down by :func:`_levels_down`; else ``need``."""
+    if need == lev and lev < base and err > tol:
+        return lev + _levels_down(err / tol, base - lev), True
+    return need, False
+
+
 @njit(error_model="numpy")
 def _levels_down(ratio, room):
     """How many levels a long step rejected at ``ratio`` = error / tolerance goes down, at
@@ -837,6 +853,18 @@ def _nonfinite_increment(prog, el, wc, t):
 
 
 @njit
+def _reject(prog, lv_t, lv_l, t, level, failed, by_error):
+    """Retry the step at ``level`` (:func:`_change_level`), counting why: the element
+    solve ``failed``, the error estimate (``by_error``), or an abrupt closing or too stiff
+    a contact."""
+    _change_level(prog, lv_t, lv_l, t, level)
+    pr = prog[0]
+    pr.n_rej_newton += 1 if failed else 0
+    pr.n_rej_error += 1 if by_error and not failed else 0
+    pr.n_rej_abrupt += 1 if not (failed or by_error) else 0
+
+
+@njit
 def _change_level(prog, lv_t, lv_l, t, level):
     """Go on at ``level`` from time ``t`` (logged)."""
     pr = prog[0]
@@ -1012,31 +1040,21 @@ def newmark_contact(linear, factors, force, elements, run, state, outputs, logs,
         code = _count_iterations(code, nit, naug, prog)
         if code == NONFINITE or (code != 0 and (fixed or lev == top)):
             return _element_failure(prog, rmap, code, worst, t_1)
-        # the trial's increment (dq += S Δp) and, for a long step or one that may lengthen,
-        # its local error estimate
+        # the trial's increment (dq += S Δp) and, where wanted, its local error estimate
         _increment(lev, s_mat, pc, p_new, el, rmap, tmat, dp, dq, rhs)
         tol_m = tol * pr.scale
         err = -1.0
-        if code == 0 and tol > 0.0 and lev <= base and (lev < base
-                                                        or pr.quiet + 1 >= grow_after):
+        if _error_wanted(code, tol, lev, base, pr.quiet + 1 >= grow_after):
             err = _local_error(nb, h, dq, v, a, x, rec_dof, rec_map, sen_dof, sen_map, el,
                                rmap, tmat, wc)
         # rejected: the element solve failed (one level down), converged to an abrupt
         # closing or too stiff a contact for this step, or a long step's error is too large
         # (down to the level needed)
         need = lev + 1 if code != 0 else _level_needed(run, lev, el, track, trial)
-        by_error = need == lev and lev < base and err > tol_m
-        if by_error:
-            need = lev + _levels_down(err / tol_m, base - lev)
+        need, by_error = _error_level(need, lev, base, err, tol_m)
         if need > lev and not fixed:
             if lev < top:
-                _change_level(prog, lv_t, lv_l, t_n, min(need, top))
-                if code != 0:
-                    pr.n_rej_newton += 1
-                elif by_error:
-                    pr.n_rej_error += 1
-                else:
-                    pr.n_rej_abrupt += 1
+                _reject(prog, lv_t, lv_l, t_n, min(need, top), code != 0, by_error)
                 _lap(prof, P_CONTACT, c0)
                 continue
             pr.n_abrupt_at_min += 1  # abrupt at the smallest step: accepted, counted

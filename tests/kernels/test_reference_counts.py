@@ -32,7 +32,8 @@ PER_STEP = ("_rhs_average", "_rhs_general", "_load_increment", "_clock", "_eleme
             "_record_sensors",
             "load_factors", "csr_matvec", "lu_solve",
             # the long steps' parts called at every step
-            "_step_level", "_may_lengthen", "_interpolate_sensors",
+            "_step_level", "_may_lengthen", "_interpolate_sensors", "_error_wanted",
+            "_error_level", "_reject",
             # the seam: each kind's law and books on its elements, per Newton iteration
             "element_laws", "element_books")
 #: the CPU the guard compiles for (NUMBA_CPU_NAME): one whose inliner lets Numba prune
