@@ -111,9 +111,7 @@ def generate(out: Path, step_error: float, jobs: int) -> dict[str, pd.DataFrame]
 def family(column: str) -> str:
     """The family of a stored quantity, by its channel and feature name."""
     channel, _, feature = column.partition("__")
-    if not feature:
-        return "measures"
-    if channel == "truth":
+    if not feature or channel == "truth":
         return "measures"
     if channel.startswith("contact"):
         return "contact statistics"

@@ -89,9 +89,11 @@ it is an error). Every row says which model made it (its ``model`` column).
 and the local error estimate allows (``Run.step_error``, relative to the largest recorded
 displacement; up to 40 µs): ``step_error`` sets the tolerance, :data:`DEFAULT_STEP_ERROR`
 by default, ``0`` keeps every step at 10 µs or shorter. A closed contact is always
-integrated at 10 µs or shorter. The default keeps every stored quantity's change, against
-the same runs at 10 µs, below a quarter of the scatter between start histories (README,
-"Steps sized by error"). The resolved form writes it only when it is not the default.
+integrated at 10 µs or shorter. With the default, against the same runs at 10 µs, the
+labels are the same and the spectral features change by less than a quarter of the scatter
+between start histories; a rubbing run's contact statistics, which are chaotic, change by
+about that scatter (README, "Steps sized by error"). The resolved form writes it only when
+it is not the default.
 
 **Resolved form.** :meth:`Design.to_dict` / :meth:`Design.to_toml` write everything a run
 depends on: the model (``reduced = true`` and the cutoff; nothing for the full model, so
