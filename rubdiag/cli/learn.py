@@ -81,11 +81,17 @@ def register(sub) -> None:
         "per window, the class and the class probabilities, then per input the majority "
         "(window 'all'). A speed or features outside the training ranges is told on stderr "
         "(one warning line each); the prediction is then an extrapolation. A dataset "
-        "folder's stored runs are predicted one row each.")
+        "folder's stored runs are predicted one row each. Many files go in one call (the "
+        "model is loaded once): a folder, a quoted glob pattern, or a list. Each file's "
+        "speed is the first of: its row in --speeds, its tacho (--tacho, or a column named "
+        "tacho when --speed-rpm is not given), --speed-rpm, the estimate per window; the "
+        "table's speed_source column says which.")
     p.add_argument("model", type=Path, metavar="MODEL_DIR", help="model folder (rubdiag train)")
     p.add_argument("inputs", nargs="+", metavar="INPUT",
                    help="signal file (.csv/.txt with a header row, .npz, .parquet; a time "
-                   "column t/time/time_s/t_s gives fs) or dataset folder")
+                   "column t/time/time_s/t_s gives fs), folder of signal files (all of them, "
+                   "sorted by name), glob pattern in quotes ('plant/*.csv'; '**' for "
+                   "subfolders), or dataset folder")
     p.add_argument("--column", action="append", default=[], metavar="COLUMN=CHANNEL",
                    help="the file's COLUMN holds the model's CHANNEL (repeatable)")
     p.add_argument("--unit", action="append", default=[], metavar="CHANNEL=UNIT",
@@ -94,12 +100,24 @@ def register(sub) -> None:
     p.add_argument("--fs", type=float, metavar="HZ", help="sampling frequency in Hz")
     speed = p.add_mutually_exclusive_group()
     speed.add_argument("--speed-rpm", type=float, metavar="RPM",
-                       help="running speed (default: from a tacho column, else the dominant "
-                       "line of the model's channels, per window)")
+                       help="running speed of every file (default: from a tacho column, else "
+                       "the dominant line of the model's channels, per window)")
     speed.add_argument("--tacho", metavar="COLUMN",
                        help="once-per-revolution pulse column giving the speed "
-                       "(default: a column 'tacho')")
+                       "(default: a column 'tacho'); with --speeds, of the files it leaves "
+                       "without a speed")
+    p.add_argument("--speeds", type=Path, metavar="FILE.csv",
+                   help="each file's running speed: a CSV with the columns file (its path "
+                   "as given, or its file name) and speed_rpm (rpm; empty: that file's tacho "
+                   "or estimate). Every input file needs a row; rows of other files are "
+                   "ignored. Not with --speed-rpm")
+    p.add_argument("--out", type=Path, metavar="TABLE",
+                   help="write the table to TABLE (.csv, .parquet or .json) instead of "
+                   "printing it; a folder or pattern among the inputs leaves TABLE and the "
+                   "--speeds file out")
     p.add_argument("--json", action="store_true", help="print the table as JSON records")
+    p.add_argument("--quiet", action="store_true",
+                   help="no progress bar (one is drawn on stderr only when it is a terminal)")
     p.set_defaults(func=_predict)
 
 
@@ -186,22 +204,42 @@ def _evaluate(args) -> int:
 
 
 def _predict(args) -> int:
+    from rubdiag.cli._paths import output_file
+
+    out = None if args.out is None else output_file(args.out)       # before any work
+    if out is not None:
+        _table_format(out)
+        if args.json:
+            raise ValueError("--json prints the table; --out writes it (allowed: one of them)")
+    if args.speeds is not None and args.speed_rpm is not None:
+        raise ValueError("--speeds and --speed-rpm exclude each other (allowed: one of them; "
+                         "a file whose speed_rpm is empty in --speeds takes its tacho or the "
+                         "estimate)")
+    from rubdiag.learn.inputs import expand_inputs, read_speeds
     from rubdiag.learn.persist import load_model
     from rubdiag.learn.predict import predict
 
+    speeds = None if args.speeds is None else read_speeds(args.speeds)
+    left_out = [p for p in (args.speeds, out) if p is not None]
+    files = [str(f) for f, _ in expand_inputs(args.inputs, exclude=left_out)]
     model = load_model(args.model)
-    table = predict(model, args.inputs,
+    table = predict(model, files,
                     columns=_pairs(args.column, "--column", "COLUMN=CHANNEL"),
                     units=_pairs(args.unit, "--unit", "CHANNEL=UNIT"), fs=args.fs,
-                    speed_rpm=args.speed_rpm, tacho=args.tacho)
+                    speed_rpm=args.speed_rpm if speeds is None else speeds,
+                    tacho=args.tacho, progress=not args.quiet)
     _model_warnings("predict", args.model, model.meta)  # with a prediction: a bad input is one line
     for row in table.itertuples():
         if row.warnings and row.window != "all":
             _warn("predict", f"{row.input}, window {row.window}: {row.warnings}")
+    if out is not None:
+        _write_table(table, out)
+        inputs = table.loc[table["window"] == "all", "input"].nunique()
+        print(f"wrote {out}: {len(table)} rows ({inputs} files, their windows and "
+              "majorities)" if inputs else f"wrote {out}: {len(table)} rows")
+        return 0
     if args.json:
-        records = [{k: (None if isinstance(v, float) and math.isnan(v) else v)
-                    for k, v in r.items()} for r in table.to_dict(orient="records")]
-        json.dump(records, sys.stdout, indent=1, default=_plain)
+        json.dump(_records(table), sys.stdout, indent=1, default=_plain)
         print()
         return 0
     import pandas as pd
@@ -214,6 +252,42 @@ def _predict(args) -> int:
         for line in _fault_verdicts(table):
             print(line)
     return 0
+
+
+#: ``--out`` suffix -> table format
+_TABLE_FORMATS = {".csv": "csv", ".parquet": "parquet", ".pq": "parquet", ".json": "json"}
+
+
+def _table_format(path: Path) -> str:
+    fmt = _TABLE_FORMATS.get(path.suffix.lower())
+    if fmt is None:
+        raise ValueError(f"--out {path}: unknown table format {path.suffix or '(none)'!r} "
+                         f"(allowed: {', '.join(_TABLE_FORMATS)})")
+    return fmt
+
+
+def _records(table) -> list[dict]:
+    """The table's rows as JSON records (NaN as null)."""
+    return [{k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in r.items()}
+            for r in table.to_dict(orient="records")]
+
+
+def _write_table(table, path: Path) -> None:
+    """``table`` to ``path`` as its suffix says (written whole or not at all); in parquet
+    the ``window`` column is text ("0", "1" …, "all"): a column holds one type there."""
+    import io
+
+    from rubdiag._atomic import write_bytes, write_text
+
+    fmt = _table_format(path)
+    if fmt == "csv":
+        write_text(path, table.to_csv(index=False))
+    elif fmt == "json":
+        write_text(path, json.dumps(_records(table), indent=1, default=_plain) + "\n")
+    else:
+        sink = io.BytesIO()
+        table.astype({"window": str}).to_parquet(sink, index=False)
+        write_bytes(path, sink.getvalue())
 
 
 def _fault_verdicts(table) -> list[str]:

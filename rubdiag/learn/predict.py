@@ -1,17 +1,21 @@
 """A saved classifier on measured signals: one prediction per window of the training length.
 
-:func:`predict` reads signal files (CSV, NPZ, parquet: :func:`rubdiag.signal.read_signals`)
-or dataset folders. A file's columns are mapped to the model's channels (``columns``) and
-converted to SI (``units``, per the channel's quantity: :data:`UNITS`); the record is cut
-into non-overlapping windows of the model's ``window_s`` at the record's own sampling
-rate, and each window's features are computed exactly as a dataset row's
-(:func:`rubdiag.signal.table.prefixed_features` with the model's feature options) at the
-window's speed: given, from a tacho, or the median over the model's channels of the
+:func:`predict` reads signal files (CSV, NPZ, parquet: :func:`rubdiag.signal.read_signals`),
+folders of them, glob patterns or dataset folders (:mod:`rubdiag.learn.inputs`). A file's
+columns are mapped to the model's channels (``columns``) and converted to SI (``units``,
+per the channel's quantity: :data:`UNITS`); the record is cut into non-overlapping windows
+of the model's ``window_s`` at the record's own sampling rate, and each window's features
+are computed exactly as a dataset row's (:func:`rubdiag.signal.table.prefixed_features`
+with the model's feature options) at the window's speed: the file's own (per-file speeds),
+from a tacho, one given for every file, or the median over the model's channels of the
 dominant line (assumed 1×). Every y/z probe pair among the model's channels (named as a
 pair: :func:`rubdiag.dataset.schema.pair_channel`) gets its full-spectrum and orbit
-columns too, as a dataset row's (:func:`rubdiag.signal.fullspectrum.pairs_features`), so a
-model with the ``full_spectrum`` or ``orbit`` family reads a measured file as it read its
-dataset. A dataset folder's stored rows are predicted as they are.
+columns too when the model reads them, as a dataset row's
+(:func:`rubdiag.signal.fullspectrum.pairs_features`), so a model with the
+``full_spectrum`` or ``orbit`` family reads a measured file as it read its dataset. A
+dataset folder's stored rows are predicted as they are. The windows of every file of a
+call go through the model in one batch (a row's probabilities do not depend on the rows
+beside it), so many short files cost little more than their features.
 
 Refused (ValueError): a missing channel (every one named, with the ``rubdiag train
 --channels`` that makes a model without them), an unknown unit, a record shorter than one
@@ -24,7 +28,9 @@ Nothing here imports the simulator.
 
 from __future__ import annotations
 
+import itertools
 import os
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 
 import numpy as np
@@ -32,16 +38,18 @@ import pandas as pd
 from threadpoolctl import threadpool_limits  # installed with scikit-learn
 
 from rubdiag import _check
+from rubdiag._progress import steps
 from rubdiag.dataset.schema import PAIR_FEATURES, SEPARATOR, pair_channel
 from rubdiag.learn.columns import channels_of, read_dataset
 from rubdiag.learn.confusers import calls_rub
+from rubdiag.learn.inputs import Speeds, expand_inputs, speeds_per_file
 from rubdiag.learn.persist import Model, load_model
 from rubdiag.learn.train import required_fs
 from rubdiag.signal.io import read_signals
 from rubdiag.signal.options import Options
 from rubdiag.signal.speed import tacho_speed
 from rubdiag.signal.speedvote import SpeedNotFound, voted_speed
-from rubdiag.signal.table import prefixed_features
+from rubdiag.signal.table import prefixed_feature_row
 
 __all__ = ["RANGE_TOLERANCE", "RUB_LIKELY", "UNITS", "fault_columns", "missing_channels",
            "predict", "predict_rows", "unit_factor"]
@@ -80,16 +88,18 @@ def unit_factor(quantity: str, unit: str) -> float:
 # short records: two threads cost more than they give (benchmarks/README, "Classifiers")
 @threadpool_limits.wrap(limits=1)
 def predict(model, inputs, *, columns=None, units=None, fs=None, speed_rpm=None,
-            tacho=None) -> pd.DataFrame:
+            tacho=None, progress: bool = False) -> pd.DataFrame:
     """Predict the class of every window of every input, and the majority of each input.
 
     Parameters
     ----------
     model : Model or path
         A model (:func:`~rubdiag.learn.persist.load_model`) or its folder.
-    inputs : path or list of paths
-        Signal files (CSV, NPZ, parquet; one column per channel) or dataset folders (their
-        stored rows are predicted, one per run).
+    inputs : path, glob pattern, or list of them
+        Signal files (CSV, NPZ, parquet; one column per channel), folders of signal files
+        (every one in the folder, sorted by name), glob patterns (expanded here, sorted) or
+        dataset folders (their stored rows are predicted, one per run); see
+        :mod:`rubdiag.learn.inputs`.
     columns : dict, optional
         File column -> model channel, for columns not named as the channels.
     units : dict, optional
@@ -97,55 +107,77 @@ def predict(model, inputs, *, columns=None, units=None, fs=None, speed_rpm=None,
         model, SI); allowed units per quantity in :data:`UNITS`.
     fs : float, optional
         Sampling rate (Hz) of files without a time column or ``fs`` entry.
-    speed_rpm : float, optional
-        Running speed of every window. Default: from ``tacho``, else from a column named
-        ``tacho``, else estimated per window (the dominant line, median over channels).
+    speed_rpm : float, sequence or mapping, optional
+        Running speed (rpm): one number for every window of every file; or each file its
+        own: a sequence aligned with ``inputs`` (a folder's or a pattern's files share its
+        speed) or a mapping file -> rpm, the file named by its path or its file name
+        (:func:`~rubdiag.learn.inputs.read_speeds` reads one from a CSV; every input file
+        must be named, None leaves a file without a speed).
     tacho : str, optional
-        Column holding a once-per-revolution pulse.
+        Column holding a once-per-revolution pulse (not with one number ``speed_rpm``).
+    progress : bool
+        Show a progress bar over the files on stderr (when it is a terminal).
 
     Returns
     -------
     pandas.DataFrame
         One row per window: ``input``, ``window`` (0, 1 …), ``start_s``, ``end_s`` (from
-        the record's start), ``speed_rpm``, ``predicted``, ``p_<class>`` for every class,
-        ``warnings`` (empty, or what lies outside the training ranges); after a file's
-        windows a row with ``window`` = ``"all"``: the class most windows have (ties: the
-        higher mean probability) and the mean probabilities. A dataset folder gives one
-        row per run (``input`` = its ``run_id``, ``window`` 0: the stored analysis
-        window, times from the run's start). ``attrs["model_warnings"]``: what the
-        model's training warned of (:mod:`rubdiag.learn.caveats`; empty if nothing).
-        A ``fault``-target model's table has, before ``warnings``, ``p_predicted``,
-        ``p_rubbing`` (the summed probability of the classes with rub), ``confuser`` and
-        ``p_confuser`` (the most probable class without rub; :func:`fault_columns`).
+        the record's start), ``speed_rpm``, ``speed_source``, ``predicted``, ``p_<class>``
+        for every class, ``warnings`` (empty, or what lies outside the training ranges);
+        after a file's windows a row with ``window`` = ``"all"``: the class most windows
+        have (ties: the higher mean probability) and the mean probabilities. A file's
+        speed is the first of: its own (a per-file ``speed_rpm``: ``speed_source`` =
+        ``"speeds"``), its tacho (``tacho``, else a column named ``tacho`` unless one
+        number ``speed_rpm`` is given: ``"tacho"``, per window), the one number
+        ``speed_rpm`` (``"speed_rpm"``), the estimate per window (``"estimated"``). A
+        dataset folder gives one row per run (``input`` = its ``run_id``, ``window`` 0:
+        the stored analysis window, times from the run's start, ``speed_source``
+        ``"dataset"``). ``attrs["model_warnings"]``: what the model's training warned of
+        (:mod:`rubdiag.learn.caveats`; empty if nothing). A ``fault``-target model's
+        table has, before ``warnings``, ``p_predicted``, ``p_rubbing`` (the summed
+        probability of the classes with rub), ``confuser`` and ``p_confuser`` (the most
+        probable class without rub; :func:`fault_columns`).
     """
     if not isinstance(model, Model):
         model = load_model(model)
-    paths = [inputs] if isinstance(inputs, str | os.PathLike) else list(inputs)
-    if not paths:
-        raise ValueError("inputs is empty (allowed: at least one file or dataset folder)")
-    if speed_rpm is not None and tacho is not None:
-        raise ValueError("speed_rpm and tacho exclude each other (allowed: one of them)")
-    if speed_rpm is not None:
-        speed_rpm = _check.positive("speed_rpm", speed_rpm, "rpm")
-    columns = _check_columns(model, columns)
-    factors = _unit_factors(model, units)
-    tables = []
-    for path in paths:
-        path = Path(path)
+    given = [inputs] if isinstance(inputs, str | os.PathLike) else list(inputs)
+    one_speed, own = _speed_kind(speed_rpm)
+    if one_speed is not None and tacho is not None:
+        raise ValueError("speed_rpm and tacho exclude each other (allowed: one of them, or "
+                         "speed_rpm per file with tacho for the files without one)")
+    files = expand_inputs(given, exclude=[own.source] if isinstance(own, Speeds) else [])
+    speeds = ([None] * len(files) if own is None
+              else speeds_per_file(own, len(given), files))
+    windows = _Windows(model, _check_columns(model, columns), _unit_factors(model, units),
+                       fs, tacho, one_speed)
+    rows, stored = [], []
+    for k, ((path, _), speed) in enumerate(steps(list(zip(files, speeds, strict=True)),
+                                                  "predict", unit="file", enabled=progress)):
         if path.is_dir():
-            given = [n for n, v in (("columns", columns), ("units", units), ("fs", fs),
-                                    ("speed_rpm", speed_rpm), ("tacho", tacho)) if v]
-            if given:
+            used = [n for n, v in (("columns", columns), ("units", units), ("fs", fs),
+                                   ("speed_rpm", speed_rpm), ("tacho", tacho))
+                    if v is not None and not (isinstance(v, dict) and not v)]
+            if used:
                 raise ValueError(f"{path}: a dataset folder brings its channels, units, "
-                                 f"sampling rate and speeds; {given[0]} applies to signal "
+                                 f"sampling rate and speeds; {used[0]} applies to signal "
                                  "files only")
-            tables.append(predict_rows(model, read_dataset(path)))   # one row per run
+            stored.append((k, predict_rows(model, read_dataset(path))))   # one row per run
         else:
-            table = _predict_file(model, path, columns, factors, fs, speed_rpm, tacho)
-            tables += [table, _majority(table, model)]
-    out = pd.concat(tables, ignore_index=True)
+            rows.append((k, windows.of(path, speed)))
+    out = _in_order(model, rows, stored)
     out.attrs["model_warnings"] = list(model.meta.get("warnings", []))
     return out
+
+
+def _speed_kind(speed_rpm):
+    """``(one speed for every file or None, per-file speeds or None)`` of ``speed_rpm``."""
+    if speed_rpm is None:
+        return None, None
+    if isinstance(speed_rpm, Mapping) or (
+            isinstance(speed_rpm, Iterable) and not isinstance(speed_rpm, str | bytes)
+            and np.ndim(speed_rpm) == 1):
+        return None, speed_rpm
+    return _check.positive("speed_rpm", speed_rpm, "rpm"), None
 
 
 def predict_rows(model: Model, data: pd.DataFrame) -> pd.DataFrame:
@@ -170,62 +202,136 @@ def predict_rows(model: Model, data: pd.DataFrame) -> pd.DataFrame:
     window_s = float(acq.get("window_s", model.meta["window_s"]))
     ids = data["run_id"] if "run_id" in data.columns else pd.Series(range(len(data)))
     return _table(model, data, [str(i) for i in ids], np.zeros(len(data), dtype=int),
-                  np.full(len(data), start), np.full(len(data), start + window_s))
+                  np.full(len(data), start), np.full(len(data), start + window_s),
+                  np.full(len(data), "dataset", dtype=object))
 
 
-def _predict_file(model: Model, path: Path, columns: dict, factors: dict, fs, speed_rpm,
-                  tacho) -> pd.DataFrame:
-    frame, fs = read_signals(path, fs)
-    name = path.name
-    pulses = None
-    if tacho is not None:
-        if tacho not in frame.columns:
-            raise ValueError(f"{name}: tacho column {tacho!r} not found (its columns: "
-                             f"{', '.join(frame.columns)})")
-        pulses = frame[tacho].to_numpy()
-    elif speed_rpm is None:
-        found = [c for c in frame.columns if c.lower() == "tacho" and c not in columns]
-        pulses = frame[found[0]].to_numpy() if found else None
-    for column in columns:
-        if column not in frame.columns:
-            raise ValueError(f"{name}: column {column!r} not found (its columns: "
-                             f"{', '.join(frame.columns)})")
-    frame = frame.rename(columns=columns)
-    missing = [c for c in model.channels if c not in frame.columns]
-    if missing:
-        raise ValueError(missing_channels(name, missing, model, "the file",
-                                          list(frame.columns), mappable=True))
-    X = np.vstack([frame[c].to_numpy(dtype=np.float64) * factors[c] for c in model.channels])
-    window_s = model.meta["window_s"]
-    n = round(window_s * fs)
-    n_windows = X.shape[1] // n
-    if n_windows == 0:
-        raise ValueError(f"{name}: the record lasts {X.shape[1] / fs:.4g} s, shorter than "
-                         f"one window of the model ({window_s:g} s)")
-    options = _options(model)
-    rows = []
-    for i in range(n_windows):
-        part = slice(i * n, (i + 1) * n)
-        where = f"{name}, window {i}"
-        if speed_rpm is not None:
-            speed = speed_rpm
-        elif pulses is not None:
-            speed = tacho_speed(pulses[part], fs)
-        else:
-            speed = _dominant_speed(X[:, part], fs, model.channels, options, where)
-        _check_fs(model, fs, speed, where)
-        signals = dict(zip(model.channels, X[:, part], strict=True))
-        row = prefixed_features(signals, fs, speed, separator=SEPARATOR, **options)
-        row = pd.concat([row, pd.DataFrame([pair_columns(signals, fs, speed)])], axis=1)
-        _check_measured(model, row, fs, speed, where)
-        rows.append(row)
-    data = pd.concat(rows, ignore_index=True)
-    starts = np.arange(n_windows) * n / fs
-    return _table(model, data, [str(path)] * n_windows, np.arange(n_windows), starts,
-                  starts + n / fs)
+class _Windows:
+    """The feature rows of a signal file's windows, with what every file of a call shares:
+    the column map, unit factors, feature options, the columns to check (built once)."""
+
+    def __init__(self, model: Model, columns: dict, factors: dict, fs, tacho, speed_rpm):
+        self.model, self.columns, self.factors = model, columns, factors
+        self.fs, self.tacho, self.speed_rpm = fs, tacho, speed_rpm
+        self.options = _options(model)
+        self.opts = Options(**self.options)
+        self.window_s = model.meta["window_s"]
+        step = model.pipeline.named_steps["features"]
+        needed = [*step.required_, *getattr(step, "pair_required_", ())]
+        # the probe pairs' columns cost more than a window's other features: only for a
+        # model that reads them
+        self.pairs = any(c.split(SEPARATOR, 1)[0] not in model.channels
+                         for c in needed if SEPARATOR in c)
+        self.lines = [c for c in step.required_ if c.split(SEPARATOR, 1)[-1].startswith("amp_")]
+
+    def of(self, path: Path, given: float | None) -> dict:
+        """The windows of the file at ``path`` (its own speed ``given``, or None):
+        ``rows`` (feature dicts), ``input``, ``starts``, ``ends``, ``source``."""
+        model, columns = self.model, self.columns
+        frame, fs = read_signals(path, self.fs)
+        name = path.name
+        pulses, source = None, "speeds"
+        if given is None:
+            pulses = self._pulses(frame, name)
+            source = ("tacho" if pulses is not None else
+                      "speed_rpm" if self.speed_rpm is not None else "estimated")
+        for column in columns:
+            if column not in frame.columns:
+                raise ValueError(f"{name}: column {column!r} not found (its columns: "
+                                 f"{', '.join(frame.columns)})")
+        frame = frame.rename(columns=columns)
+        missing = [c for c in model.channels if c not in frame.columns]
+        if missing:
+            raise ValueError(missing_channels(name, missing, model, "the file",
+                                              list(frame.columns), mappable=True))
+        X = np.vstack([frame[c].to_numpy(dtype=np.float64) * self.factors[c]
+                       for c in model.channels])
+        n = round(self.window_s * fs)
+        n_windows = X.shape[1] // n
+        if n_windows == 0:
+            raise ValueError(f"{name}: the record lasts {X.shape[1] / fs:.4g} s, shorter "
+                             f"than one window of the model ({self.window_s:g} s)")
+        rows = []
+        for i in range(n_windows):
+            part = slice(i * n, (i + 1) * n)
+            where = f"{name}, window {i}"
+            if source == "speeds":
+                speed = given
+            elif source == "tacho":
+                speed = tacho_speed(pulses[part], fs)
+            elif source == "speed_rpm":
+                speed = self.speed_rpm
+            else:
+                speed = _dominant_speed(X[:, part], fs, model.channels, self.opts, where)
+            _check_fs(model, fs, speed, where)
+            signals = dict(zip(model.channels, X[:, part], strict=True))
+            row = prefixed_feature_row(signals, fs, speed, separator=SEPARATOR,
+                                       **self.options)
+            if self.pairs:
+                row.update(pair_columns(signals, fs, speed))
+            self._check_measured(row, fs, speed, where)
+            rows.append(row)
+        starts = np.arange(n_windows) * n / fs
+        return {"rows": rows, "input": str(path), "starts": starts, "ends": starts + n / fs,
+                "source": source}
+
+    def _pulses(self, frame: pd.DataFrame, name: str):
+        """The tacho pulses of a file without its own speed: ``tacho``'s column, else a
+        column named tacho (unless one speed is given for all); None without."""
+        if self.tacho is not None:
+            if self.tacho not in frame.columns:
+                raise ValueError(f"{name}: tacho column {self.tacho!r} not found (its "
+                                 f"columns: {', '.join(frame.columns)})")
+            return frame[self.tacho].to_numpy()
+        if self.speed_rpm is None:
+            found = [c for c in frame.columns
+                     if c.lower() == "tacho" and c not in self.columns]
+            return frame[found[0]].to_numpy() if found else None
+        return None
+
+    def _check_measured(self, row: dict, fs: float, speed: float, where: str) -> None:
+        """An order line the model uses that came out unmeasurable (NaN amplitude: its band
+        reaches the Nyquist frequency) would be read as "absent": refuse instead (the
+        sampling-rate check is meant to catch it first). Sideband and broadband levels may
+        be NaN for a short record of a slow machine, in training too: they are left
+        alone."""
+        for column in self.lines:
+            if np.isnan(row[column]):
+                raise ValueError(f"{where}: {column} cannot be measured at fs = {fs:g} Hz "
+                                 f"and {speed:.0f} rpm (the record is too coarse for the "
+                                 "model)")
 
 
-def _table(model: Model, data: pd.DataFrame, inputs, windows, starts, ends) -> pd.DataFrame:
+def _in_order(model: Model, files: list, stored: list) -> pd.DataFrame:
+    """The table of :func:`predict`: every file's windows then its majority, and every
+    dataset's rows, in the order of the inputs (``files``, ``stored``: (position, what)).
+    The windows of all files go through the pipeline in one call: each row's
+    probabilities are its own, the same in any batch."""
+    pieces, position, after = [], [], []
+    if files:
+        count = [len(f["rows"]) for _, f in files]
+        windows = _table(model, pd.DataFrame([row for _, f in files for row in f["rows"]]),
+                         [f["input"] for _, f in files for _ in f["rows"]],
+                         np.concatenate([np.arange(c) for c in count]),
+                         np.concatenate([f["starts"] for _, f in files]),
+                         np.concatenate([f["ends"] for _, f in files]),
+                         [f["source"] for _, f in files for _ in f["rows"]])
+        majority = _majority(windows, model, np.r_[0, np.cumsum(count)])
+        order = np.array([k for k, _ in files])
+        pieces += [windows, majority]
+        position += [np.repeat(order, count), order]
+        after += [np.zeros(len(windows)), np.ones(len(majority))]   # a file's majority last
+    for k, table in stored:
+        pieces.append(table)
+        position.append(np.full(len(table), k))
+        after.append(np.zeros(len(table)))
+    out = pd.concat(pieces, ignore_index=True)
+    rank = np.lexsort((np.arange(len(out)), np.concatenate(after), np.concatenate(position)))
+    return out.iloc[rank].reset_index(drop=True)
+
+
+def _table(model: Model, data: pd.DataFrame, inputs, windows, starts, ends,
+           sources) -> pd.DataFrame:
     """Window rows: probabilities of the pipeline, warnings from the training ranges."""
     pipeline = model.pipeline
     proba = pipeline.predict_proba(data)
@@ -233,12 +339,13 @@ def _table(model: Model, data: pd.DataFrame, inputs, windows, starts, ends) -> p
     speed = data["speed_rpm"].to_numpy(dtype=np.float64)
     table = pd.DataFrame({"input": inputs, "window": pd.Series(windows, dtype=object),
                           "start_s": starts, "end_s": ends, "speed_rpm": speed,
+                          "speed_source": sources,
                           "predicted": np.asarray(classes, dtype=object)[proba.argmax(axis=1)]})
     for j, c in enumerate(classes):
         table[f"p_{c}"] = proba[:, j]
     Z = pipeline.named_steps["features"].transform(data)
     table = fault_columns(table, model)
-    table["warnings"] = [_range_warnings(model, s, z) for s, z in zip(speed, Z, strict=True)]
+    table["warnings"] = _range_warnings(model, speed, Z)
     return table
 
 
@@ -290,44 +397,59 @@ def missing_channels(where: str, missing, model: Model, what: str, have,
             f"without {them}: {train}")
 
 
-def _majority(table: pd.DataFrame, model: Model) -> pd.DataFrame:
-    """The input's row ``window = "all"``: most frequent class (ties: higher mean
-    probability), mean probabilities."""
-    p = [f"p_{c}" for c in model.classes]
-    mean = table[p].mean()
-    counts = table["predicted"].value_counts()
-    tied = [c for c in model.classes if counts.get(c, 0) == counts.max()]
-    best = max(tied, key=lambda c: mean[f"p_{c}"])
-    warned = int((table["warnings"] != "").sum())
-    row = {"input": table["input"].iloc[0], "window": "all",
-           "start_s": table["start_s"].min(), "end_s": table["end_s"].max(),
-           "speed_rpm": float(table["speed_rpm"].median()), "predicted": best,
-           **mean.to_dict(),
-           "warnings": f"{warned} of {len(table)} windows with warnings" if warned else ""}
-    return fault_columns(pd.DataFrame([row]), model)
+def _majority(table: pd.DataFrame, model: Model, bounds) -> pd.DataFrame:
+    """Each file's row ``window = "all"`` (its windows: ``table`` rows ``bounds[i]`` to
+    ``bounds[i + 1]``): the most frequent class (ties: the higher mean probability), the
+    mean probabilities, the median speed."""
+    classes = list(model.classes)
+    p = table[[f"p_{c}" for c in classes]].to_numpy(dtype=np.float64)
+    column = {c: table[c].to_numpy() for c in ("input", "start_s", "end_s", "speed_rpm",
+                                               "speed_source", "predicted")}
+    warned = (table["warnings"] != "").to_numpy()
+    rows = []
+    for a, b in itertools.pairwise(bounds):
+        mean = p[a:b].mean(axis=0)
+        counts = np.array([np.count_nonzero(column["predicted"][a:b] == c) for c in classes])
+        tied = np.flatnonzero(counts == counts.max())
+        n_warned = int(warned[a:b].sum())
+        rows.append({"input": column["input"][a], "window": "all",
+                     "start_s": column["start_s"][a:b].min(),
+                     "end_s": column["end_s"][a:b].max(),
+                     "speed_rpm": float(np.median(column["speed_rpm"][a:b])),
+                     "speed_source": column["speed_source"][a],
+                     "predicted": classes[tied[np.argmax(mean[tied])]],
+                     **{f"p_{c}": mean[j] for j, c in enumerate(classes)},
+                     "warnings": (f"{n_warned} of {b - a} windows with warnings" if n_warned
+                                  else "")})
+    return fault_columns(pd.DataFrame(rows), model)
 
 
-def _range_warnings(model: Model, speed: float, z: np.ndarray) -> str:
-    """What of a window lies outside the training ranges, in words ("" if nothing)."""
-    out = []
+def _range_warnings(model: Model, speed: np.ndarray, Z: np.ndarray) -> list[str]:
+    """What of each window (its speed, its features ``Z``) lies outside the training
+    ranges, in words ("" if nothing)."""
     lo, hi = model.meta["speed_range_rpm"]
-    if not lo * (1 - RANGE_TOLERANCE) <= speed <= hi * (1 + RANGE_TOLERANCE):
-        out.append(f"speed {speed:.0f} rpm is outside the training range {lo:.0f}–{hi:.0f} "
-                   "rpm")
     ranges = model.meta["feature_ranges"]
     names = list(ranges)
     bounds = np.array([ranges[n] for n in names], dtype=np.float64).reshape(-1, 2)
     low, high = bounds[:, 0], bounds[:, 1]
     tol = RANGE_TOLERANCE * (high - low)
-    excess = np.maximum(low - tol - z, z - high - tol)
-    outside = np.flatnonzero(excess > 0)
-    if outside.size:
-        # the worst: furthest outside in units of its range (a constant feature first)
-        scale = np.maximum(high - low, np.finfo(float).tiny)
-        j = outside[np.argmax(excess[outside] / scale[outside])]
-        out.append(f"{outside.size} of {len(names)} features outside their training range "
-                   f"(worst: {names[j]} = {z[j]:.4g}, range {low[j]:.4g} to {high[j]:.4g})")
-    return "; ".join(out)
+    # the worst: furthest outside in units of its range (a constant feature first)
+    scale = np.maximum(high - low, np.finfo(float).tiny)
+    out = []
+    for s, z in zip(speed, Z, strict=True):
+        said = []
+        if not lo * (1 - RANGE_TOLERANCE) <= s <= hi * (1 + RANGE_TOLERANCE):
+            said.append(f"speed {s:.0f} rpm is outside the training range {lo:.0f}–{hi:.0f} "
+                        "rpm")
+        excess = np.maximum(low - tol - z, z - high - tol)
+        outside = np.flatnonzero(excess > 0)
+        if outside.size:
+            j = outside[np.argmax(excess[outside] / scale[outside])]
+            said.append(f"{outside.size} of {len(names)} features outside their training "
+                        f"range (worst: {names[j]} = {z[j]:.4g}, range {low[j]:.4g} to "
+                        f"{high[j]:.4g})")
+        out.append("; ".join(said))
+    return out
 
 
 def _check_columns(model: Model, columns) -> dict:
@@ -364,12 +486,12 @@ def _options(model: Model) -> dict:
             for k, v in model.meta["feature_options"].items()}
 
 
-def _dominant_speed(X: np.ndarray, fs: float, channels, options: dict, where: str) -> float:
+def _dominant_speed(X: np.ndarray, fs: float, channels, options: Options, where: str) -> float:
     """The running speed of a window from the dominant lines of its channels: their vote
     (:func:`rubdiag.signal.speedvote.voted_speed`, the estimator of ``rubdiag features``
     too)."""
     try:
-        return voted_speed(X, fs, Options(**options), list(channels)).rpm
+        return voted_speed(X, fs, options, list(channels)).rpm
     except SpeedNotFound:
         raise ValueError(f"{where}: the speed cannot be estimated (no line of "
                          f"{', '.join(channels)} stands out of the noise as 1x); give "
@@ -398,16 +520,3 @@ def pair_columns(signals: dict, fs: float, speed_rpm: float) -> dict:
         return {}
     rows = pairs_features(pairs, fs, speed_rpm)
     return {f"{name}{SEPARATOR}{n}": row[n] for name, row in rows.items() for n in PAIR_FEATURES}
-
-
-def _check_measured(model: Model, row: pd.DataFrame, fs: float, speed: float,
-                    where: str) -> None:
-    """An order line the model uses that came out unmeasurable (NaN amplitude: its band
-    reaches the Nyquist frequency) would be read as "absent": refuse instead (the
-    sampling-rate check is meant to catch it first). Sideband and broadband levels may be
-    NaN for a short record of a slow machine, in training too: they are left alone."""
-    for column in model.pipeline.named_steps["features"].required_:
-        name = column.split(SEPARATOR, 1)[-1]
-        if name.startswith("amp_") and np.isnan(row[column].iloc[0]):
-            raise ValueError(f"{where}: {column} cannot be measured at fs = {fs:g} Hz and "
-                             f"{speed:.0f} rpm (the record is too coarse for the model)")
