@@ -44,12 +44,36 @@ import numpy as np
 
 from rubdiag._numba import njit
 
-__all__ = ["N_GAUSS", "attitude_angle", "eccentricity_for_load", "film_force", "film_terms",
-           "linearised_coefficients", "load_capacity"]
+__all__ = ["N_GAUSS", "STEP_RULES", "attitude_angle", "eccentricity_for_load", "film_force",
+           "film_terms", "linearised_coefficients", "load_capacity", "step_film_terms"]
 
 #: quadrature points over the half circle of positive pressure
 N_GAUSS = 64
 _T, _W = np.polynomial.legendre.leggauss(N_GAUSS)
+
+#: The integrator's Gauss rules, as (largest eccentricity ratio, points): the fewest points
+#: that keep every term of :func:`step_film_terms` within round-off of a 400-point rule up
+#: to that eccentricity (relative error below 3e-13, as :data:`N_GAUSS` points reach;
+#: measured on random moving journals, ``tests/test_fluidfilm.py``: four points fewer miss
+#: it); above 0.8, the :data:`N_GAUSS` points of :func:`film_terms`. The twin of
+#: :func:`film_terms` spends a tenth of its time: 0.16-0.26 µs instead of 1.7-2.6 µs.
+STEP_RULES = ((0.2, 18), (0.3, 20), (0.4, 24), (0.5, 26), (0.6, 30), (0.7, 36), (0.8, 46),
+              (math.inf, N_GAUSS))
+
+
+def _rule_tables():
+    """Each step rule's cos φ, sin φ and weight × π/2 (rows, padded with zeros), φ the
+    node's angle from the middle of the half circle."""
+    out = np.zeros((3, len(STEP_RULES), N_GAUSS))
+    for k, (_, n) in enumerate(STEP_RULES):
+        t, w = np.polynomial.legendre.leggauss(n)
+        out[:, k, :n] = np.cos(0.5 * math.pi * t), np.sin(0.5 * math.pi * t), 0.5 * math.pi * w
+    return out
+
+
+_RULE_COS, _RULE_SIN, _RULE_WEIGHT = _rule_tables()
+_RULE_EPS = np.array([eps for eps, _ in STEP_RULES])
+_RULE_N = np.array([n for _, n in STEP_RULES])
 
 
 @njit(error_model="numpy", inline="always")
@@ -80,6 +104,58 @@ def film_terms(x, y, vx, vy, omega, mu, radius, length, clearance):
         dy = w * (-omega * cs / h3 + 3.0 * g * sn / (h3 * h))
         du = w * (-2.0 * cs / h3)
         dv = w * (-2.0 * sn / h3)
+        fx += f * cs
+        fy += f * sn
+        fxx += dx * cs
+        fyx += dx * sn
+        fxy += dy * cs
+        fyy += dy * sn
+        fxu += du * cs
+        fyu += du * sn
+        fxv += dv * cs
+        fyv += dv * sn
+    return fx, fy, fxx, fyx, fxy, fyy, fxu, fyu, fxv, fyv, thinnest
+
+
+@njit(error_model="numpy", inline="always")
+def step_film_terms(x, y, vx, vy, omega, mu, radius, length, clearance):
+    """:func:`film_terms` as the time integrator evaluates it at every Newton iteration:
+    the same integral, with the fewest Gauss points that its eccentricity needs
+    (:data:`STEP_RULES`: round-off of the same terms), the nodes' angles turned from a table
+    (two products each instead of a cosine and a sine), and the thinnest film over the half
+    circle in closed form (not sampled at the nodes): ``c − max(x cos θ + y sin θ)`` over
+    θ ∈ α ± π/2, which is ``c − e`` when the line of centres lies in the half circle, else
+    the film at its nearer end."""
+    a = omega * x - 2.0 * vy
+    b = omega * y + 2.0 * vx
+    fx = fy = fxx = fyx = fxy = fyy = fxu = fyu = fxv = fyv = 0.0
+    e = math.hypot(x, y)
+    if a == 0.0 and b == 0.0:
+        return fx, fy, fxx, fyx, fxy, fyy, fxu, fyu, fxv, fyv, 1.0 - e / clearance
+    rho = math.hypot(a, b)
+    ca = b / rho                 # the middle of the half circle, α = atan2(-a, b)
+    sa = -a / rho
+    along = x * ca + y * sa      # the journal's position along α and across it
+    across = -x * sa + y * ca
+    thinnest = 1.0 - (e if along >= 0.0 else abs(across)) / clearance
+    k = 0
+    while e > _RULE_EPS[k] * clearance:
+        k += 1
+    scale = 0.5 * mu * radius * length ** 3    # μ R L³ / 2; the weights hold dθ/dt
+    for i in range(_RULE_N[k]):
+        cp = _RULE_COS[k, i]
+        sp = _RULE_SIN[k, i]
+        cs = ca * cp - sa * sp   # θ = α + φ
+        sn = sa * cp + ca * sp
+        h = clearance - x * cs - y * sn
+        g = -rho * cp            # a sin θ − b cos θ
+        w = scale * _RULE_WEIGHT[k, i] / (h * h * h)
+        f = w * g                # the force's weight at θ
+        t = 3.0 * f / h
+        dx = w * omega * sn + t * cs
+        dy = -w * omega * cs + t * sn
+        du = -2.0 * w * cs
+        dv = -2.0 * w * sn
         fx += f * cs
         fy += f * sn
         fxx += dx * cs

@@ -67,18 +67,6 @@ def _rot_wc(wc, r, j, c, s):
 
 
 @njit(error_model="numpy", inline="always")
-def _q(i, a, c, s):
-    """Q[i, a] = R(ψ)[i % 2, a % 2] within a pair (else 0), R = [[c, -s], [s, c]]."""
-    if i // 2 != a // 2:
-        return 0.0
-    ia = i % 2
-    aa = a % 2
-    if ia == aa:
-        return c
-    return -s if ia == 0 else s
-
-
-@njit(error_model="numpy", inline="always")
 def _openness(e, wc, r, par, c, s, psi):
     """f, and the engagement function z (module docstring)."""
     if par[e, LAW] == MAYES:
@@ -108,16 +96,22 @@ def law(e, el, wc, xs, par, es, track, trial, prog, jac):
         b = wc[P_NEW, r + 2 * k + 1]
         wc[P_NEW, r + 2 * k] = -f * (c * a - s * b)
         wc[P_NEW, r + 2 * k + 1] = -f * (s * a + c * b)
-    for i in range(8):
-        i0 = i - i % 2
-        for j in range(8):
-            j0 = j - j % 2
-            acc = 0.0
-            for a in range(i0, i0 + 2):
-                qa = _q(i, a, c, s)
-                for b in range(j0, j0 + 2):
-                    acc += qa * par[e, DK0 + 8 * a + b] * _q(j, b, c, s)
-            jac[r + i, j] = -f * acc
+    # dp/dx = -f Q ΔK Qᵀ, block by 2 x 2 block: R(ψ) D Rᵀ(ψ), R = [[c, -s], [s, c]]
+    for i in range(0, 8, 2):
+        for j in range(0, 8, 2):
+            k = DK0 + 8 * i + j
+            d00 = par[e, k]
+            d01 = par[e, k + 1]
+            d10 = par[e, k + 8]
+            d11 = par[e, k + 9]
+            a00 = c * d00 - s * d10      # R D
+            a01 = c * d01 - s * d11
+            a10 = s * d00 + c * d10
+            a11 = s * d01 + c * d11
+            jac[r + i, j] = -f * (a00 * c - a01 * s)
+            jac[r + i, j + 1] = -f * (a00 * s + a01 * c)
+            jac[r + i + 1, j] = -f * (a10 * c - a11 * s)
+            jac[r + i + 1, j + 1] = -f * (a10 * s + a11 * c)
     status = OPEN if f == 0.0 else SLIDING
     trial[e].status = status
     trial[e].fn = 0.0

@@ -3,7 +3,8 @@
 Two local coordinates: the journal centre relative to the bearing housing, ``x = q[journal
 y] - q[housing y]`` and ``y = q[journal z] - q[housing z]`` (housing -1: ground), so that
 the journal turns from x towards y at the shaft's speed ``prog[0].omega``. The law is the
-film force of :func:`rubdiag.fluidfilm.film_terms` (the short-bearing π-film force, its
+film force of :func:`rubdiag.fluidfilm.step_film_terms` (the short-bearing π-film force of
+:func:`~rubdiag.fluidfilm.film_terms` with as many Gauss points as its eccentricity needs; its
 model and sources there) at the trial position and at the velocity the Newmark relation
 gives, ``ẋ₁ = cv (x − x_n) + cvv ẋ_n + cva ẍ_n``; its Jacobian is
 ``∂p/∂x + cv ∂p/∂ẋ``. Always engaged (status 2); ``gap`` is the thinnest film over the
@@ -20,7 +21,7 @@ element's dissipation — negative where the film feeds the whirl. At rest (h = 
 from __future__ import annotations
 
 from rubdiag._numba import njit
-from rubdiag.fluidfilm import film_terms
+from rubdiag.fluidfilm import step_film_terms
 from rubdiag.kernels.records import D_NEW, P_NEW, SLIDING, X_N, XA_N, XV_N
 
 __all__ = ["KIND", "KINEMATICS", "N_LOCAL", "PARAMS", "STATE", "books", "law"]
@@ -47,7 +48,7 @@ def law(e, el, wc, xs, par, es, track, trial, prog, jac):
     cva = prog[0].cva
     vx = cv * (x - xs[X_N, r]) + cvv * xs[XV_N, r] + cva * xs[XA_N, r]
     vy = cv * (y - xs[X_N, r + 1]) + cvv * xs[XV_N, r + 1] + cva * xs[XA_N, r + 1]
-    fx, fy, fxx, fyx, fxy, fyy, fxu, fyu, fxv, fyv, thinnest = film_terms(
+    fx, fy, fxx, fyx, fxy, fyy, fxu, fyu, fxv, fyv, thinnest = step_film_terms(
         x, y, vx, vy, prog[0].omega, par[e, MU], par[e, RADIUS], par[e, LENGTH],
         par[e, CLEARANCE])
     wc[P_NEW, r] = fx

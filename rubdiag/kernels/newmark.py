@@ -509,10 +509,21 @@ def _largest(mapt, dofs, x):
 
 
 @njit
-def _error_wanted(code, tol, lev, base, may_grow):
+def _error_wanted(code, tol, lev, base, may_grow, el, track):
     """Whether a converged trial needs its error estimate: a long step, or a base step
-    that may grow past the base (``may_grow``: quiet long enough), with a tolerance."""
-    return code == 0 and tol > 0.0 and (lev < base or (lev == base and may_grow))
+    that may grow past the base (``may_grow``: quiet long enough) from a start where every
+    impact element is open (else :func:`_may_lengthen` refuses whatever the error: a
+    rubbing run skips the estimate at every step), with a tolerance."""
+    if code != 0 or tol <= 0.0 or lev > base:
+        return False
+    if lev < base:
+        return True
+    if not may_grow:
+        return False
+    for e in range(el.shape[0]):
+        if el[e].impact != 0 and track[e].status != OPEN:
+            return False
+    return True
 
 
 @njit(error_model="numpy")
@@ -1044,7 +1055,7 @@ def newmark_contact(linear, factors, force, elements, run, state, outputs, logs,
         _increment(lev, s_mat, pc, p_new, el, rmap, tmat, dp, dq, rhs)
         tol_m = tol * pr.scale
         err = -1.0
-        if _error_wanted(code, tol, lev, base, pr.quiet + 1 >= grow_after):
+        if _error_wanted(code, tol, lev, base, pr.quiet + 1 >= grow_after, el, track):
             err = _local_error(nb, h, dq, v, a, x, rec_dof, rec_map, sen_dof, sen_map, el,
                                rmap, tmat, wc)
         # rejected: the element solve failed (one level down), converged to an abrupt
