@@ -139,6 +139,12 @@ def _learn_inputs(d, t, x):
         d / "slow.csv", index=False)
     pd.DataFrame({"time": t, "shaft": rng.standard_normal(t.size)}).to_csv(
         d / "noise.csv", index=False)
+    for name, text in (("speeds_no_column", "file,rpm\na.csv,1500\n"),
+                       ("speeds_negative", "file,speed_rpm\na.csv,-1500\n"),
+                       ("speeds_text", "file,speed_rpm\na.csv,fast\n"),
+                       ("speeds_twice", "file,speed_rpm\na.csv,1500\na.csv,1510\n"),
+                       ("speeds_other", "file,speed_rpm\nz.csv,1500\n")):
+        (d / f"{name}.csv").write_text(text)
 
 
 # a small dataset design: case 2 (0.2 s hold 17 revolutions), speed_ratio 1, one factor more
@@ -392,6 +398,38 @@ CATALOGUE = [
     ("predict-dataset-with-speed", ["predict", "{d}/model", "{d}/other_dataset",
                                     "--speed-rpm", "1500"],
      "speed_rpm applies to signal files only"),
+    ("predict-speeds-no-column", ["predict", "{d}/model", "{d}/a.csv", "--speeds",
+                                  "{d}/speeds_no_column.csv"],
+     "{d}/speeds_no_column.csv: no column 'speed_rpm' (a speeds file has the columns file, "
+     "speed_rpm; this one has file, rpm)"),
+    ("predict-speeds-negative", ["predict", "{d}/model", "{d}/a.csv", "--speeds",
+                                 "{d}/speeds_negative.csv"],
+     "{d}/speeds_negative.csv: speed_rpm of 'a.csv' = -1500 is out of range (allowed: > 0 "
+     "rpm)"),
+    ("predict-speeds-not-a-number", ["predict", "{d}/model", "{d}/a.csv", "--speeds",
+                                     "{d}/speeds_text.csv"],
+     "speed_rpm of 'a.csv' = 'fast' has the wrong type (expected a number of rpm, or empty)"),
+    ("predict-speeds-twice", ["predict", "{d}/model", "{d}/a.csv", "--speeds",
+                              "{d}/speeds_twice.csv"], "'a.csv' is listed twice"),
+    ("predict-speeds-input-missing", ["predict", "{d}/model", "{d}/a.csv", "--speeds",
+                                      "{d}/speeds_other.csv"],
+     "{d}/speeds_other.csv: no speed for {d}/a.csv (every input file needs an entry, by its "
+     "path or its file name; entries that name no input: z.csv)"),
+    ("predict-speeds-missing", ["predict", "{d}/model", "{d}/a.csv", "--speeds",
+                                "{d}/none.csv"], "{d}/none.csv: no such file"),
+    ("predict-speeds-and-speed-rpm", ["predict", "{d}/model", "{d}/a.csv", "--speeds",
+                                      "{d}/speeds_negative.csv", "--speed-rpm", "1500"],
+     "--speeds and --speed-rpm exclude each other"),
+    ("predict-pattern-matches-nothing", ["predict", "{d}/model", "{d}/*.nothing"],
+     "{d}/*.nothing: the pattern matches no file"),
+    ("predict-folder-without-signals", ["predict", "{d}/model", "{d}/folder"],
+     "{d}/folder: no signal file in the folder"),
+    ("predict-out-unknown-format", ["predict", "{d}/model", "{d}/a.csv", "--out",
+                                    "{d}/table.xlsx"],
+     "--out {d}/table.xlsx: unknown table format '.xlsx' (allowed: .csv, .parquet, .pq, "
+     ".json)"),
+    ("predict-out-and-json", ["predict", "{d}/model", "{d}/a.csv", "--out", "{d}/t.csv",
+                              "--json"], "--json prints the table; --out writes it"),
 ]
 
 # entries whose check must come before any work: these functions must not be called
