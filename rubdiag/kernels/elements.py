@@ -321,9 +321,10 @@ def solve_elements(W, wc, pc, xs, el, par, aug_k, es, track, trial, run, prog, j
 
     Outputs: ``wc[D_NEW]``, ``wc[P_NEW]``, the laws' ``trial`` (with the books of the
     solution: :func:`element_books`), ``es[1]`` and ``jac``
-    (m, N_LOCAL_MAX); ``work`` (>= 4 m) int (the engaged rows, the pivots, and each engaged
-    row's element's first row and size) and ``wm`` (m, m) are work, as ``wc[V]``,
-    ``wc[V2]``. ``aug_k`` (n_e) the multiplier update stiffness at the step's level.
+    (m, N_LOCAL_MAX); ``work`` (>= 5 m) int (the engaged rows, the pivots, each engaged
+    row's element's first row and size, and the rows whose force changed) and ``wm`` (m, m)
+    are work, as ``wc[V]``, ``wc[V2]``. ``aug_k`` (n_e) the multiplier update stiffness at
+    the step's level.
     Returns ``(code, newton_iterations, augment_updates, worst_row)``.
     """
     tol = run[0].newton_tol
@@ -354,16 +355,23 @@ def solve_elements(W, wc, pc, xs, el, par, aug_k, es, track, trial, run, prog, j
                         work[2 * m2 + ma] = r0
                         work[3 * m2 + ma] = n
                         ma += 1
-            # residual R = d - d_lin - W (p - p_n)
+            # residual R = d - d_lin - W (p - p_n), over the rows whose force changed (in
+            # work[4 m2:4 m2 + nz]: an open contact's is zero, so a rotor on its films alone
+            # sums 4 columns of W, not 20)
+            nz = 0
             for i in range(m2):
-                wc[V2, i] = wc[P_NEW, i] - pc[i]
+                dpi = wc[P_NEW, i] - pc[i]
+                wc[V2, i] = dpi
+                if dpi != 0.0:
+                    work[4 * m2 + nz] = i
+                    nz += 1
             rmax = 0.0
             worst = -1
             for i in range(m2):
                 acc = wc[D_NEW, i] - wc[D_LIN, i]
-                for j in range(m2):
-                    if wc[V2, j] != 0.0:
-                        acc -= W[i, j] * wc[V2, j]
+                for jj in range(nz):
+                    j = work[4 * m2 + jj]
+                    acc -= W[i, j] * wc[V2, j]
                 wc[V, i] = -acc
                 if not abs(acc) <= rmax:  # also catches NaN
                     rmax = abs(acc)

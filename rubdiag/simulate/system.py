@@ -852,7 +852,7 @@ def _grown(logs: Logs, prog, ne: int) -> Logs:
 def _work(n: int, m: int, ne: int, profile: bool) -> Work:
     """Work arrays, and the cycle counters when profiling (else empty)."""
     return Work(np.zeros((WN_SIZE, n)), np.zeros((WC_SIZE, m)), np.zeros((m, m)),
-                np.zeros((m, N_LOCAL_MAX)), np.zeros(4 * m, np.int64),
+                np.zeros((m, N_LOCAL_MAX)), np.zeros(5 * m, np.int64),
                 np.zeros(ne, records.TRIAL),
                 np.zeros(len(PROFILE_SECTIONS) if profile else 0, np.int64))
 
