@@ -78,8 +78,11 @@ mu = {{low = 0.1, high = 0.5}}
 """
 
 
-def designs(step_error: float) -> dict:
-    """The two ensembles' designs, with long steps at ``step_error`` (0: none)."""
+ENSEMBLES = ("rub", "faults", "journal")
+
+
+def designs(step_error: float, names=ENSEMBLES) -> dict:
+    """The ensembles' designs (those named), with long steps at ``step_error`` (0: none)."""
     import tomllib
 
     from rubdiag.dataset import Design
@@ -90,16 +93,18 @@ def designs(step_error: float) -> dict:
     journal = Design.from_toml(JOURNAL)
     journal = dataclasses.replace(journal, n=JOURNAL_POINTS, replicates=REPLICATES)
     return {name: dataclasses.replace(d, step_error=step_error)
-            for name, d in (("rub", rub), ("faults", faults), ("journal", journal))}
+            for name, d in (("rub", rub), ("faults", faults), ("journal", journal))
+            if name in names}
 
 
-def generate(out: Path, step_error: float, jobs: int) -> dict[str, pd.DataFrame]:
-    """Both ensembles at ``step_error`` into ``out`` (resumed if there), their rows."""
+def generate(out: Path, step_error: float, jobs: int,
+             names=ENSEMBLES) -> dict[str, pd.DataFrame]:
+    """The ensembles named at ``step_error`` into ``out`` (resumed if there), their rows."""
     from rubdiag.dataset import generate as make
     from rubdiag.dataset import load
 
     rows = {}
-    for name, design in designs(step_error).items():
+    for name, design in designs(step_error, names).items():
         folder = out / f"{name}-{step_error:g}"
         start = time.perf_counter()
         make(design, folder, jobs=jobs, progress=False)
@@ -242,6 +247,9 @@ def main(argv=None) -> int:
     p.add_argument("--step-error", type=float, nargs="+", default=None,
                    help="tolerances to compare with 10 µs (default: the designs' default)")
     p.add_argument("--jobs", type=int, default=2)
+    p.add_argument("--ensembles", nargs="+", choices=ENSEMBLES, default=list(ENSEMBLES),
+                   help="make these ensembles again and replace their rows of the CSV "
+                   "(default: all)")
     p.add_argument("--table", action="store_true", help="print the README block from the CSV")
     args = p.parse_args(argv)
     if args.table:
@@ -250,9 +258,17 @@ def main(argv=None) -> int:
     from rubdiag.dataset.design import DEFAULT_STEP_ERROR
 
     tolerances = args.step_error or [DEFAULT_STEP_ERROR]
-    base = generate(args.out, 0.0, args.jobs)
-    frames = [table(base, generate(args.out, tol, args.jobs), tol) for tol in tolerances]
+    base = generate(args.out, 0.0, args.jobs, args.ensembles)
+    frames = [table(base, generate(args.out, tol, args.jobs, args.ensembles), tol)
+              for tol in tolerances]
+    if CSV.exists():     # the rows of other ensembles and tolerances stay
+        kept = pd.read_csv(CSV)
+        frames.insert(0, kept[~(kept["ensemble"].isin(args.ensembles)
+                                & kept["step_error"].isin(tolerances))])
     frame = pd.concat(frames, ignore_index=True)
+    order = {name: k for k, name in enumerate(ENSEMBLES)}
+    frame = frame.sort_values(["step_error", "ensemble"], key=lambda c: c.map(order)
+                              if c.name == "ensemble" else c, kind="stable")
     frame.to_csv(CSV, index=False, float_format="%.6g")
     print(markdown(frame))
     return 0
