@@ -19,7 +19,8 @@ from collections.abc import Callable
 from contextlib import contextmanager
 from functools import cache
 
-__all__ = ["bar", "following", "shared", "simulated", "steps", "write"]
+__all__ = ["bar", "counted", "following", "label", "part", "shared", "simulated", "steps",
+           "write"]
 
 #: A bar over simulated time: seconds to two decimals, not a rate of "s/s".
 _SIMULATED_FORMAT = ("{desc}: {percentage:3.0f}%|{bar}| {n:.2f}/{total:.2f} s simulated "
@@ -58,9 +59,27 @@ def steps(items, desc: str, unit: str = "run", enabled: bool = True, total: int 
     if total is None and hasattr(items, "__len__"):
         total = len(items)
     with bar(total, desc, unit, enabled, stream) as progress:
-        for item in items:
-            yield item
-            progress.update(1)
+        yield from counted(items, progress.update)
+
+
+def counted(items, on_item: Callable[[], object] | None = None):
+    """``items`` as they are iterated, calling ``on_item()`` (e.g. an open bar's ``update``)
+    after each, once the loop's body is done with it (a ``continue`` included)."""
+    for item in items:
+        yield item
+        if on_item is not None:
+            on_item()
+
+
+@contextmanager
+def part(progress, n: int):
+    """A part of the work worth ``n`` steps of the open bar ``progress``, which counts its
+    own steps with the ``update`` it is given: the steps it did not count (work it found it
+    could skip) are counted when it ends, so that the bar reaches its total."""
+    start = progress.n
+    yield progress.update
+    if progress.n < start + n:
+        progress.update(start + n - progress.n)
 
 
 @contextmanager
@@ -94,6 +113,11 @@ def following(progress, start_s: float, span_s: float) -> Callable[[float, float
     def report(t: float, duration: float) -> None:
         progress.update(round(start_s + span_s * min(t / duration, 1.0), 3) - progress.n)
     return report
+
+
+def label(progress, text: str) -> None:
+    """Say beside the bar ``progress`` what it is doing now."""
+    progress.set_postfix_str(text)
 
 
 def write(message: str, stream=None) -> None:

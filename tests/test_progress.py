@@ -1,23 +1,16 @@
 """rubdiag._progress: a bar on a terminal that reaches its total, nothing anywhere else."""
 
 import io
-import re
 
 import pytest
+from fake_terminal import Terminal, counts
 
 from rubdiag import _progress
 
 
-class Terminal(io.StringIO):
-    """A stream that says it is a terminal."""
-
-    def isatty(self):
-        return True
-
-
 def last_count(text: str) -> str:
     """The ``n/total`` of the last state a bar drew."""
-    return re.findall(r"(\d+(?:\.\d+)?/\d+(?:\.\d+)?)", text)[-1]
+    return counts(text)[-1]
 
 
 def test_a_bar_on_a_terminal_reaches_its_total():
@@ -82,3 +75,34 @@ def test_a_line_written_during_a_bar_lands_above_it():
         bar.update()
     text = stream.getvalue()
     assert "case 1: done\n" in text and text.rindex("case 1: done") < text.rindex("2/2")
+
+
+def test_counted_calls_back_after_each_item_whatever_the_body_does():
+    calls, seen = [], []
+    for item in _progress.counted(range(4), lambda: calls.append(len(seen))):
+        if item % 2:
+            continue                     # a skipped item is counted too
+        seen.append(item)
+    # called after the body: the first call sees item 0 in ``seen`` already
+    assert calls == [1, 1, 2, 2]
+
+
+def test_a_part_counts_the_steps_it_skipped_when_it_ends():
+    stream = Terminal()
+    with _progress.bar(5, "work", stream=stream) as bar:
+        with _progress.part(bar, 4) as tick:
+            tick()                       # one of its four steps done, three skipped
+            assert bar.n == 1
+        assert bar.n == 4
+        with _progress.part(bar, 1) as tick:
+            tick()
+        assert bar.n == 5
+    assert last_count(stream.getvalue()) == "5/5"
+
+
+def test_a_label_shows_beside_the_bar_at_once():
+    stream = Terminal()
+    with _progress.bar(2, "work", stream=stream) as bar:
+        _progress.label(bar, "reading the data")
+        assert stream.getvalue().rstrip().endswith("reading the data]")
+        bar.update(2)

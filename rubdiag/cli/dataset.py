@@ -7,6 +7,8 @@ import os
 import sys
 from pathlib import Path
 
+from rubdiag.cli._quiet import add_quiet_option
+
 
 def register(sub) -> None:
     p = sub.add_parser(
@@ -14,7 +16,7 @@ def register(sub) -> None:
         description="Simulate every run of a design (TOML: [base], [sampling], [factors], "
         "[labels]), label it from what it did (rub, rub_state, severity) and write one row "
         "of features per run into DIR/features/ (parquet chunks, each written atomically). "
-        "A run is stored as soon as it finishes, before the progress line counts it: killed "
+        "A run is stored as soon as it finishes, before the progress counts it: killed "
         "at any moment, the same command resumes. It also moves unreadable chunks into "
         "DIR/broken/ and runs their runs again. See README, 'Labelled datasets'.")
     p.add_argument("design", type=Path, help="design TOML file")
@@ -35,7 +37,8 @@ def register(sub) -> None:
     p.add_argument("--waveforms", action="store_true",
                    help="also store each run's measured channels (float32, compressed; "
                    "rubdiag.dataset.load_waveforms reads them)")
-    p.add_argument("--no-progress", action="store_true", help="no progress line on stderr")
+    add_quiet_option(p, "--no-progress", help="no progress on stderr (on a terminal a bar "
+                     "with an ETA; elsewhere, for logs, a line per stored run)")
     p.set_defaults(func=_dataset)
 
 
@@ -53,7 +56,7 @@ def _dataset(args) -> int:
     jobs, client, cluster = _executor(args)
     try:
         summary = generate(design, args.out, jobs=jobs, client=client,
-                           progress=not args.no_progress, run_timeout_s=args.run_timeout,
+                           progress=not args.quiet, run_timeout_s=args.run_timeout,
                            retry_failed=args.retry_failed, waveforms=args.waveforms)
     finally:
         if client is not None:

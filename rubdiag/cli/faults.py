@@ -6,6 +6,8 @@ import io
 import json
 from pathlib import Path
 
+from rubdiag.cli._quiet import add_quiet_option
+
 POINT = "shaft 11"
 
 
@@ -39,6 +41,7 @@ def register(sub) -> None:
     p.add_argument("--out", type=Path, required=True, help="output folder (created)")
     p.add_argument("--json", action="store_true",
                    help="print the lines as JSON (m): run -> direction -> order -> amplitude")
+    add_quiet_option(p)
     p.set_defaults(func=_faults)
 
 
@@ -47,14 +50,14 @@ def _faults(args) -> int:
     from rubdiag.cli._paths import output_folder
     from rubdiag.plotting.faults import PREDICTED, faults_figure
     from rubdiag.runs.faults import FIGURE_FAULTS, fault_runs, line_amplitudes, whirl_runs
-    from rubdiag.simulate import simulate
 
     runs = fault_runs(speed_rpm=args.speed_rpm, interference=args.interference,
                       crack_depth=args.crack_depth,
                       misalignment_angle_mrad=args.misalignment_angle_mrad,
                       loose_preload_n=args.loose_preload_n, duration_s=args.duration_s)
+    journal, whip_order = whirl_runs(interference=args.interference)
     out = output_folder(args.out)
-    results = {name: simulate(run) for name, run in runs.items()}
+    results, journal = _simulated([runs, journal], not args.quiet)
     orders = sorted({k for name in results for k in PREDICTED[name.split()[0]]})
     table = {name: {d: line_amplitudes(r, f"{POINT} {d}", orders) for d in "yz"}
              for name, r in results.items()}
@@ -68,8 +71,6 @@ def _faults(args) -> int:
         path = out / f"faults_{fault}.png"
         write_bytes(path, buf.getvalue())
         written.append(path)
-    journal, whip_order = whirl_runs(interference=args.interference)
-    journal = {name: simulate(run) for name, run in journal.items()}
     fig = faults_figure(journal, POINT, direction="y",
                         predicted={"whirl": (whip_order, 1.0), "rub": PREDICTED["rub"]})
     buf = io.BytesIO()
@@ -94,3 +95,22 @@ def _faults(args) -> int:
             print(f"  {what:36s} {d} " + " ".join(f"{k} {v * 1e6:8.3f}" for k, v in row.items()))
     print("wrote " + ", ".join(str(p) for p in written))
     return 0
+
+
+def _simulated(groups: list[dict], progress: bool) -> list[dict]:
+    """Each group of runs (name -> Run) simulated one run after the other, as name ->
+    result, under one bar over their simulated seconds."""
+    from rubdiag import _progress
+    from rubdiag.simulate import simulate
+
+    total = sum(run.duration_s for runs in groups for run in runs.values())
+    done, out = 0.0, []
+    with _progress.simulated(total, "faults", enabled=progress) as bar:
+        for runs in groups:
+            out.append({})
+            for name, run in runs.items():
+                _progress.label(bar, name)
+                out[-1][name] = simulate(run, progress=_progress.following(
+                    bar, done, run.duration_s))
+                done += run.duration_s
+    return out

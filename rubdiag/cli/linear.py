@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 from rubdiag.cli._paths import RIG_HELP
+from rubdiag.cli._quiet import add_quiet_option
 
 RPM = 3.141592653589793 / 30.0   # rad/s per rpm
 
@@ -35,6 +36,7 @@ def register(sub) -> None:
     p.add_argument("--n-speeds", type=int, default=41, help="speeds (default 41)")
     p.add_argument("--n-modes", type=int, default=8, help="modes per speed (default 8)")
     p.add_argument("--out", type=Path, default=Path("out"), help="output folder (default out)")
+    add_quiet_option(p)
     p.set_defaults(func=_campbell)
 
     p = sub.add_parser("unbalance", help="linear unbalance response (the study's Figs. 5-6)",
@@ -152,7 +154,8 @@ def _campbell(args) -> int:
     top = args.max_speed_rpm * RPM
     # a journal bearing's film has no stiffness at rest: its diagram starts above 0
     low = top / args.n_speeds if model.journal_bearings else 0.0
-    result = campbell(model, np.linspace(low, top, args.n_speeds), n_modes=args.n_modes)
+    result = campbell(model, np.linspace(low, top, args.n_speeds), n_modes=args.n_modes,
+                      progress=not args.quiet)
     result.to_frame().to_csv(args.out / "campbell.csv", index=False)
     films = (", journal bearings: coefficients at each speed" if model.journal_bearings
              else "")

@@ -7,6 +7,7 @@ from pathlib import Path
 
 from rubdiag.cli._model import add_model_options, reduction
 from rubdiag.cli._paths import RIG_HELP
+from rubdiag.cli._quiet import add_quiet_option
 
 
 def register(sub) -> None:
@@ -26,6 +27,8 @@ def register(sub) -> None:
     p.add_argument("--rig", type=Path, help=RIG_HELP)
     p.add_argument("--no-figures", action="store_true", help="write the tables only")
     add_model_options(p)
+    add_quiet_option(p, help="no progress on stderr (on a terminal a bar with an ETA; "
+                     "elsewhere, for logs, a line per case reused or finished)")
     p.set_defaults(func=_table2)
 
     p = sub.add_parser(
@@ -55,7 +58,9 @@ def _table2(args) -> int:
     output_folder(args.out)
     try:
         table = table2(args.out, jobs=args.jobs, duration_s=args.duration_s,
-                       discard_s=args.discard_s, figures=not args.no_figures, **options)
+                       discard_s=args.discard_s, figures=not args.no_figures,
+                       progress=not args.quiet,
+                       log=(lambda message: None) if args.quiet else None, **options)
     except SimulationDiverged as exc:   # finished cases stay saved in DIR/runs
         raise ValueError(str(exc)) from None
     print((args.out / "table2.md").read_text(encoding="utf-8"))

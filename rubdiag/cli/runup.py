@@ -11,6 +11,7 @@ from rubdiag._atomic import write_text
 from rubdiag.cli._faults import add_fault_options, run_options
 from rubdiag.cli._model import add_model_options, reduction
 from rubdiag.cli._paths import RIG_HELP
+from rubdiag.cli._quiet import add_quiet_option
 
 
 def register(sub) -> None:
@@ -51,6 +52,7 @@ def register(sub) -> None:
     add_fault_options(p)
     p.add_argument("--json", action="store_true",
                    help="print the summaries as one JSON list (SI units, speeds in rpm)")
+    add_quiet_option(p)
     p.set_defaults(func=_runup)
 
 
@@ -86,7 +88,7 @@ def _runup(args) -> int:
     tracks, summaries = {}, []
     for name, run in runs.items():
         try:
-            result = _simulated(run, args.out / f"{name}.npz", name)
+            result = _simulated(run, args.out / f"{name}.npz", name, not args.quiet)
         except SimulationDiverged as exc:
             raise ValueError(f"{name}: {exc} (partial result in {args.out / name}.npz)") from None
         table = runup_orders(result, args.point, revs_per_bin=args.revs_per_bin)
@@ -112,10 +114,11 @@ def _name(a: float, b: float) -> str:
     return "runup" if b > a else "coastdown"
 
 
-def _simulated(run, path: Path, name: str):
+def _simulated(run, path: Path, name: str, progress: bool = True):
     """The result of ``run``: read back from ``path`` when a finished result of the same run
-    is there (a rerun after a crash or with other figures resumes), else simulated and
-    saved (atomically) with a progress bar."""
+    is there (a rerun after a crash or with other figures resumes), else simulated (with a
+    progress bar) and saved (atomically)."""
+    from rubdiag import _progress
     from rubdiag.simulate import load_result, simulate
 
     if path.exists():
@@ -127,7 +130,8 @@ def _simulated(run, path: Path, name: str):
             print(f"{name}: reusing {path}", file=sys.stderr)
             return old
     try:
-        result = simulate(run, progress=_progress_bar(name, run.duration_s))
+        with _progress.simulated(run.duration_s, name, enabled=progress) as bar:
+            result = simulate(run, progress=_progress.following(bar, 0.0, run.duration_s))
     except Exception as exc:
         partial = getattr(exc, "result", None)
         if partial is not None:
@@ -135,21 +139,6 @@ def _simulated(run, path: Path, name: str):
         raise
     result.save(path)
     return result
-
-
-def _progress_bar(name: str, duration_s: float):
-    """A tqdm bar over simulated seconds on stderr (shown on a terminal only)."""
-    from tqdm import tqdm
-
-    bar = tqdm(total=round(duration_s, 3), desc=name, unit="s sim", disable=None,
-               file=sys.stderr, bar_format="{desc}: {percentage:3.0f}%|{bar}| {n:.2f}/"
-               "{total:.2f} s simulated [{elapsed}<{remaining}]")
-
-    def report(t: float, duration: float) -> None:
-        bar.update(round(t, 3) - bar.n)
-        if t >= duration * (1 - 1e-9):
-            bar.close()
-    return report
 
 
 def _rpm_grid(lo: float, hi: float):

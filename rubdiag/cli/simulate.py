@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import json
 import sys
-import time
 from pathlib import Path
 
 from rubdiag.cli._faults import add_fault_options, run_options
 from rubdiag.cli._model import add_model_options, reduction
 from rubdiag.cli._paths import RIG_HELP
+from rubdiag.cli._quiet import add_quiet_option
 
 
 def register(sub) -> None:
@@ -47,26 +47,14 @@ def register(sub) -> None:
     add_model_options(p)
     add_fault_options(p)
     p.add_argument("--json", action="store_true", help="print one JSON object (SI units)")
+    add_quiet_option(p)
     p.set_defaults(func=_simulate)
-
-
-def progress_printer(label: str, every_s: float = 2.0):
-    """A progress callback printing to stderr at most every ``every_s`` wall seconds."""
-    start = time.perf_counter()
-    last = [start]
-
-    def report(t: float, duration: float) -> None:
-        now = time.perf_counter()
-        if now - last[0] >= every_s:
-            last[0] = now
-            print(f"{label}: t = {t:.2f} / {duration:.2f} s ({now - start:.0f} s elapsed)",
-                  file=sys.stderr, flush=True)
-    return report
 
 
 def _simulate(args) -> int:
     import dataclasses
 
+    from rubdiag import _progress
     from rubdiag._blas import no_threads_in_this_process
 
     no_threads_in_this_process()    # one run: OpenBLAS's idle threads would only cost time
@@ -96,7 +84,9 @@ def _simulate(args) -> int:
     run = Run.paper_case(args.case, args.gap_mm, speed_rpm=args.speed_rpm, rig=rig, **options)
     _check_output_size(run, len(response_points(rig)))
     try:
-        result = simulate(run, progress=progress_printer(f"case {args.case}"))
+        with _progress.simulated(run.duration_s, f"case {args.case}",
+                                 enabled=not args.quiet) as bar:
+            result = simulate(run, progress=_progress.following(bar, 0.0, run.duration_s))
     except SimulationDiverged as exc:
         if out is not None:
             path = exc.result.save(out)

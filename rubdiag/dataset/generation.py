@@ -2,7 +2,7 @@
 
 Workers (local processes, or Dask workers) get run descriptions and return rows; only this
 process writes, so Dask workers need no shared disk. Each row is stored the moment it
-arrives, before the progress line counts it (the folder's journal,
+arrives, before the progress counts it (the folder's journal,
 :mod:`rubdiag.dataset.store`), and the journal is moved into a Parquet chunk every
 ``chunk_rows`` rows or ``flush_s`` seconds and when the job ends: a job killed at any moment
 loses only the runs in flight, and the same call then resumes, running only what is not
@@ -20,7 +20,7 @@ from collections.abc import Callable, Iterable
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
-from rubdiag import _check
+from rubdiag import _check, _progress
 from rubdiag.dataset.card import write_card
 from rubdiag.dataset.chunks import row_schema
 from rubdiag.dataset.design import Design
@@ -181,7 +181,7 @@ def _run_dask(todo, client, args) -> Iterable[tuple]:
 
 # --- writing --------------------------------------------------------------------------------
 class _Writer:
-    """Each row into the folder's journal as it arrives (stored before the progress line
+    """Each row into the folder's journal as it arrives (stored before the progress
     counts it), the journal into a chunk every ``chunk_rows`` rows or ``flush_s`` seconds.
     The first successful row fixes the columns (failed rows alone do not know the feature
     columns, so they wait in the journal for it, or for the end)."""
@@ -211,9 +211,9 @@ class _Writer:
 
 # --- progress -------------------------------------------------------------------------------
 class _Progress:
-    """``done / failed / remaining, ETA`` on stderr: one updating line on a terminal, a
-    line per finished run otherwise (a log then shows what is stored: a run is counted
-    once its row is)."""
+    """Runs done, counted once their rows are stored, on stderr: on a terminal a bar with an
+    ETA (:mod:`rubdiag._progress`; the failed runs beside it); elsewhere a line per finished
+    run, ``done / failed / remaining, ETA``, so that a log shows what is stored."""
 
     def __init__(self, total: int, skipped: int, enabled: bool = True,
                  stream=None, clock: Callable[[], float] = time.monotonic):
@@ -224,6 +224,8 @@ class _Progress:
         self.tty = getattr(self.stream, "isatty", lambda: False)()
         if self.enabled and skipped:
             print(f"{skipped} runs already stored, {total} to run", file=self.stream)
+        self.bar = _progress.bar(total, "dataset", "run", self.enabled and self.tty,
+                                 self.stream)
 
     def update(self, ok: bool) -> None:
         self.ok += ok
@@ -231,7 +233,9 @@ class _Progress:
         if not self.enabled:
             return
         if self.tty:
-            print(f"\r{self.line()}", end="", file=self.stream, flush=True)
+            if self.failed:
+                _progress.label(self.bar, f"{self.failed} failed")
+            self.bar.update(1)
         else:
             print(self.line(), file=self.stream, flush=True)
 
@@ -243,8 +247,7 @@ class _Progress:
                 f"remaining, ETA {_clock(eta)}")
 
     def close(self) -> None:
-        if self.enabled and self.tty:
-            print(file=self.stream)
+        self.bar.close()
 
 
 def _clock(seconds: float) -> str:

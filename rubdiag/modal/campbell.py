@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rubdiag import _progress
 from rubdiag.modal.critical import critical_speeds
 from rubdiag.modal.eigen import modes
 
@@ -43,13 +44,16 @@ class Campbell:
         })
 
 
-def campbell(model, speeds, n_modes: int = 8, damped: bool = True) -> Campbell:
-    """Modes of ``model`` at every speed in ``speeds`` (rad/s)."""
+def campbell(model, speeds, n_modes: int = 8, damped: bool = True,
+             progress: bool = False) -> Campbell:
+    """Modes of ``model`` at every speed in ``speeds`` (rad/s); ``progress``: a bar over
+    the speeds on stderr when it is a terminal."""
     speeds = np.asarray(speeds, dtype=float)
     if speeds.ndim != 1 or speeds.size == 0 or np.any(~np.isfinite(speeds)) or np.any(
             speeds < 0):
         raise ValueError("speeds must be a non-empty 1-D array of speeds >= 0 rad/s")
-    rows = [modes(model, s, n_modes=n_modes, damped=damped) for s in speeds]
+    rows = [modes(model, s, n_modes=n_modes, damped=damped)
+            for s in _progress.steps(speeds, "campbell", "speed", progress)]
     width = min(len(r.eigenvalues) for r in rows)
 
     def stack(attr):

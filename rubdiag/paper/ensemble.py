@@ -8,9 +8,11 @@ one feature row per run, so a finding can be stated as "in k of n start historie
 
 from __future__ import annotations
 
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, as_completed
 
 import pandas as pd
+
+from rubdiag import _progress
 
 __all__ = ["GAP_RAMPS_S", "ensemble"]
 
@@ -26,21 +28,28 @@ def _features(run) -> dict:
 
 
 def ensemble(cases, gap_ramps_s=GAP_RAMPS_S, jobs: int | None = None, rig=None,
-             **options) -> pd.DataFrame:
+             progress=False, **options) -> pd.DataFrame:
     """Feature rows of the paper cases ``cases`` ((case, gap_mm) pairs), each run once per
     gap-ramp length in ``gap_ramps_s``; columns ``case``, ``gap_mm``, ``gap_ramp_s`` first.
 
     ``options`` go to :meth:`rubdiag.simulate.Run.paper_case` (``duration_s``, ``dt_s``,
     ``reduction`` …; each row's ``model`` column says "full" or "reduced"); the runs go to
-    ``jobs`` processes (default: all cores).
+    ``jobs`` processes (default: all cores). ``progress``: a bar over the runs, counted as
+    they finish, on stderr when it is a terminal (or an open bar of :mod:`rubdiag._progress`
+    to count them on).
     """
     from rubdiag.simulate import Run
 
     grid = [(case, gap, ramp) for case, gap in cases for ramp in gap_ramps_s]
     runs = [Run.paper_case(case, gap, rig=rig, gap_ramp_s=ramp, **options)
             for case, gap, ramp in grid]
-    with ProcessPoolExecutor(max_workers=jobs) as pool:
-        rows = list(pool.map(_features, runs))
+    with ProcessPoolExecutor(max_workers=jobs) as pool, \
+            _progress.shared(progress, len(runs), "ensemble", "run") as bar:
+        futures = {pool.submit(_features, run): i for i, run in enumerate(runs)}
+        rows = [None] * len(runs)
+        for future in as_completed(futures):
+            rows[futures[future]] = future.result()
+            bar.update()
     table = pd.DataFrame(rows)
     table.insert(0, "case", [g[0] for g in grid])
     table.insert(1, "gap_mm", [g[1] for g in grid])

@@ -10,10 +10,12 @@ without copying them).
 from __future__ import annotations
 
 import os
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
 import numpy as np
+
+from rubdiag import _progress
 
 __all__ = ["write_figures"]
 
@@ -22,11 +24,14 @@ _RPM = 30 / np.pi
 _RESULTS: dict = {}        # a worker's runs, by stem
 
 
-def write_figures(results: dict, feats, out: str | Path, jobs: int | None = None) -> list[Path]:
+def write_figures(results: dict, feats, out: str | Path, jobs: int | None = None,
+                  progress=False) -> list[Path]:
     """Fig. 5 (unbalance responses), Fig. 6 (deflected shapes) and one six-panel figure per
     case (Figs. 7-10) as PNG files in ``out``; returns their paths.
 
     ``jobs``: processes drawing the figures (default: the CPU count; 1 draws them here).
+    ``progress``: a bar over the figures on stderr when it is a terminal (or an open bar of
+    :mod:`rubdiag._progress` to count them on).
     """
     # imported before the pool starts: forked workers inherit them
     import rubdiag.plotting.modal
@@ -51,18 +56,24 @@ def write_figures(results: dict, feats, out: str | Path, jobs: int | None = None
     tasks = [runs[0], (_unbalance_figure, rig, out / "fig5_unbalance.png"), *runs[1:],
              (_deflection_figure, rig, out / "fig6_deflection.png")]
     jobs = min(len(tasks), jobs or os.cpu_count() or 1)
+    written = []
     if jobs == 1:
         _RESULTS.update(results)
         try:
-            written = [task(*args) for task, *args in tasks]
+            with _progress.shared(progress, len(tasks), "figures", "figure") as bar:
+                for task, *args in tasks:
+                    written.append(task(*args))
+                    bar.update()
         finally:
             _RESULTS.clear()
     else:
         _warm_up()
         with ProcessPoolExecutor(max_workers=jobs, initializer=_start_worker,
-                                 initargs=(results,)) as pool:
-            futures = [pool.submit(task, *args) for task, *args in tasks]
-            written = [future.result() for future in futures]
+                                 initargs=(results,)) as pool, \
+                _progress.shared(progress, len(tasks), "figures", "figure") as bar:
+            for future in as_completed([pool.submit(task, *args) for task, *args in tasks]):
+                written.append(future.result())
+                bar.update()
     return sorted(written)
 
 

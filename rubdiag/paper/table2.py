@@ -16,7 +16,6 @@ Markdown table names the reduction (the full model's Markdown is as it always wa
 from __future__ import annotations
 
 import os
-import sys
 import time
 from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -26,6 +25,7 @@ from pathlib import Path
 
 import pandas as pd
 
+from rubdiag import _progress
 from rubdiag.paper.describe import describe_spectrum
 
 __all__ = ["CASES", "PaperCase", "paper_values", "reproduce", "table2"]
@@ -102,15 +102,18 @@ def _cached(path: Path, run):
 
 def reproduce(out_dir: str | Path = "out", jobs: int | None = None, duration_s: float = 2.3,
               discard_s: float = 0.3, rig=None, log: Callable[[str], None] | None = None,
-              **options) -> dict:
+              progress=False, **options) -> dict:
     """Run (or reuse) the four cases; returns ``{stem: SimulationResult}``.
 
     ``options`` go to :class:`~rubdiag.simulate.Run` (``dt_s``, ``contact``,
-    ``reduction`` …); the saved runs are named by :func:`run_file`.
+    ``reduction`` …); the saved runs are named by :func:`run_file`. ``log`` gets a line
+    per case reused or finished (default: stderr, above the bar); ``progress``: a bar over
+    the cases to simulate, counted as they finish, on stderr when it is a terminal (or an
+    open bar of :mod:`rubdiag._progress` to count them on).
     """
     from rubdiag.model import paper_rig
 
-    log = log or (lambda message: print(message, file=sys.stderr, flush=True))
+    log = log or _progress.write
     rig = paper_rig() if rig is None else rig
     runs = _runs(rig, duration_s, discard_s, **options)
     run_dir = Path(out_dir) / "runs"
@@ -127,7 +130,8 @@ def reproduce(out_dir: str | Path = "out", jobs: int | None = None, duration_s: 
         jobs = min(len(todo), jobs or os.cpu_count() or 1)
         log(f"simulating {len(todo)} case(s), {duration_s:g} s each, on {jobs} process(es)")
         start = time.perf_counter()
-        with ProcessPoolExecutor(max_workers=jobs) as pool:
+        with ProcessPoolExecutor(max_workers=jobs) as pool, \
+                _progress.shared(progress, len(todo), "table2", "case") as bar:
             futures = {pool.submit(_simulate_to, run, str(run_dir / run_file(stem, run))): stem
                        for stem, run in todo.items()}
             try:
@@ -135,6 +139,7 @@ def reproduce(out_dir: str | Path = "out", jobs: int | None = None, duration_s: 
                     stem = futures[future]
                     path, wall = future.result()
                     results[stem] = _cached(Path(path), runs[stem])
+                    bar.update()
                     log(f"{stem}: done in {wall:.1f} s ({done}/{len(todo)}, "
                         f"{time.perf_counter() - start:.0f} s elapsed)")
             except BaseException:
@@ -145,10 +150,11 @@ def reproduce(out_dir: str | Path = "out", jobs: int | None = None, duration_s: 
 
 def table2(out_dir: str | Path | None = "out", jobs: int | None = None,
            duration_s: float = 2.3, discard_s: float = 0.3, figures: bool = True,
-           log=None, **options) -> pd.DataFrame:
+           log=None, progress=False, **options) -> pd.DataFrame:
     """Reproduce Table 2; write ``table2.csv``, ``table2.md``, ``features.csv`` and the
     figures to ``out_dir`` and return the table (one row per case, ours beside the study's
-    ``paper_…`` values).
+    ``paper_…`` values). ``log`` and ``progress`` as for :func:`reproduce` (``progress``:
+    then a bar over the figures).
 
     ``options`` go to :class:`~rubdiag.simulate.Run` (``reduction=Reduction()`` for the
     reduced-order model, see the module docstring).
@@ -166,7 +172,7 @@ def table2(out_dir: str | Path | None = "out", jobs: int | None = None,
 
     out = Path(out_dir if out_dir is not None else "out")
     results = reproduce(out, jobs=jobs, duration_s=duration_s, discard_s=discard_s, log=log,
-                        **options)
+                        progress=progress, **options)
     feats = run_features([results[c.stem] for c in CASES])
     feats.insert(0, "case", [c.case for c in CASES])
     feats.insert(1, "intensity", [c.intensity for c in CASES])
@@ -196,7 +202,7 @@ def table2(out_dir: str | Path | None = "out", jobs: int | None = None,
     if figures:
         from rubdiag.paper.figures import write_figures
 
-        write_figures(results, feats, out, jobs=jobs)
+        write_figures(results, feats, out, jobs=jobs, progress=progress)
     # attached last: pandas deep-copies attrs in every operation (0.9 s in _write with them)
     table.attrs["features"] = feats
     table.attrs["results"] = results

@@ -67,7 +67,9 @@ def test_the_faults_figures_show_each_fault_s_lines_beside_rub(tmp_path, capsys)
     import matplotlib.image as mpimg
 
     assert main(["faults", "--out", str(tmp_path), "--duration-s", "1.0", "--json"]) == 0
-    lines = json.loads(capsys.readouterr().out.splitlines()[-1])
+    captured = capsys.readouterr()
+    assert captured.err == ""                     # no progress bar off a terminal
+    lines = json.loads(captured.out.splitlines()[-1])
     slow, fast = lines["none 750"]["y"], lines["none 1450"]["z"]
     assert lines["crack"]["y"]["2x"] > 100 * slow["2x"]
     assert lines["crack"]["y"]["3x"] > 100 * slow["3x"]

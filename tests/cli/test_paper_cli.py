@@ -21,7 +21,10 @@ def test_table2_short_without_figures(tmp_path, capsys):
         assert not FLOAT_NOISE.search((tmp_path / name).read_text()), name
     assert (table.contact1_max_force_n > 0).all()
     assert not list(tmp_path.glob("*.png"))
-    assert "| case |" in capsys.readouterr().out            # the Markdown table on stdout
+    captured = capsys.readouterr()
+    assert "| case |" in captured.out                       # the Markdown table on stdout
+    # off a terminal no bar: a line per finished case, for logs
+    assert "\r" not in captured.err and captured.err.count(": done in ") == 4
     assert sorted(p.name for p in (tmp_path / "runs").iterdir()) == [
         "case1_light.npz", "case1_serious.npz", "case2_light.npz", "case2_serious.npz"]
 
