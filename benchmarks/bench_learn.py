@@ -92,8 +92,10 @@ def record(rng: np.random.Generator, rpm: float, rub: bool, seconds: float) -> d
     return out
 
 
-def training_rows(points: int = 40, replicates: int = 2, seed: int = 1) -> pd.DataFrame:
-    """A synthetic dataset frame as rubdiag.learn.read_dataset returns one."""
+def training_rows(points: int = 40, replicates: int = 2, seed: int = 1,
+                  window_s: float = WINDOW_S) -> pd.DataFrame:
+    """A synthetic dataset frame as rubdiag.learn.read_dataset returns one (runs of
+    ``window_s`` seconds)."""
     from rubdiag.learn.robustness import window_features
 
     rng = np.random.default_rng(seed)
@@ -103,7 +105,7 @@ def training_rows(points: int = 40, replicates: int = 2, seed: int = 1) -> pd.Da
         rpm = float(rng.uniform(1200.0, 6800.0))
         rub = p % 2 == 1
         for r in range(replicates):
-            signals = record(rng, rpm, rub, WINDOW_S)
+            signals = record(rng, rpm, rub, window_s)
             windows.append(np.vstack([signals[n] for n in names]))
             rows.append({"run_id": f"{p:04x}{r:04x}", "point_id": f"p{p:03d}",
                          "replicate": r, "speed_rpm": rpm, "rub": rub})
@@ -111,7 +113,7 @@ def training_rows(points: int = 40, replicates: int = 2, seed: int = 1) -> pd.Da
     features = window_features(np.stack(windows), FS, data["speed_rpm"], names)
     data = pd.concat([data, features], axis=1)
     data.attrs.update(
-        acquisition={"fs_hz": FS, "window_s": WINDOW_S, "discard_s": 0.0,
+        acquisition={"fs_hz": FS, "window_s": window_s, "discard_s": 0.0,
                      "sensors": [{"name": n, "point": p, "direction": a,
                                   "quantity": "displacement", "unit": "m"}
                                  for n, p, a in CHANNELS]},
