@@ -11,6 +11,8 @@ import math
 import sys
 from pathlib import Path
 
+from rubdiag.cli._quiet import add_quiet_option
+
 _TARGETS = ("rub", "rub_state", "severity", "fault")  # rubdiag.learn.TARGETS
 _ESTIMATORS = ("rf", "hgb", "svm", "logreg")         # rubdiag.learn.ESTIMATORS
 _CHANNEL_SETS = ("auto", "shaft", "all")             # rubdiag.learn.channel_choice
@@ -116,8 +118,7 @@ def register(sub) -> None:
                    "printing it; a folder or pattern among the inputs leaves TABLE and the "
                    "--speeds file out")
     p.add_argument("--json", action="store_true", help="print the table as JSON records")
-    p.add_argument("--quiet", action="store_true",
-                   help="no progress bar (one is drawn on stderr only when it is a terminal)")
+    add_quiet_option(p)
     p.set_defaults(func=_predict)
 
 
