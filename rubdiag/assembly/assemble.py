@@ -37,12 +37,12 @@ class _Triplets:
 
     def add(self, dofs, block) -> None:
         """Add ``block`` on ``dofs``; a DOF of -1 is held fixed (its rows/columns drop)."""
-        dofs = np.asarray(dofs)
-        keep = dofs >= 0
-        dofs, block = dofs[keep], np.asarray(block)[np.ix_(keep, keep)]
-        r, c = np.meshgrid(dofs, dofs, indexing="ij")
-        self.rows.append(r.ravel())
-        self.cols.append(c.ravel())
+        dofs, block = np.asarray(dofs), np.asarray(block)
+        if dofs.min() < 0:
+            keep = dofs >= 0
+            dofs, block = dofs[keep], block[np.ix_(keep, keep)]
+        self.rows.append(np.repeat(dofs, dofs.size))    # row-major, as the block's entries
+        self.cols.append(np.tile(dofs, dofs.size))
         self.vals.append(block.ravel())
 
     def csr(self) -> sp.csr_matrix:
@@ -189,13 +189,16 @@ class Model:
 def dof_map(rig: Rig) -> DofMap:
     """The DOF names of ``rig``'s model, without assembling it."""
     blades, casing = rig.blades, rig.casing
-    return DofMap.build(
-        rig.shaft.nodes,
-        n_blades=blades.count if blades else 0,
-        n_blade_stations=blades.n_elements if blades else 0,
-        n_casing=casing.n_elements if casing else 0,
-        pedestals=tuple(k for k, b in enumerate(rig.bearings) if b.pedestal is not None),
-    )
+    return _dof_map(tuple(rig.shaft.nodes), blades.count if blades else 0,
+                    blades.n_elements if blades else 0, casing.n_elements if casing else 0,
+                    tuple(k for k, b in enumerate(rig.bearings) if b.pedestal is not None))
+
+
+@functools.lru_cache(maxsize=64)
+def _dof_map(shaft_nodes, n_blades, n_blade_stations, n_casing, pedestals) -> DofMap:
+    """One (immutable) map per layout: the rig variants of a design share it."""
+    return DofMap.build(shaft_nodes, n_blades=n_blades, n_blade_stations=n_blade_stations,
+                        n_casing=n_casing, pedestals=pedestals)
 
 
 def assemble(rig: Rig) -> Model:

@@ -16,6 +16,7 @@ Planar frame element in the y-z plane, 6 DOF: ``[u_y1, u_z1, φ_x1, u_y2, u_z2, 
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -84,9 +85,11 @@ _XZ = np.zeros((4, 8))
 _XZ[[0, 1, 2, 3], [1, 2, 5, 6]] = [1.0, -1.0, 1.0, -1.0]
 
 
+@functools.lru_cache(maxsize=1024)
 def shaft_element(length: float, d_outer: float, d_inner: float, E: float, nu: float,
                   rho: float):
-    """Mass, stiffness and gyroscopic matrices (8×8) of a Timoshenko shaft element.
+    """Mass, stiffness and gyroscopic matrices (8×8) of a Timoshenko shaft element (kept
+    per argument set, read-only: the rig variants of a design share their elements).
 
     ``G`` is for a unit spin speed: the equations of motion are
     ``M q'' + (C + Ω G) q' + K q = f`` with ``G`` skew-symmetric. Rotary inertia is included
@@ -110,12 +113,14 @@ def shaft_element(length: float, d_outer: float, d_inner: float, E: float, nu: f
                    + kappa * shear * area * (np.outer(shear_y, shear_y)
                                              + np.outer(shear_z, shear_z)))
         G += wl * rho * polar * (np.outer(ry, rz) - np.outer(rz, ry))
-    return M, K, G
+    return _read_only(M, K, G)
 
 
+@functools.lru_cache(maxsize=1024)
 def frame_element(length: float, angle: float, width: float, height: float, E: float,
                   nu: float, rho: float):
-    """Mass and stiffness (6×6, global y-z axes) of a planar Timoshenko frame element.
+    """Mass and stiffness (6×6, global y-z axes) of a planar Timoshenko frame element (kept
+    per argument set, read-only, as :func:`shaft_element`).
 
     The element runs from node 1 at ``angle`` (rad, from +y towards +z); its section is
     ``width`` out of plane by ``height`` in plane (the bending thickness). Consistent mass
@@ -140,7 +145,13 @@ def frame_element(length: float, angle: float, width: float, height: float, E: f
     c, s = math.cos(angle), math.sin(angle)
     node = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])   # global -> local
     T = np.kron(np.eye(2), node)
-    return T.T @ M @ T, T.T @ K @ T
+    return _read_only(T.T @ M @ T, T.T @ K @ T)
+
+
+def _read_only(*matrices: np.ndarray) -> tuple[np.ndarray, ...]:
+    for matrix in matrices:
+        matrix.flags.writeable = False
+    return matrices
 
 
 def disc_matrices(mass: float, polar: float, diametral: float):

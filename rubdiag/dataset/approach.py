@@ -22,7 +22,7 @@ import warnings
 
 import numpy as np
 
-__all__ = ["N_GRID", "sweep_linear_approach_m", "window_speed_range"]
+__all__ = ["N_GRID", "damped_model", "sweep_linear_approach_m", "window_speed_range"]
 
 #: Speeds of the first, coarse search over the window's range (both ends included).
 N_GRID = 65
@@ -40,15 +40,22 @@ def window_speed_range(run) -> tuple[float, float]:
     return float(speeds.min()), float(speeds.max())
 
 
-def sweep_linear_approach_m(run) -> float:
-    """The largest linear approach (m) of ``run``'s contacts over the speeds of its analysis
-    window (module docstring); at constant speed, the approach at that speed."""
-    from scipy.optimize import minimize_scalar
-
+def damped_model(rig):
+    """The full model of ``rig`` with its Rayleigh damping, as the approach needs it."""
     from rubdiag.assembly import assemble
     from rubdiag.modal import with_rayleigh
 
-    model = with_rayleigh(assemble(run.rig))
+    return with_rayleigh(assemble(rig))
+
+
+def sweep_linear_approach_m(run, model=None) -> float:
+    """The largest linear approach (m) of ``run``'s contacts over the speeds of its analysis
+    window (module docstring); at constant speed, the approach at that speed. ``model``:
+    :func:`damped_model` of the run's rig, when the caller has it."""
+    from scipy.optimize import minimize_scalar
+
+    if model is None:
+        model = damped_model(run.rig)
     approach = functools.partial(_approach, run, model)
     lo, hi = window_speed_range(run)
     if hi == lo:
@@ -65,10 +72,10 @@ def sweep_linear_approach_m(run) -> float:
 def _approach(run, model, speed_rad_s: float) -> float:
     """The linear approach of ``run``'s contacts at constant speed (full model)."""
     from rubdiag.simulate import GapRampInWindow
-    from rubdiag.simulate.rig_system import rig_system
+    from rubdiag.simulate.rig_system import linear_approach
 
     with warnings.catch_warnings():   # the run warned when it was made; replace re-checks
         warnings.simplefilter("ignore", GapRampInWindow)
         steady = dataclasses.replace(run, speed_rad_s=float(speed_rad_s), speed_profile=None,
                                      reduction=None, sensors=())
-    return rig_system(steady, model).approach
+    return linear_approach(steady, model)

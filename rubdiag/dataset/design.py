@@ -112,7 +112,6 @@ Every value is checked when the design is made, before any run, with one-line
 from __future__ import annotations
 
 import dataclasses
-import functools
 import itertools
 import math
 import tomllib
@@ -127,15 +126,22 @@ from rubdiag.dataset.faults import (
     NO_RUB_GAP_M,
     FaultSettings,
     check_factors,
+    check_whirl_rig,
     faults_in,
     shown_point,
-    whirl_threshold_rad_s,
 )
 from rubdiag.dataset.ids import point_id, run_id
 from rubdiag.dataset.labels import LabelRules
 from rubdiag.dataset.noise import NoiseFloors
 from rubdiag.dataset.ramp import KEYS as RAMP_KEYS
 from rubdiag.dataset.ramp import SpeedRamp
+from rubdiag.dataset.resolve import (
+    Workers,
+    approaches_m,
+    critical_speeds_rad_s,
+    resolve_rotors,
+    whirl_threshold_rad_s,
+)
 from rubdiag.dataset.rig_factors import (
     CRITICAL_FACTORS,
     THRESHOLD_FACTORS,
@@ -278,7 +284,7 @@ class Design:
         check_factors(names, levels)
         check_rig_factors(self.rig, names)
         if any("whirl" in faults_in(level) for level in levels or ()):
-            whirl_threshold_rad_s(self.rig)     # a journal rig with a threshold, or refused
+            check_whirl_rig(self.rig)   # its variants' thresholds are sought with the runs
         set_("method", _check.choice("sampling.method", self.method, METHODS))
         set_("seed", _check.integer("sampling.seed", self.seed, lo=0))
         set_("replicates", _check.integer("sampling.replicates", self.replicates, lo=1,
@@ -470,25 +476,59 @@ class Design:
                 coordinate[f.name]) for f in self.factors})
         return points
 
-    def runs(self) -> list[DesignRun]:
+    def runs(self, jobs: int | None = 1) -> list[DesignRun]:
         """Every run of the design, point by point, each point's replicates together. Every
-        run is built (and so checked) here, before any is simulated."""
-        out, seen = [], {}
-        for index, point in enumerate(self.points()):
-            for replicate in range(self.replicates):
+        run is built (and so checked) here, before any is simulated. What the runs refer
+        to — each distinct rotor's critical speeds and threshold of instability, the rub
+        runs' linear approaches — is computed once, on ``jobs`` worker processes (None:
+        every core; :mod:`rubdiag.dataset.resolve`): the same runs on any number."""
+        points = self.points()
+        out, failure = [], None
+        with Workers(jobs) as workers:
+            resolve_rotors(*self._rotors(points), workers)
+            built = []                  # (index, point, replicate, run, interference ratio)
+            for index, point in enumerate(points):
                 try:
-                    run = self.run_for(point, replicate)
+                    for replicate in range(self.replicates):
+                        built.append((index, point, replicate, *self._run(point, replicate)))
                 except ValueError as exc:
-                    raise ValueError(f"point {index} ({_describe(point)}): {exc}") from None
-                item = DesignRun(self._shown(point), replicate, run, point_id(run),
-                                 run_id(run), self._speed_rad_s(point) * 30.0 / math.pi,
-                                 self.ramp)
-                if item.run_id in seen:
-                    raise ValueError(f"the design repeats a run: point {index} is point "
-                                     f"{seen[item.run_id]} ({_describe(point)})")
-                seen[item.run_id] = index
-                out.append(item)
+                    failure = (index, point, exc)
+                    break
+            wanted = [item for item in built if item[4] is not None and item[2] == 0]
+            found = dict(zip((item[0] for item in wanted),
+                             approaches_m([item[3] for item in wanted], workers), strict=True))
+        seen = {}
+        for index, point, replicate, run, ratio in built:
+            try:
+                if ratio is not None:
+                    run = _gap_from_interference(run, ratio, found[index])
+            except ValueError as exc:
+                failure = (index, point, exc)
+                break
+            item = DesignRun(self._shown(point), replicate, run, point_id(run), run_id(run),
+                             self._speed_rad_s(point) * 30.0 / math.pi, self.ramp)
+            if item.run_id in seen:
+                raise ValueError(f"the design repeats a run: point {index} is point "
+                                 f"{seen[item.run_id]} ({_describe(point)})")
+            seen[item.run_id] = index
+            out.append(item)
+        if failure is not None:
+            index, point, exc = failure
+            raise ValueError(f"point {index} ({_describe(point)}): {exc}") from None
         return out
+
+    def _rotors(self, points) -> tuple[list, list]:
+        """The rotors the points' speeds refer to: (critical speeds wanted, as (rig, case)
+        pairs; thresholds wanted, as (rig, the same rotor with the design's damping))."""
+        critical, thresholds = [], []
+        for point in points:
+            whirl = "whirl" in faults_in(point.get("fault", "none"))
+            if whirl:
+                thresholds.append((_rotor_rig(self.rig, point, THRESHOLD_FACTORS),
+                                   _rotor_rig(self.rig, point, CRITICAL_FACTORS)))
+            if "speed_ratio" in point and any(name in point for name in CRITICAL_FACTORS):
+                critical.append((_rotor_rig(self.rig, point, CRITICAL_FACTORS), point["case"]))
+        return critical, thresholds
 
     def _shown(self, point: Mapping) -> dict:
         """The point as its row shows it (:func:`~rubdiag.dataset.faults.shown_point`); a
@@ -515,7 +555,8 @@ class Design:
         """The threshold of instability (rad/s) of ``point``'s rig, which its
         ``whirl_speed_ratio`` multiplies (rounded to 10 significant digits, as
         :meth:`critical_speed_rad_s`, when a model-uncertainty factor moves it)."""
-        threshold = whirl_threshold_rad_s(_rotor_rig(self.rig, point, THRESHOLD_FACTORS))
+        threshold = whirl_threshold_rad_s(_rotor_rig(self.rig, point, THRESHOLD_FACTORS),
+                                          _rotor_rig(self.rig, point, CRITICAL_FACTORS))
         if not any(name in point for name in THRESHOLD_FACTORS):
             return threshold
         return float(f"{threshold:.10g}")
@@ -529,11 +570,21 @@ class Design:
         if not any(name in point for name in CRITICAL_FACTORS):
             return self.critical_speeds_rad_s[point["case"] - 1]
         rig = _rotor_rig(self.rig, point, CRITICAL_FACTORS)
-        return float(f"{_rig_critical_speeds(rig, point['case'])[-1]:.10g}")
+        return float(f"{_case_critical_speed(rig, point['case']):.10g}")
 
     def run_for(self, point: Mapping, replicate: int = 0) -> Run:
         """The :class:`~rubdiag.simulate.Run` of design point ``point`` (factor name ->
         value, as :meth:`points` gives) and replicate ``replicate``."""
+        run, ratio = self._run(point, replicate)
+        if ratio is None:
+            return run
+        from rubdiag.dataset.approach import sweep_linear_approach_m
+
+        return _gap_from_interference(run, ratio, sweep_linear_approach_m(run))
+
+    def _run(self, point: Mapping, replicate: int) -> tuple[Run, float | None]:
+        """The run of :meth:`run_for` and its ``interference_ratio``, or None: then it is
+        the run; else its gap is still to be set from its linear approach."""
         replicate = _check.integer("replicate", replicate, lo=0, hi=self.replicates - 1)
         ramp_s = gap_ramps_s(self.replicates, self.duration_s)[replicate]
         rig = self.rig
@@ -572,9 +623,8 @@ class Design:
                   label=f"{_describe(shown_point(point))}, replicate {replicate}", **options)
         if self.ramp is not None:
             _check_top_speed(run)
-        if rub and "interference_ratio" in point:
-            run = _gap_from_interference(run, point["interference_ratio"])
-        return run
+        return run, point["interference_ratio"] if rub and "interference_ratio" in point \
+            else None
 
 
 def _lowest(factor: Factor) -> float:
@@ -630,12 +680,19 @@ def _factors(factors) -> tuple[Factor, ...]:
     return tuple(sorted(items, key=lambda f: order.index(f.name)))
 
 
-@functools.lru_cache(maxsize=256)
 def _rig_critical_speeds(rig: Rig, n_cases: int) -> tuple[float, ...]:
-    """The reference speeds of cases 1 … n_cases (an eigenvalue problem each: cached)."""
-    from rubdiag.simulate import critical_speed_for_case
+    """The reference speeds of cases 1 … n_cases (an eigenvalue problem each: kept)."""
+    return tuple(_case_critical_speed(rig, c) for c in range(1, n_cases + 1))
 
-    return tuple(critical_speed_for_case(rig, c) for c in range(1, n_cases + 1))
+
+def _case_critical_speed(rig: Rig, case: int) -> float:
+    """The forward critical speed (rad/s) case ``case`` excites on ``rig``, as
+    :func:`rubdiag.simulate.critical_speed_for_case` (kept per rig:
+    :mod:`rubdiag.dataset.resolve`)."""
+    speeds = critical_speeds_rad_s(rig, case)
+    if len(speeds) < case:
+        raise ValueError(f"the rig has no forward critical speed number {case}")
+    return float(speeds[case - 1])
 
 
 def _check_combination(names: set[str]) -> None:
@@ -720,12 +777,12 @@ def _rotor_rig(rig: Rig, point: Mapping, names) -> Rig:
     return varied_rig(rig, {k: point[k] for k in names if k in point})
 
 
-def _gap_from_interference(run: Run, ratio: float) -> Run:
-    """``run`` with g0 = its linear approach / ``ratio`` (rounded to 1 nm, so that the
-    run's id is the same on every machine)."""
-    from rubdiag.dataset.approach import sweep_linear_approach_m
-
-    gap = round(sweep_linear_approach_m(run) / ratio, 9)
+def _gap_from_interference(run: Run, ratio: float, approach: float | ValueError) -> Run:
+    """``run`` with g0 = its linear ``approach`` (m; or the ValueError computing it raised)
+    / ``ratio``, rounded to 1 nm so that the run's id is the same on every machine."""
+    if isinstance(approach, ValueError):
+        raise approach
+    gap = round(approach / ratio, 9)
     if gap <= 0.0:
         raise ValueError(f"factors.interference_ratio = {ratio:g}: the run's linear approach "
                          "is 0 (no unbalance response reaches the blades)")

@@ -279,18 +279,32 @@ def whirl_threshold_rad_s(rig) -> float:
     """The threshold of instability (rad/s) of ``rig`` on its journal bearings
     (:func:`rubdiag.modal.whirl_threshold`; cached per rig). A ValueError when the rig has
     no journal bearing or no threshold there."""
-    from rubdiag.assembly import assemble
-    from rubdiag.modal import whirl_threshold, with_rayleigh
+    from rubdiag.simulate.rig_cache import forward_critical_speeds
 
-    model = with_rayleigh(assemble(rig))
-    if not model.journal_bearings:
+    check_whirl_rig(rig)
+    return threshold_for(rig, forward_critical_speeds(rig, 2))
+
+
+def check_whirl_rig(rig) -> None:
+    """A ValueError unless ``rig`` has a journal bearing (where oil whirl happens)."""
+    if not any(b.journal is not None for b in rig.bearings):
         raise ValueError(f"rig {rig.name!r} has no journal bearing: oil whirl needs one "
                          "(allowed: a rig such as the preset 'paper-journal')")
-    found = whirl_threshold(model)
+
+
+def threshold_for(rig, critical_rad_s) -> float:
+    """:func:`whirl_threshold_rad_s` of a rig on journal bearings whose forward critical
+    speeds ``critical_rad_s`` (rad/s, its first two) are known: they bound the search
+    (:func:`rubdiag.modal.stability.whirl_range`)."""
+    from rubdiag.assembly import assemble
+    from rubdiag.modal import with_rayleigh
+    from rubdiag.modal.stability import threshold_speed, whirl_range
+
+    found = threshold_speed(with_rayleigh(assemble(rig)), *whirl_range(critical_rad_s))
     if found is None:
         raise ValueError(f"rig {rig.name!r} is stable from half its first to twice its "
                          "second critical speed: no threshold for whirl_speed_ratio")
-    return found.speed_rad_s
+    return found
 
 
 def _fraction_in(result, element: int, statuses: tuple[int, ...]) -> float:

@@ -62,6 +62,15 @@ def check_rig_factors(rig, names) -> None:
 
 def varied_rig(rig, point: Mapping):
     """``rig`` with the rig factors of ``point`` applied (``rig`` itself when it has none)."""
+    levels = tuple((name, point[name]) for name in RIG_FACTORS if name in point)
+    return _varied(rig, levels) if levels else rig
+
+
+@functools.lru_cache(maxsize=256)
+def _varied(rig, levels: tuple):
+    """:func:`varied_rig` of the rig factors ``levels`` ((name, value) pairs), kept: a
+    design's points share a few levels of each."""
+    point = dict(levels)
     if "casing_stiffness_scale" in point:
         rig = _scaled_casing(rig, point["casing_stiffness_scale"])
     if "damping_ratio" in point:

@@ -100,6 +100,17 @@ def modes(model, speed: float = 0.0, n_modes: int = 10, damped: bool = True) -> 
         raise ValueError(f"speed = {speed!r} is out of range (allowed: >= 0 rad/s)")
     if n_modes < 1:
         raise ValueError(f"n_modes = {n_modes!r} is out of range (allowed: >= 1)")
+    lam, shapes = lowest_roots(model, speed, n_modes, damped)
+    shapes = shapes / _max_entry(shapes)
+    shares = energy_shares(model, shapes)
+    return Modes(speed=float(speed), eigenvalues=lam, shapes=shapes,
+                 whirl_ratio=whirl_ratio(model, shapes), **shares)
+
+
+def lowest_roots(model, speed: float, n_modes: int,
+                 damped: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """The roots λ (1/s) of :func:`modes` and their displacement vectors (not normalised),
+    without the per-mode quantities: what a search over speeds evaluates."""
     n = model.n_dof
     D = with_rayleigh(model).C + speed * model.G if damped else speed * model.G
     K = model.K
@@ -110,11 +121,7 @@ def modes(model, speed: float = 0.0, n_modes: int = 10, damped: bool = True) -> 
     keep = lam.imag > 1e-9 * np.maximum(1.0, np.abs(lam))
     lam, vec = lam[keep], vec[:, keep]
     order = np.argsort(lam.imag)[:n_modes]
-    lam, shapes = lam[order], vec[:, order]
-    shapes = shapes / _max_entry(shapes)
-    shares = energy_shares(model, shapes)
-    return Modes(speed=float(speed), eigenvalues=lam, shapes=shapes,
-                 whirl_ratio=whirl_ratio(model, shapes), **shares)
+    return lam[order], vec[:, order]
 
 
 def _max_entry(shapes: np.ndarray) -> np.ndarray:

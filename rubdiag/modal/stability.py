@@ -16,9 +16,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from rubdiag import _check
-from rubdiag.modal.eigen import modes
+from rubdiag.modal.eigen import lowest_roots
 
-__all__ = ["StabilityThreshold", "stability_threshold", "whirl_threshold"]
+__all__ = ["StabilityThreshold", "stability_threshold", "threshold_speed", "whirl_range",
+           "whirl_threshold"]
 
 
 @dataclass(frozen=True)
@@ -35,7 +36,7 @@ class StabilityThreshold:
 
 
 def _rightmost(model, speed: float, n_modes: int) -> complex:
-    lam = modes(model, speed, n_modes=n_modes).eigenvalues
+    lam, _ = lowest_roots(model, speed, n_modes)
     return complex(lam[np.argmax(lam.real)])
 
 
@@ -45,20 +46,29 @@ def stability_threshold(model, low_rad_s: float, high_rad_s: float, n_grid: int 
     one of the ``n_modes`` lowest roots turns unstable (module docstring), located to 1e-9
     relative; None when the model is stable over the whole range (or unstable already at
     ``low_rad_s``: then no threshold lies in it)."""
+    speed = threshold_speed(model, low_rad_s, high_rad_s, n_grid, n_modes)
+    if speed is None:
+        return None
+    return StabilityThreshold(speed, abs(_rightmost(model, speed, n_modes).imag))
+
+
+def threshold_speed(model, low_rad_s: float, high_rad_s: float, n_grid: int = 33,
+                    n_modes: int = 6) -> float | None:
+    """The speed (rad/s) of :func:`stability_threshold`, without the crossing root's
+    frequency (one eigenvalue problem fewer). The grid is walked up from ``low_rad_s`` to
+    its first sign change: the points above it cannot change the answer."""
     from scipy.optimize import brentq
 
     low = _check.positive("low_rad_s", low_rad_s, unit="rad/s")
     high = _check.number("high_rad_s", high_rad_s, lo=low, lo_open=True, unit="rad/s")
     n_grid = _check.integer("n_grid", n_grid, lo=2)
     speeds = np.linspace(low, high, n_grid)
-    growth = [_rightmost(model, w, n_modes).real for w in speeds]
-    if growth[0] >= 0.0:
+    if _rightmost(model, speeds[0], n_modes).real >= 0.0:
         return None
     for k in range(1, n_grid):
-        if growth[k] >= 0.0:
-            speed = brentq(lambda w: _rightmost(model, w, n_modes).real, speeds[k - 1],
-                           speeds[k], xtol=1e-9 * speeds[k], rtol=1e-12)
-            return StabilityThreshold(float(speed), abs(_rightmost(model, speed, n_modes).imag))
+        if _rightmost(model, speeds[k], n_modes).real >= 0.0:
+            return float(brentq(lambda w: _rightmost(model, w, n_modes).real, speeds[k - 1],
+                                speeds[k], xtol=1e-9 * speeds[k], rtol=1e-12))
     return None
 
 
@@ -68,5 +78,10 @@ def whirl_threshold(model) -> StabilityThreshold | None:
     critical speed (None when it is stable over that range)."""
     from rubdiag.modal.critical import critical_speeds
 
-    first, last = critical_speeds(model, n=2)[[0, -1]]
-    return stability_threshold(model, 0.5 * first, 2.0 * last)
+    return stability_threshold(model, *whirl_range(critical_speeds(model, n=2)))
+
+
+def whirl_range(critical_rad_s) -> tuple[float, float]:
+    """The speeds (rad/s) between which :func:`whirl_threshold` seeks the threshold: half
+    the first and twice the last of the forward critical speeds ``critical_rad_s``."""
+    return 0.5 * critical_rad_s[0], 2.0 * critical_rad_s[-1]

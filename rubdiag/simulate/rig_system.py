@@ -20,7 +20,7 @@ from rubdiag.simulate.films import film_elements, film_equilibrium
 from rubdiag.simulate.run import Run
 from rubdiag.simulate.system import Contacts, HarmonicForce
 
-__all__ = ["RigSystem", "rig_system"]
+__all__ = ["RigSystem", "linear_approach", "rig_system"]
 
 
 @dataclass(frozen=True)
@@ -79,9 +79,7 @@ def rig_system(run: Run, model) -> RigSystem:
         loaded = np.flatnonzero(F)
         force = HarmonicForce(loaded, F[loaded], speed)
         if f_static is not None:
-            x_static = q_static = (film_equilibrium(model, f_static, speed)
-                                   if model.journal_bearings
-                                   else _static_deflection(model.K, f_static))
+            x_static = q_static = _static_state(model, f_static, speed)
             force = force + _static_force(f_static, speed)
         contacts, approach, shift = _contacts(run, model, q_hat, q_static)
         force = _with_fault_loads(force, run, model, speed, lambda dofs: dofs)
@@ -128,6 +126,30 @@ def rig_system(run: Run, model) -> RigSystem:
                      v0=np.real(1j * speed * x_hat), approach=approach, recovery=recovery,
                      linear_solver=solver, model="full" if recovery is None else "reduced",
                      extra=extra, fault_elements=fault_elements, gap_shift=shift)
+
+
+def linear_approach(run: Run, model) -> float:
+    """``rig_system(run, model).approach`` of the full model, computing only what it
+    depends on: the harmonic response at the run's speed, and the static state only where
+    the approach includes it (clearances ``"unloaded"``, stator contacts). The run's start
+    is not checked here (:func:`rig_system` does that)."""
+    from rubdiag.modal import harmonic_response
+
+    speed = run.speed_rad_s
+    q_hat = harmonic_response(model, speed, run.unbalance).amplitudes
+    load = run.static_load
+    q_static = None
+    if load is not None and (load.clearances != "loaded" or run.rig.stator_contacts):
+        q_static = _static_state(model, load.vector(model.M, model.dofs), speed)
+    return _contacts(run, model, q_hat, q_static)[1]
+
+
+def _static_state(model, f_static: np.ndarray, speed: float) -> np.ndarray:
+    """The full model's static state under ``f_static`` (m): on journal bearings the films'
+    equilibrium at ``speed`` (rad/s), else ``K⁻¹ f``."""
+    if model.journal_bearings:
+        return film_equilibrium(model, f_static, speed)
+    return _static_deflection(model.K, f_static)
 
 
 def _check_start_in_clearance(run: Run, model, q_hat, q_static) -> None:
