@@ -61,6 +61,7 @@ def register(sub) -> None:
                    "(no importances files)")
     p.add_argument("--overwrite", action="store_true",
                    help="replace the model already in MODEL_DIR")
+    add_quiet_option(p)
     p.set_defaults(func=_train)
 
     p = sub.add_parser(
@@ -74,6 +75,7 @@ def register(sub) -> None:
     p.add_argument("model", type=Path, metavar="MODEL_DIR", help="model folder (rubdiag train)")
     p.add_argument("dataset", type=Path, metavar="DATASET_DIR", help="dataset folder")
     p.add_argument("--json", action="store_true", help="print the scores as JSON")
+    add_quiet_option(p)
     p.set_defaults(func=_evaluate)
 
     p = sub.add_parser(
@@ -156,7 +158,8 @@ def _train(args) -> int:
     extras = {"importances": False, "baselines": False, "audit": False} if args.quick else {}
     model = train(args.dataset, out, target=args.target, estimator=args.estimator,
                   split=args.split, channels=channels, seed=args.seed, families=families,
-                  overwrite=args.overwrite, n_splits=args.n_splits, **extras)
+                  overwrite=args.overwrite, n_splits=args.n_splits,
+                  progress=not args.quiet, **extras)
     meta = model.meta
     f1 = meta["scores"]["macro_f1"]
     print(f"{out}: {meta['target']} classifier ({meta['estimator']}; channels "
@@ -188,11 +191,15 @@ def _train(args) -> int:
 
 
 def _evaluate(args) -> int:
+    from rubdiag import _progress
     from rubdiag.learn.persist import load_model
     from rubdiag.learn.train import evaluate_model
 
-    model = load_model(args.model)
-    result = evaluate_model(model, args.dataset)
+    with _progress.bar(1, "evaluate", "step", not args.quiet) as bar:   # and its own steps
+        _progress.label(bar, "reading the model")
+        model = load_model(args.model)
+        bar.update()
+        result = evaluate_model(model, args.dataset, progress=bar)
     _model_warnings("evaluate", args.model, model.meta)
     for w in result.warnings:
         _warn("evaluate", w)

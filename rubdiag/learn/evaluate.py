@@ -33,7 +33,7 @@ from sklearn.base import clone
 from sklearn.tree import DecisionTreeClassifier
 from threadpoolctl import threadpool_limits  # installed with scikit-learn
 
-from rubdiag import _check
+from rubdiag import _check, _progress
 from rubdiag.dataset.schema import SEPARATOR
 from rubdiag.learn.caveats import training_warnings
 from rubdiag.learn.channel_choice import ChannelChoice, choose_channels
@@ -95,15 +95,17 @@ class CrossPrediction:
 
 
 def cross_predict(pipeline, data: pd.DataFrame, y: np.ndarray, splits: list[Fold],
-                  test_data: pd.DataFrame | None = None):
+                  test_data: pd.DataFrame | None = None, on_fold=None):
     """Fit a clone of ``pipeline`` on each training side, predict its test side — of
-    ``test_data`` when given (the same rows measured otherwise, e.g. with more noise)."""
+    ``test_data`` when given (the same rows measured otherwise, e.g. with more noise).
+    ``on_fold()``, when given, is called after each fold (e.g. a progress bar's
+    ``update``)."""
     test_data = data if test_data is None else test_data
     predicted = np.full(len(data), "", dtype=object)
     scored = np.zeros(len(data), dtype=bool)
     unscored: dict[str, int] = {}
     fitted = []
-    for fold in splits:
+    for fold in _progress.counted(splits, on_fold):
         train_classes = set(y[fold.train])
         ok = np.array([v in train_classes for v in y[fold.test]], dtype=bool)
         for v in y[fold.test][~ok]:
@@ -167,7 +169,7 @@ def evaluate(data, target: str = "rub", split: str = "group", estimator: str = "
              bands: int = 5, n_bootstrap: int = 1000, n_null: int = 1000,
              importances: bool = True, n_repeats: int = 5, baselines: bool = True,
              audit: bool = True, audit_threshold: float = 0.9, n_shuffles: int = 5,
-             seed: int = 0) -> Evaluation:
+             seed: int = 0, progress=False) -> Evaluation:
     """Cross-validated scores of a classifier on a dataset, with everything that says how
     far to trust them (module docstring).
 
@@ -208,6 +210,10 @@ def evaluate(data, target: str = "rub", split: str = "group", estimator: str = "
         Seeds folds, models, bootstrap and permutations: the same call gives the same
         report (fits run on one thread: a multi-threaded histogram sum, as in hgb, may
         round differently from run to run).
+    progress : bool or open bar
+        A bar over the fits (each fold of each cross-prediction, of the importances and of
+        the audit), on stderr when it is a terminal; or an open bar of
+        :mod:`rubdiag._progress` to count them on (``train``'s).
     """
     if isinstance(data, str | Path):
         data = read_dataset(data)
@@ -228,35 +234,43 @@ def evaluate(data, target: str = "rub", split: str = "group", estimator: str = "
                          "nothing to classify")
     splits = folds(data, split, y, n_splits=n_splits, bands=bands, seed=seed)
     groups = data["point_id"].to_numpy()
-
-    cp = cross_predict(pipeline, data, y, splits)
-    scores = _scores(y, cp, groups, classes, n_bootstrap, seed)
-    cm = confusion(y[cp.scored], cp.predicted[cp.scored], classes)
-    ev = Evaluation(
-        target=target, split=split, estimator=estimator, channels=channels,
-        families=families, classes=classes,
-        class_counts={c: int((y == c).sum()) for c in classes}, n_rows=len(data),
-        folds=[{"name": f.name, "n_train": int(f.train.size), "n_test": int(f.test.size)}
-               for f in splits],
-        unscored=cp.unscored, scores=scores, per_class=_per_class(cm, classes),
-        confusion=pd.DataFrame(cm, index=pd.Index(classes, name="true"),
-                               columns=pd.Index(classes, name="predicted")),
-        predictions=pd.DataFrame({"run_id": data.get("run_id", pd.Series(range(len(data)))),
-                                  "true": y, "predicted": cp.predicted, "scored": cp.scored}),
-        channel_choice=choice)
-    ev.confusers = rub_confusers(data, target, cp.predicted, cp.scored, n_bootstrap, seed)
-    if importances:
-        ev.importances, ev.channel_importances = _importances(cp, data, y, classes,
-                                                              n_repeats, seed)
-    if baselines:
-        ev.baselines = _baselines(data, y, splits, groups, classes, channels, estimator,
-                                  n_bootstrap, seed)
-        ev.casing = _casing(data, y, splits, groups, classes, channels, families,
-                            estimator, scores, n_bootstrap, seed)
-    ev.shuffled = _shuffled(pipeline, data, y, groups, split, n_splits, bands, classes,
-                            n_null, n_shuffles, seed)
-    if audit:
-        ev.audit = audit_columns(data, y, splits, classes, audit_threshold, seed)
+    # a bar over the folds of every part: the cross-predictions (the model, each baseline,
+    # with or without the casing, each shuffle), the importances and the audit
+    parts = 1 + importances + 4 * baselines + n_shuffles + audit
+    with _progress.shared(progress, parts * len(splits), "evaluate", "fit") as bar:
+        cp = cross_predict(pipeline, data, y, splits, on_fold=bar.update)
+        scores = _scores(y, cp, groups, classes, n_bootstrap, seed)
+        cm = confusion(y[cp.scored], cp.predicted[cp.scored], classes)
+        ev = Evaluation(
+            target=target, split=split, estimator=estimator, channels=channels,
+            families=families, classes=classes,
+            class_counts={c: int((y == c).sum()) for c in classes}, n_rows=len(data),
+            folds=[{"name": f.name, "n_train": int(f.train.size),
+                    "n_test": int(f.test.size)} for f in splits],
+            unscored=cp.unscored, scores=scores, per_class=_per_class(cm, classes),
+            confusion=pd.DataFrame(cm, index=pd.Index(classes, name="true"),
+                                   columns=pd.Index(classes, name="predicted")),
+            predictions=pd.DataFrame({"run_id": data.get("run_id",
+                                                         pd.Series(range(len(data)))),
+                                      "true": y, "predicted": cp.predicted,
+                                      "scored": cp.scored}),
+            channel_choice=choice)
+        ev.confusers = rub_confusers(data, target, cp.predicted, cp.scored, n_bootstrap,
+                                     seed)
+        if importances:
+            ev.importances, ev.channel_importances = _importances(
+                cp, data, y, classes, n_repeats, seed, bar.update)
+        if baselines:
+            ev.baselines = _baselines(data, y, splits, groups, classes, channels, estimator,
+                                      n_bootstrap, seed, bar.update)
+            with _progress.part(bar, len(splits)) as tick:    # no fits without a casing
+                ev.casing = _casing(data, y, splits, groups, classes, channels, families,
+                                    estimator, scores, n_bootstrap, seed, tick)
+        ev.shuffled = _shuffled(pipeline, data, y, groups, split, n_splits, bands, classes,
+                                n_null, n_shuffles, seed, bar.update)
+        if audit:
+            ev.audit = audit_columns(data, y, splits, classes, audit_threshold, seed,
+                                     on_fold=bar.update)
     ev.warnings = training_warnings(ev)
     return ev
 
@@ -278,7 +292,7 @@ def _per_class(cm: np.ndarray, classes) -> pd.DataFrame:
                          "support": cm.sum(axis=1)}, index=pd.Index(classes, name="class"))
 
 
-def _importances(cp: CrossPrediction, data, y, classes, n_repeats, seed):
+def _importances(cp: CrossPrediction, data, y, classes, n_repeats, seed, on_fold=None):
     """Mean drop of held-out macro-F1 when a feature (in every channel at once) or a
     channel (all its features) is permuted; mean and spread over folds × repeats.
 
@@ -288,7 +302,7 @@ def _importances(cp: CrossPrediction, data, y, classes, n_repeats, seed):
     rng = np.random.default_rng(seed)
     by_feature: dict[str, list] = {}
     by_channel: dict[str, list] = {}
-    for fold, model in cp.fitted:
+    for fold, model in _progress.counted(cp.fitted, on_fold):
         if model is None or not isinstance(model[0], OrderFeatures):
             continue
         test = fold.test[cp.scored[fold.test]]
@@ -329,7 +343,8 @@ def _importances(cp: CrossPrediction, data, y, classes, n_repeats, seed):
 _PERMUTED_CELLS = 1_000_000
 
 
-def _baselines(data, y, splits, groups, classes, channels, estimator, n_bootstrap, seed):
+def _baselines(data, y, splits, groups, classes, channels, estimator, n_bootstrap, seed,
+               on_fold=None):
     """The same estimator on what should not be enough: 1× levels, speed, design factors."""
     rows = []
     candidates = [
@@ -338,7 +353,8 @@ def _baselines(data, y, splits, groups, classes, channels, estimator, n_bootstra
         ("design factors only", condition_factors(data)),
     ]
     for name, columns in candidates:
-        cp = cross_predict(baseline_pipeline(columns, estimator, seed), data, y, splits)
+        cp = cross_predict(baseline_pipeline(columns, estimator, seed), data, y, splits,
+                           on_fold=on_fold)
         s = _scores(y, cp, groups, classes, n_bootstrap, seed)
         rows.append({"baseline": name, "columns": ", ".join(columns),
                      "macro_f1": s["macro_f1"], "balanced_accuracy": s["balanced_accuracy"]})
@@ -353,7 +369,7 @@ def condition_factors(data: pd.DataFrame) -> list[str]:
 
 
 def _casing(data, y, splits, groups, classes, channels, families, estimator, scores,
-            n_bootstrap, seed) -> dict | None:
+            n_bootstrap, seed, on_fold=None) -> dict | None:
     """Macro-F1 with and without the casing channels (one of the two is the model's)."""
     casing = casing_channels(data)
     if not casing:
@@ -364,14 +380,14 @@ def _casing(data, y, splits, groups, classes, channels, families, estimator, sco
     if not other:
         return {"with": scores["macro_f1"], "without": None}
     pipe = make_pipeline(estimator, channels=other, families=families, random_state=seed)
-    s = _scores(y, cross_predict(pipe, data, y, splits), groups, classes, n_bootstrap,
-                seed)["macro_f1"]
+    s = _scores(y, cross_predict(pipe, data, y, splits, on_fold=on_fold), groups, classes,
+                n_bootstrap, seed)["macro_f1"]
     return ({"with": scores["macro_f1"], "without": s} if used
             else {"with": s, "without": scores["macro_f1"]})
 
 
 def _shuffled(pipeline, data, y, groups, split, n_splits, bands, classes, n_null,
-              n_shuffles, seed) -> dict:
+              n_shuffles, seed, on_fold=None) -> dict:
     """The pipeline on labels shuffled between design points, scored against them, and
     its chance interval, for ``n_shuffles`` shuffles. Whole points' labels move, so
     replicates keep one label between them as in the data: were a point's replicates on
@@ -388,7 +404,7 @@ def _shuffled(pipeline, data, y, groups, split, n_splits, bands, classes, n_null
         rng = np.random.default_rng(np.random.SeedSequence([seed, 1, r]))
         shuffled = y[group_permutations(groups, 1, rng)[0]]
         splits = folds(data, split, shuffled, n_splits=n_splits, bands=bands, seed=seed)
-        cp = cross_predict(pipeline, data, shuffled, splits)
+        cp = cross_predict(pipeline, data, shuffled, splits, on_fold=on_fold)
         s = cp.scored
         value = macro_f1(shuffled[s], cp.predicted[s], classes)
         lo, hi = null_interval(shuffled[s], cp.predicted[s], classes, n_null, seed,
@@ -427,11 +443,13 @@ def fold_of_rows(splits, groups, rows) -> np.ndarray | None:
     return fold if (per_group == 1).all() else None
 
 
-def audit_columns(data, y, splits, classes, threshold: float = 0.9, seed: int = 0):
+def audit_columns(data, y, splits, classes, threshold: float = 0.9, seed: int = 0,
+                  on_fold=None):
     """Every single column that alone separates the classes: a depth-2 tree on it, cross-
     predicted on ``splits``, reaches ``threshold`` macro-F1. Candidates: every derived
     feature of every channel in every family (levels and absolute frequencies included)
-    and every design factor; sorted by score."""
+    and every design factor; sorted by score. ``on_fold()``, when given, is called after
+    each fold's trees."""
     everything = OrderFeatures(channels=None, families=FAMILIES).fit(data)
     Z = everything.transform(data)
     names = list(everything.get_feature_names_out())
@@ -441,20 +459,20 @@ def audit_columns(data, y, splits, classes, threshold: float = 0.9, seed: int = 
     names += factors
     yi = np.searchsorted(classes, y)           # classes are sorted
     tree = DecisionTreeClassifier(max_depth=2, class_weight="balanced", random_state=seed)
-    rows = []
-    for j, name in enumerate(names):
-        x = Z[:, [j]]
-        if np.ptp(x) == 0.0:
+    varying = [j for j in range(len(names)) if np.ptp(Z[:, j]) != 0.0]
+    true, pred = [], {j: [] for j in varying}
+    for fold in _progress.counted(splits, on_fold):
+        if len(set(yi[fold.train])) < 2:
             continue
-        true, pred = [], []
-        for fold in splits:
-            if len(set(yi[fold.train])) < 2:
-                continue
-            test = fold.test[np.isin(yi[fold.test], yi[fold.train])]
-            true.append(yi[test])
-            pred.append(clone(tree).fit(x[fold.train], yi[fold.train]).predict(x[test]))
-        f1 = macro_f1(np.concatenate(true), np.concatenate(pred), range(len(classes)))
+        test = fold.test[np.isin(yi[fold.test], yi[fold.train])]
+        true.append(yi[test])
+        for j in varying:
+            x = Z[:, [j]]
+            pred[j].append(clone(tree).fit(x[fold.train], yi[fold.train]).predict(x[test]))
+    rows = []
+    for j in varying:
+        f1 = macro_f1(np.concatenate(true), np.concatenate(pred[j]), range(len(classes)))
         if f1 >= threshold:
-            rows.append({"column": name, "kind": kinds[j], "macro_f1": f1})
+            rows.append({"column": names[j], "kind": kinds[j], "macro_f1": f1})
     frame = pd.DataFrame(rows, columns=["column", "kind", "macro_f1"])
     return frame.sort_values("macro_f1", ascending=False, kind="stable").reset_index(drop=True)

@@ -38,6 +38,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from rubdiag import _progress
 from rubdiag._version import __version__
 from rubdiag.dataset.schema import SEPARATOR
 from rubdiag.learn.columns import read_dataset
@@ -63,7 +64,7 @@ EDGE_BINS = 3
 
 def train(dataset, out, target: str = "rub", estimator: str = "rf", split: str = "group",
           channels="auto", seed: int = 0, *, families=DEFAULT_FAMILIES,
-          overwrite: bool = False, **evaluate_options) -> Model:
+          overwrite: bool = False, progress: bool = False, **evaluate_options) -> Model:
     """Evaluate, fit on all rows and save a classifier (module docstring).
 
     Parameters
@@ -80,6 +81,9 @@ def train(dataset, out, target: str = "rub", estimator: str = "rf", split: str =
         list of names.
     overwrite : bool
         Replace the model in ``out``.
+    progress : bool
+        A bar over the evaluation's fits and the final fit on stderr, when it is a
+        terminal.
     **evaluate_options
         Further options of :func:`rubdiag.learn.evaluate` (``n_splits``, ``importances``,
         ``baselines``, ``audit`` …).
@@ -96,12 +100,14 @@ def train(dataset, out, target: str = "rub", estimator: str = "rf", split: str =
                          "rubdiag.learn.read_dataset, or pass the folder)")
     resolve_channels(data, channels)          # a wrong name fails before the evaluation
     families = list(families)
-    evaluation = evaluate(data, target, split, estimator, channels=channels,
-                          families=families, seed=seed, **evaluate_options)
-    channels = evaluation.channels
-    pipeline = make_pipeline(estimator, channels=channels, families=families,
-                             random_state=seed)
-    pipeline.fit(data, target_values(data, target))
+    with _progress.bar(1, "train", "fit", progress) as bar:    # the evaluation adds its own
+        evaluation = evaluate(data, target, split, estimator, channels=channels,
+                              families=families, seed=seed, progress=bar, **evaluate_options)
+        channels = evaluation.channels
+        pipeline = make_pipeline(estimator, channels=channels, families=families,
+                                 random_state=seed)
+        pipeline.fit(data, target_values(data, target))
+        bar.update()
     meta = model_meta(pipeline, data, target=target, estimator=estimator, split=split,
                       families=families, seed=seed, evaluation=evaluation)
     with _new_folder(out) as tmp:
@@ -355,7 +361,8 @@ class ModelScores:
         return "\n".join(lines)
 
 
-def evaluate_model(model, dataset, n_bootstrap: int = 1000, seed: int = 0) -> ModelScores:
+def evaluate_model(model, dataset, n_bootstrap: int = 1000, seed: int = 0,
+                   progress=False) -> ModelScores:
     """Scores of a saved model on another dataset: macro-F1 and balanced accuracy with
     95 % bootstrap intervals over design points, per-class precision and recall, the
     confusion matrix and, on a dataset with faults beside rub, the false rub alarms per
@@ -373,15 +380,36 @@ def evaluate_model(model, dataset, n_bootstrap: int = 1000, seed: int = 0) -> Mo
         A dataset folder (or its rows) with the model's channels, in the same units.
     n_bootstrap, seed : int
         Bootstrap draws of the intervals and their seed.
+    progress : bool or open bar
+        A bar over its steps (reading the model and the data, predicting, scoring) on
+        stderr when it is a terminal; or an open bar of :mod:`rubdiag._progress` to count
+        them on.
     """
     from rubdiag.learn.predict import predict_rows
 
-    if not isinstance(model, Model):
-        model = load_model(model)
-    data = read_dataset(dataset) if isinstance(dataset, str | os.PathLike) else dataset
+    loaded = isinstance(model, Model)
+    with _progress.shared(progress, 3 + (not loaded), "evaluate") as bar:
+        if not loaded:
+            _progress.label(bar, "reading the model")
+            model = load_model(model)
+            bar.update()
+        _progress.label(bar, "reading the data")
+        data = read_dataset(dataset) if isinstance(dataset, str | os.PathLike) else dataset
+        y = target_values(data, model.meta["target"])
+        bar.update()
+        _progress.label(bar, "predicting")
+        table = predict_rows(model, data)
+        bar.update()
+        _progress.label(bar, "scoring")
+        scores = _scores_of(model, data, y, table, n_bootstrap, seed)
+        bar.update()
+    return scores
+
+
+def _scores_of(model, data, y, table, n_bootstrap: int, seed: int) -> ModelScores:
+    """:func:`evaluate_model`'s scores of ``model``'s predictions ``table`` of ``data``
+    (whose classes are ``y``)."""
     source = str(data.attrs.get("source", "dataset"))
-    y = target_values(data, model.meta["target"])
-    table = predict_rows(model, data)
     classes = model.classes
     known = np.isin(y, classes)
     unknown = {str(c): int((y[~known] == c).sum()) for c in sorted(set(y[~known]))}

@@ -131,3 +131,13 @@ def test_campbell_counts_its_speeds(tmp_path, monkeypatch):
     terminal = as_terminal(monkeypatch)
     assert main(["campbell", "--n-speeds", "3", "--out", str(tmp_path)]) == 0
     assert counts(terminal.getvalue())[-1] == "3/3"
+
+
+def test_an_ensemble_counts_its_runs_as_they_finish(monkeypatch):
+    from rubdiag.paper.ensemble import ensemble
+
+    terminal = as_terminal(monkeypatch)
+    rows = ensemble([(2, 2.3)], gap_ramps_s=(0.099, 0.1), jobs=2, progress=True,
+                    duration_s=0.25, discard_s=0.1)
+    assert list(rows["gap_ramp_s"]) == [0.099, 0.1]      # in the order asked for
+    assert counts(terminal.getvalue())[-1] == "2/2"
