@@ -12,7 +12,10 @@ Directions: ``y``, ``z`` (translations), ``ry``, ``rz`` (shaft rotations about y
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
+
+import numpy as np
 
 __all__ = ["PEDESTAL_DIRECTIONS", "PLANAR_DIRECTIONS", "SHAFT_DIRECTIONS", "DofMap"]
 
@@ -56,6 +59,13 @@ class DofMap:
         """``"shaft 11 y"``-style name of every DOF, in order."""
         return [f"{node} {d}" for node, dirs in self.nodes for d in dirs]
 
+    @functools.cached_property
+    def directions(self) -> np.ndarray:
+        """The direction (``"y"``, ``"rx"``, …) of every DOF, in order (read-only)."""
+        out = np.array([d for _, dirs in self.nodes for d in dirs])
+        out.flags.writeable = False
+        return out
+
     def index(self, node: str | int, direction: str) -> int:
         """Global DOF number; an int ``node`` means that shaft node."""
         label = f"shaft {node}" if isinstance(node, int) else node
@@ -67,8 +77,12 @@ class DofMap:
     def component(self, name: str, directions: tuple[str, ...] | None = None) -> list[int]:
         """DOF numbers of a component ("shaft", "blade", "casing" or "pedestal"), optionally
         only the given directions, in order."""
-        return [k for (label, d), k in self._index.items()
-                if label.split(" ", 1)[0] == name and (directions is None or d in directions)]
+        return list(self._component(name, None if directions is None else tuple(directions)))
+
+    @functools.lru_cache(maxsize=256)  # noqa: B019  (a few maps, each kept with its model)
+    def _component(self, name: str, directions: tuple[str, ...] | None) -> tuple[int, ...]:
+        return tuple(k for (label, d), k in self._index.items()
+                     if label.split(" ", 1)[0] == name and (directions is None or d in directions))
 
     def __contains__(self, key) -> bool:
         return key in self._index

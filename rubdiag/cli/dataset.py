@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 import os
-import sys
 from pathlib import Path
 
 from rubdiag.cli._quiet import add_quiet_option
@@ -23,8 +22,8 @@ def register(sub) -> None:
     p.add_argument("--out", type=Path,
                    help="dataset folder (new, empty, or this design's to resume)")
     p.add_argument("--dry-run", action="store_true",
-                   help="print the run count, an example run and an ETA from one calibration "
-                   "run; write nothing")
+                   help="print the run count, an example run and an ETA from simulating the "
+                   "first quarter of the example; write nothing")
     p.add_argument("--jobs", type=int, help="local worker processes (default: all cores)")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="send the runs to this dask.distributed scheduler (rubdiag[dask])")
@@ -44,15 +43,15 @@ def register(sub) -> None:
 
 def _dataset(args) -> int:
     from rubdiag.cli._paths import input_file
+
+    _check_options(args)
+    if args.dry_run:
+        return _dry_run(args, input_file(args.design, None, "a design TOML file"))
     from rubdiag.dataset import Design, generate
     from rubdiag.dataset.store import DatasetFolder
 
-    _check_options(args)
     design = Design.from_toml(input_file(args.design, None, "a design TOML file"))
-    if args.out is not None:
-        DatasetFolder(args.out).check_writable(design.to_toml())
-    if args.dry_run:
-        return _dry_run(design, args)
+    DatasetFolder(args.out).check_writable(design.to_toml())
     jobs, client, cluster = _executor(args)
     try:
         summary = generate(design, args.out, jobs=jobs, client=client,
@@ -109,50 +108,104 @@ def _executor(args):
     return None, Client(cluster), cluster
 
 
-def _dry_run(design, args) -> int:
+#: the share of the example run that the dry run simulates for its ETA
+CALIBRATION_SHARE = 0.25
+
+
+def _dry_run(args, path: Path) -> int:
+    """The run count, the example and an ETA (module help). The ETA's calibration simulates
+    the example's first :data:`CALIBRATION_SHARE` in a process of its own while this one
+    expands the design, and scales its CPU time to the whole run."""
     from collections import Counter
+    from concurrent.futures import ProcessPoolExecutor
 
-    from rubdiag.dataset import pending_runs
-    from rubdiag.dataset.rows import make_row
-    from rubdiag.dataset.store import DatasetFolder
+    from rubdiag.dataset.design import Design
+    from rubdiag.dataset.workers import start_local_worker
 
-    runs = design.runs()
-    todo = pending_runs(design, args.out, args.retry_failed) if args.out is not None else runs
-    print(f"{design.method}: {design.n} design points x {design.replicates} replicate(s) = "
-          f"{len(runs)} runs; {len(todo)} to run"
-          + (f" ({len(runs) - len(todo)} stored in {args.out})" if args.out else ""))
-    unreadable = DatasetFolder(args.out).unreadable() if args.out is not None else []
-    if unreadable:
-        print(f"unreadable, to be moved into {args.out / 'broken'} (their runs are counted to "
-              f"run): {', '.join(str(exc.path) for exc in unreadable)}")
-    if runs and "fault" in runs[0].point:
-        from rubdiag.dataset.fault_levels import FAULT_LEVELS
+    design = Design.from_toml(path)
+    if args.out is not None:
+        from rubdiag.dataset.store import DatasetFolder
 
-        counts = Counter(item.point["fault"] for item in runs)
-        print("runs per fault level: " + ", ".join(f"{k} {counts[k]}" for k in FAULT_LEVELS
-                                                   if k in counts))
-    example = runs[0]
-    point = ", ".join(f"{k} = {v}" if isinstance(v, str) else f"{k} = {v:.6g}"
-                      for k, v in example.point.items())
-    run = example.run
-    law = run.contact_law
-    contact = ("no contact" if law is None else f"g0 = {run.gap_m * 1e3:.4g} mm, mu = "
-               f"{law.friction_coefficient:.4g}")
-    print(f"example: point 0 ({point}), replicate 0 -> {run.speed_rpm:.1f} rpm, {contact}, "
-          f"{run.duration_s:g} s simulated ({run.discard_s:g} s discarded), dt = "
-          f"{run.dt_s:g} s, {run.model_kind} model; run_id {example.run_id}")
-    if not todo:
-        print("nothing to run")
+        DatasetFolder(args.out).check_writable(design.to_toml())
+    example = design.design_run(0)
+    with ProcessPoolExecutor(max_workers=1, initializer=start_local_worker) as pool:
+        calibration = pool.submit(_calibrate, example.run, CALIBRATION_SHARE)
+        runs = design.runs(jobs=args.jobs or (os.cpu_count() or 1))
+        if args.out is not None:
+            from rubdiag.dataset import pending_runs
+
+            todo = pending_runs(design, args.out, args.retry_failed, runs)
+        else:
+            todo = runs
+        print(f"{design.method}: {design.n} design points x {design.replicates} replicate(s) "
+              f"= {len(runs)} runs; {len(todo)} to run"
+              + (f" ({len(runs) - len(todo)} stored in {args.out})" if args.out else ""))
+        unreadable = DatasetFolder(args.out).unreadable() if args.out is not None else []
+        if unreadable:
+            print(f"unreadable, to be moved into {args.out / 'broken'} (their runs are counted "
+                  f"to run): {', '.join(str(exc.path) for exc in unreadable)}")
+        if "fault" in example.point:
+            from rubdiag.dataset.fault_levels import FAULT_LEVELS
+
+            counts = Counter(item.point["fault"] for item in runs)
+            print("runs per fault level: " + ", ".join(f"{k} {counts[k]}"
+                                                       for k in FAULT_LEVELS if k in counts))
+        point = ", ".join(f"{k} = {v}" if isinstance(v, str) else f"{k} = {v:.6g}"
+                          for k, v in example.point.items())
+        run = example.run
+        law = run.contact_law
+        contact = ("no contact" if law is None else f"g0 = {run.gap_m * 1e3:.4g} mm, mu = "
+                   f"{law.friction_coefficient:.4g}")
+        print(f"example: point 0 ({point}), replicate 0 -> {run.speed_rpm:.1f} rpm, {contact}, "
+              f"{run.duration_s:g} s simulated ({run.discard_s:g} s discarded), dt = "
+              f"{run.dt_s:g} s, {run.model_kind} model; run_id {example.run_id}")
+        if not todo:
+            print("nothing to run")
+            return 0
+        status, simulated_s, per_run_s = calibration.result()
+    if status != "ok":
+        print(f"calibration: the example's first {simulated_s:.3g} s: {status}; no ETA")
         return 0
-    row = make_row(example, design.labels, design.noise, args.run_timeout)
-    workers = args.dask_workers or args.jobs or (os.cpu_count() or 1)
-    workers = min(workers, len(todo))
-    eta = row["wall_s"] * len(todo) / workers
+    workers = min(args.dask_workers or args.jobs or (os.cpu_count() or 1), len(todo))
     where = f"{workers} workers" if args.scheduler is None else "the cluster (1 worker each)"
-    print(f"calibration run (the example): {row['wall_s']:.1f} s wall, status {row['status']}, "
-          f"rub {row.get('rub')}; ETA for {len(todo)} runs on {where}: {_duration(eta)} "
-          "(runs that rub take longer than runs that do not)", file=sys.stdout)
+    print(f"calibration: the example's first {simulated_s:.3g} s simulated, {per_run_s:.1f} s "
+          f"of CPU per run scaled from it; ETA for {len(todo)} runs on {where}: "
+          f"{_duration(per_run_s * len(todo) / workers)} (runs that rub take longer than runs "
+          "that do not)")
     return 0
+
+
+def _calibrate(run, share: float) -> tuple[str, float, float]:
+    """A whole run's CPU time (s) estimated from simulating the first ``share`` of ``run``:
+    ``(status, simulated s, estimate)``, the status as a dataset row's (``ok``, ``diverged``
+    or ``error …``). The share is simulated twice: the first time loads what a worker loads
+    once (the compiled kernels, the rig's models); of the second, the set-up counts once and
+    the time integration is scaled to the whole run."""
+    import dataclasses
+    import time
+    import warnings
+
+    from rubdiag.simulate import GapRampInWindow, SimulationDiverged, simulate
+
+    def first(duration: float):
+        with warnings.catch_warnings():     # a shorter window: the gap ramp may reach into it
+            warnings.simplefilter("ignore", GapRampInWindow)
+            return dataclasses.replace(run, duration_s=duration,
+                                       discard_s=min(run.discard_s, 0.5 * duration),
+                                       gap_ramp_s=min(run.gap_ramp_s, duration))
+
+    duration = share * run.duration_s
+    try:
+        simulate(first(duration))
+        cpu, wall = time.process_time(), time.perf_counter()
+        result = simulate(first(duration))
+    except SimulationDiverged:
+        return "diverged", duration, math.nan
+    except Exception as exc:        # a failed run is data, as in a dataset row
+        return f"error ({type(exc).__name__}: {exc})".splitlines()[0], duration, math.nan
+    cpu, wall = time.process_time() - cpu, time.perf_counter() - wall
+    kernel = result.system.extra["kernel_seconds"] * cpu / wall     # its wall time as CPU
+    return "ok", duration, cpu + kernel * (1.0 / share - 1.0)
 
 
 def _duration(seconds: float) -> str:

@@ -130,16 +130,16 @@ from rubdiag.dataset.faults import (
     faults_in,
     shown_point,
 )
-from rubdiag.dataset.ids import point_id, run_id
+from rubdiag.dataset.ids import run_ids
 from rubdiag.dataset.labels import LabelRules
 from rubdiag.dataset.noise import NoiseFloors
 from rubdiag.dataset.ramp import KEYS as RAMP_KEYS
 from rubdiag.dataset.ramp import SpeedRamp
 from rubdiag.dataset.resolve import (
     Workers,
-    approaches_m,
     critical_speeds_rad_s,
     resolve_rotors,
+    start_approaches,
     whirl_threshold_rad_s,
 )
 from rubdiag.dataset.rig_factors import (
@@ -157,7 +157,6 @@ from rubdiag.dataset.sampling import (
 )
 from rubdiag.model.rig import Rig, Unbalance
 from rubdiag.reduce import Reduction
-from rubdiag.runs.features import ORDER_TRACK_LOST_REVOLUTIONS, max_tracked_rpm
 from rubdiag.simulate import Run, Sensor, default_sensors
 from rubdiag.simulate.sensors import check_sensors
 
@@ -495,18 +494,22 @@ class Design:
                     failure = (index, point, exc)
                     break
             wanted = [item for item in built if item[4] is not None and item[2] == 0]
-            found = dict(zip((item[0] for item in wanted),
-                             approaches_m([item[3] for item in wanted], workers), strict=True))
+            approaches = start_approaches([item[3] for item in wanted], workers)
+            # the runs without an approach to wait for are made while the workers work
+            made = {k: self._item(point, replicate, run)
+                    for k, (_, point, replicate, run, ratio) in enumerate(built) if ratio is None}
+            found = dict(zip((item[0] for item in wanted), approaches(), strict=True))
         seen = {}
-        for index, point, replicate, run, ratio in built:
-            try:
-                if ratio is not None:
+        for k, (index, point, replicate, run, ratio) in enumerate(built):
+            if ratio is None:
+                item = made[k]
+            else:
+                try:
                     run = _gap_from_interference(run, ratio, found[index])
-            except ValueError as exc:
-                failure = (index, point, exc)
-                break
-            item = DesignRun(self._shown(point), replicate, run, point_id(run), run_id(run),
-                             self._speed_rad_s(point) * 30.0 / math.pi, self.ramp)
+                except ValueError as exc:
+                    failure = (index, point, exc)
+                    break
+                item = self._item(point, replicate, run)
             if item.run_id in seen:
                 raise ValueError(f"the design repeats a run: point {index} is point "
                                  f"{seen[item.run_id]} ({_describe(point)})")
@@ -516,6 +519,23 @@ class Design:
             index, point, exc = failure
             raise ValueError(f"point {index} ({_describe(point)}): {exc}") from None
         return out
+
+    def design_run(self, index: int, replicate: int = 0) -> DesignRun:
+        """The run ``runs()[index * replicates + replicate]`` alone: design point ``index``,
+        with what it refers to computed for it only (a dry run's example)."""
+        points = self.points()
+        index = _check.integer("index", index, lo=0, hi=len(points) - 1)
+        point = points[index]
+        try:
+            run = self.run_for(point, replicate)
+        except ValueError as exc:
+            raise ValueError(f"point {index} ({_describe(point)}): {exc}") from None
+        return self._item(point, replicate, run)
+
+    def _item(self, point: Mapping, replicate: int, run: Run) -> DesignRun:
+        run_id, point_id = run_ids(run)
+        return DesignRun(self._shown(point), replicate, run, point_id, run_id,
+                         self._speed_rad_s(point) * 30.0 / math.pi, self.ramp)
 
     def _rotors(self, points) -> tuple[list, list]:
         """The rotors the points' speeds refer to: (critical speeds wanted, as (rig, case)
@@ -642,6 +662,9 @@ def _check_revolutions(duration_s: float | None, discard_s: float, ramp: SpeedRa
         why = "for the spectral features"
     else:
         window_s = ramp.sweep_s(rpm)     # a linear sweep's mean speed is its middle
+        # the features' module brings the signal layer: imported for ramp designs only
+        from rubdiag.runs.features import ORDER_TRACK_LOST_REVOLUTIONS
+
         needed = MIN_REVOLUTIONS + ORDER_TRACK_LOST_REVOLUTIONS
         what = f"the ramp (2·ramp.span·speed / ramp.rate_rpm_s = {window_s:.4g} s)"
         why = ("for the spectral features of its order-tracked record; lower ramp.rate_rpm_s "
@@ -658,6 +681,8 @@ def _check_revolutions(duration_s: float | None, discard_s: float, ramp: SpeedRa
 
 def _check_top_speed(run: Run) -> None:
     top = max(run.speed_profile.speeds_rad_s) * 30.0 / math.pi
+    from rubdiag.runs.features import max_tracked_rpm
+
     fastest = max_tracked_rpm(run.output_rate_hz)
     if top > fastest:
         raise ValueError(f"the ramp reaches {top:.6g} rpm (allowed: at most {fastest:.6g} rpm "

@@ -295,12 +295,10 @@ def check_whirl_rig(rig) -> None:
 def threshold_for(rig, critical_rad_s) -> float:
     """:func:`whirl_threshold_rad_s` of a rig on journal bearings whose forward critical
     speeds ``critical_rad_s`` (rad/s, its first two) are known: they bound the search
-    (:func:`rubdiag.modal.stability.whirl_range`)."""
-    from rubdiag.assembly import assemble
-    from rubdiag.modal import with_rayleigh
-    from rubdiag.modal.stability import threshold_speed, whirl_range
+    (:func:`rubdiag.simulate.rig_cache.whirl_threshold_speed`: kept on disk)."""
+    from rubdiag.simulate.rig_cache import whirl_threshold_speed
 
-    found = threshold_speed(with_rayleigh(assemble(rig)), *whirl_range(critical_rad_s))
+    found = whirl_threshold_speed(rig, critical_rad_s)
     if found is None:
         raise ValueError(f"rig {rig.name!r} is stable from half its first to twice its "
                          "second critical speed: no threshold for whirl_speed_ratio")

@@ -36,12 +36,14 @@ class GenerateSummary(dict):
     into ``out/broken``, as ``(from, to)`` paths)."""
 
 
-def pending_runs(design: Design, out: str | Path, retry_failed: bool = False) -> list:
+def pending_runs(design: Design, out: str | Path, retry_failed: bool = False,
+                 runs: list | None = None) -> list:
     """The runs of ``design`` not stored in ``out`` yet (and, with ``retry_failed``, those
     stored with a status other than ``ok``); the runs of an unreadable chunk count as not
-    stored (:func:`generate` sets it aside and runs them again)."""
+    stored (:func:`generate` sets it aside and runs them again). ``runs``: ``design.runs()``
+    when the caller has it."""
     stored = DatasetFolder(out).stored_status(skip_unreadable=True)
-    return _pending(design.runs(), stored, retry_failed)
+    return _pending(design.runs() if runs is None else runs, stored, retry_failed)
 
 
 def _pending(items, stored: dict[str, str], retry_failed: bool) -> list:
@@ -83,10 +85,11 @@ def generate(design: Design, out: str | Path, *, jobs: int | None = None, client
     chunk_rows = _check.integer("chunk_rows", chunk_rows, lo=1)
     flush_s = _check.positive("flush_s", flush_s, "s")
 
-    items = design.runs()                       # every run checked before any is made
     toml = design.to_toml()
     folder = DatasetFolder(out)
     folder.check_writable(toml)
+    # every run checked before any is made; what they refer to computed on the local cores
+    items = design.runs(jobs=jobs or os.cpu_count() or 1)
     folder.create(toml, _acquisition(design, items))
     set_aside = folder.set_aside_unreadable()
     for source, target, why in set_aside:

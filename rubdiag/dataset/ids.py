@@ -40,7 +40,7 @@ from rubdiag.dataset.schema import SCHEMA_VERSION
 from rubdiag.simulate import GapRampInWindow, Run
 from rubdiag.simulate.simulation import run_to_dict
 
-__all__ = ["SCHEMA_VERSION", "canonical_run", "point_id", "run_id"]
+__all__ = ["SCHEMA_VERSION", "canonical_run", "point_id", "run_id", "run_ids"]
 
 # SCHEMA_VERSION (rubdiag.dataset.schema) is hashed with the description: raise it when the
 # description's meaning changes while its fields do not (a new Run field changes every id).
@@ -89,14 +89,34 @@ def point_id(run: Run) -> str:
     return _digest("point", data)
 
 
+def run_ids(run: Run) -> tuple[str, str]:
+    """``(run_id(run), point_id(run))`` from one description of the run."""
+    data = _plain(canonical_run(run))
+    point = {k: v for k, v in data.items() if k not in REPLICATE_FIELDS}
+    return _hash("run", data), _hash("point", point)
+
+
 def _digest(kind: str, data: dict) -> str:
-    text = json.dumps({"schema": SCHEMA_VERSION, kind: _plain(data)}, sort_keys=True,
+    return _hash(kind, _plain(data))
+
+
+def _hash(kind: str, plain: dict) -> str:
+    text = json.dumps({"schema": SCHEMA_VERSION, kind: plain}, sort_keys=True,
                       separators=(",", ":"), ensure_ascii=True, allow_nan=False)
     return hashlib.sha256(text.encode("ascii")).hexdigest()[:16]
 
 
 def _plain(value):
     """JSON-ready data with one spelling per value: numbers as floats, sequences as lists."""
+    kind = type(value)                  # the common exact types first: a run has thousands
+    if kind is float:
+        return value + 0.0              # + 0.0 turns -0.0 into 0.0
+    if kind is str or value is None:
+        return value
+    if kind is dict:
+        return {str(k): _plain(v) for k, v in value.items()}
+    if kind is list or kind is tuple:
+        return [_plain(v) for v in value]
     if isinstance(value, dict):
         return {str(k): _plain(v) for k, v in value.items()}
     if isinstance(value, list | tuple | np.ndarray):

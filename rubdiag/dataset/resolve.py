@@ -8,7 +8,7 @@ factors take a few levels each, so a design of hundreds of runs has a few dozen 
 
 :func:`critical_speeds_rad_s` and :func:`whirl_threshold_rad_s` keep each rotor's value
 for the process; :func:`resolve_rotors` computes the missing ones of a design at once,
-spread over worker processes (:class:`Workers`), and :func:`approaches_m` the runs'
+spread over worker processes (:class:`Workers`), and :func:`start_approaches` the runs'
 linear approaches, one task per rig (one model for all its runs). Every value is
 computed by the same code on one BLAS thread wherever it runs, so a design's runs, and
 their ids, are the same bits on any number of workers.
@@ -19,7 +19,7 @@ from __future__ import annotations
 import os
 from collections.abc import Callable, Sequence
 
-__all__ = ["Workers", "approaches_m", "critical_speeds_rad_s", "resolve_rotors",
+__all__ = ["Workers", "critical_speeds_rad_s", "resolve_rotors", "start_approaches",
            "whirl_threshold_rad_s"]
 
 # (rig, n) -> its n lowest forward critical speeds; rig -> its threshold of instability
@@ -68,20 +68,25 @@ def resolve_rotors(critical: Sequence, thresholds: Sequence, workers: Workers) -
                           strict=True))
 
 
-def approaches_m(runs: Sequence, workers: Workers) -> list[float | ValueError]:
-    """The largest linear approach (m) of each run of ``runs`` over its analysis window
-    (:func:`rubdiag.dataset.approach.sweep_linear_approach_m`), or the ValueError it
-    raised, computed on ``workers``, one task per rig."""
+def start_approaches(runs: Sequence, workers: Workers) -> Callable[[], list]:
+    """Start computing the largest linear approach (m) of each run of ``runs`` over its
+    analysis window (:func:`rubdiag.dataset.approach.sweep_linear_approach_m`) on
+    ``workers``, one task per rig; the returned function waits for them: a list, each the
+    approach or the ValueError computing it raised, in the runs' order."""
     by_rig: dict = {}
     for k, run in enumerate(runs):
         by_rig.setdefault(run.rig, []).append(k)
     groups = list(by_rig.values())
-    found = workers.map(_approaches, [[runs[k] for k in group] for group in groups])
-    out = [0.0] * len(runs)
-    for group, values in zip(groups, found, strict=True):
-        for k, value in zip(group, values, strict=True):
-            out[k] = value
-    return out
+    found = workers.start(_approaches, [[runs[k] for k in group] for group in groups])
+
+    def result() -> list:
+        out = [0.0] * len(runs)
+        for group, values in zip(groups, found(), strict=True):
+            for k, value in zip(group, values, strict=True):
+                out[k] = value
+        return out
+
+    return result
 
 
 def _critical(key) -> tuple[float, ...] | ValueError:
@@ -140,9 +145,14 @@ class Workers:
 
     def map(self, function: Callable, tasks: Sequence) -> list:
         """``[function(task) for task in tasks]``, the tasks spread over the workers."""
+        return self.start(function, tasks)()
+
+    def start(self, function: Callable, tasks: Sequence) -> Callable[[], list]:
+        """Start :meth:`map`; the returned function waits for its results. This process is
+        free meanwhile (in this process alone, the tasks run when the results are asked)."""
         tasks = list(tasks)
         if self.jobs == 1 or len(tasks) <= 1:
-            return [_one_thread(function, task) for task in tasks]
+            return lambda: [_one_thread(function, task) for task in tasks]
         if self._pool is None:
             from concurrent.futures import ProcessPoolExecutor
 
@@ -150,4 +160,5 @@ class Workers:
 
             self._pool = ProcessPoolExecutor(max_workers=self.jobs,
                                              initializer=start_local_worker)
-        return list(self._pool.map(function, tasks))
+        futures = [self._pool.submit(function, task) for task in tasks]
+        return lambda: [future.result() for future in futures]

@@ -63,7 +63,12 @@ def _pair_features() -> tuple[str, ...]:
     return (*lines, *OrbitMeasures.__dataclass_fields__)
 
 
-#: The features of a pair channel, in their column order: those of
-#: :func:`rubdiag.signal.fullspectrum.pair_features` (``fwd_<k>``, ``rev_<k>`` order by
-#: order, then the orbit measures).
-PAIR_FEATURES = _pair_features()
+def __getattr__(name: str):
+    """``PAIR_FEATURES``, made on first use (PEP 562): the features of a pair channel, in
+    their column order — those of :func:`rubdiag.signal.fullspectrum.pair_features`
+    (``fwd_<k>``, ``rev_<k>`` order by order, then the orbit measures). Their names come
+    from the signal layer, which the run ids (:data:`SCHEMA_VERSION`) need not import."""
+    if name == "PAIR_FEATURES":
+        globals()[name] = value = _pair_features()
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -61,9 +61,9 @@ def synchronous_modes(model, n_solutions: int = 12, stiffness=None) -> CriticalS
     Solved on one BLAS thread: multithreaded BLAS sums in another order, and the critical
     speeds (which define runs through ``speed_ratio`` and the Rayleigh damping) would then
     differ in their last bit with the machine's thread count."""
-    from threadpoolctl import threadpool_limits  # installed with scikit-learn
+    from rubdiag._blas import one_thread
 
-    with threadpool_limits(limits=1):
+    with one_thread():
         return _synchronous_modes(model, n_solutions, stiffness)
 
 
@@ -129,7 +129,7 @@ def direct_film_stiffness(model, speed: float):
 
     Kb, _ = model.bearing_matrices(speed)
     Kb = Kb.tocoo()
-    direction = np.array([label.rsplit(" ", 1)[1] for label in model.dofs.labels])
+    direction = model.dofs.directions
     keep = direction[Kb.row] == direction[Kb.col]
     return sp.csr_matrix((Kb.data[keep], (Kb.row[keep], Kb.col[keep])), shape=Kb.shape)
 

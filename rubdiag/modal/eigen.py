@@ -23,7 +23,7 @@ from rubdiag.modal.shapes import energy_shares, whirl_ratio
 
 __all__ = ["Modes", "modes"]
 
-_DENSE_BELOW = 120   # DOFs; below this a dense solver is faster and complete
+DENSE_BELOW = 120   # DOFs; below this a dense solver is faster and complete
 _WHIRL_TOL = 1e-3
 
 
@@ -107,21 +107,43 @@ def modes(model, speed: float = 0.0, n_modes: int = 10, damped: bool = True) -> 
                  whirl_ratio=whirl_ratio(model, shapes), **shares)
 
 
-def lowest_roots(model, speed: float, n_modes: int,
-                 damped: bool = True) -> tuple[np.ndarray, np.ndarray]:
+def lowest_roots(model, speed: float, n_modes: int, damped: bool = True,
+                 tol: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
     """The roots λ (1/s) of :func:`modes` and their displacement vectors (not normalised),
-    without the per-mode quantities: what a search over speeds evaluates."""
+    without the per-mode quantities: what a search over speeds evaluates. ``tol``: ARPACK's
+    relative accuracy of the shift-inverted Ritz values (0: machine precision, as
+    :func:`modes`), so that each root is within about ``tol·|λ + 1|`` of its value."""
+    return lowest_of(*found_roots(model, speed, n_modes, damped, tol), n_modes)
+
+
+def found_roots(model, speed: float, n_modes: int, damped: bool = True,
+                tol: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """Every root (and displacement vector) the eigensolver finds when asked for the
+    ``n_modes`` lowest: on a large model the ``2·n_modes + 10`` nearest its shift, on a
+    small one (below :data:`DENSE_BELOW` DOFs) all of them; :func:`lowest_of` picks."""
     n = model.n_dof
     D = with_rayleigh(model).C + speed * model.G if damped else speed * model.G
     K = model.K
     if model.journal_bearings:      # the films' coefficients at this speed
         Kb, Cb = model.bearing_matrices(speed)
         K, D = K + Kb, (D + Cb if damped else D)
-    lam, vec = _quadratic_eigs(model.M, D, K, min(n_modes, n))
+    return _quadratic_eigs(model.M, D, K, min(n_modes, n), tol)
+
+
+def lowest_of(lam: np.ndarray, vectors: np.ndarray,
+              n_modes: int) -> tuple[np.ndarray, np.ndarray]:
+    """The ``n_modes`` lowest oscillating roots (by frequency) among ``lam`` and their
+    columns of ``vectors``: overdamped (real) roots and the negative-frequency twins are left
+    out."""
     keep = lam.imag > 1e-9 * np.maximum(1.0, np.abs(lam))
-    lam, vec = lam[keep], vec[:, keep]
+    lam, vectors = lam[keep], vectors[:, keep]
     order = np.argsort(lam.imag)[:n_modes]
-    return lam[order], vec[:, order]
+    return lam[order], vectors[:, order]
+
+
+def ritz_count(n_modes: int) -> int:
+    """How many roots nearest its shift the sparse eigensolver computes for ``n_modes``."""
+    return 2 * n_modes + 10
 
 
 def _max_entry(shapes: np.ndarray) -> np.ndarray:
@@ -129,20 +151,21 @@ def _max_entry(shapes: np.ndarray) -> np.ndarray:
     return shapes[idx, np.arange(shapes.shape[1])]
 
 
-def _quadratic_eigs(M, D, K, n_modes: int):
+def _quadratic_eigs(M, D, K, n_modes: int, tol: float = 0.0):
     n = M.shape[0]
     eye = sp.identity(n, format="csr")
     A = sp.bmat([[None, eye], [-K, -D]], format="csc")
     B = sp.bmat([[eye, None], [None, M]], format="csc")
     # σ: a small negative shift, well below the lowest elastic frequency
     sigma = -1.0
-    if n < _DENSE_BELOW:
+    if n < DENSE_BELOW:
         lam, vec = sla.eig(A.toarray(), B.toarray())
         finite = np.isfinite(lam)
         return lam[finite], vec[:n, finite]
     lu = spla.splu((A - sigma * B).tocsc())
     op = spla.LinearOperator((2 * n, 2 * n), matvec=lambda x: lu.solve(B @ x),
                              dtype=float)
-    k = min(2 * n - 2, 2 * n_modes + 10)
-    nu, vec = spla.eigs(op, k=k, which="LM", v0=np.ones(2 * n))   # fixed start: reproducible
+    k = min(2 * n - 2, ritz_count(n_modes))
+    nu, vec = spla.eigs(op, k=k, which="LM", v0=np.ones(2 * n),   # fixed start: reproducible
+                        tol=tol)
     return sigma + 1.0 / nu, vec[:n]

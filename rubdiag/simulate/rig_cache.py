@@ -1,8 +1,10 @@
 """What a run computes from its rig alone, kept for the next run of the same rig.
 
-The assembled model and the forward critical speeds (the study's running speeds: an
-eigenvalue problem) are kept per process and on disk (:mod:`rubdiag._cache`, keyed by the
-rig's content, the code and the environment); the reduced model has its own cache
+The assembled model, the forward critical speeds (the study's running speeds: an
+eigenvalue problem) and the threshold of instability on journal bearings (a search over
+speeds, which the whirl runs of a design refer to) are kept per process and on disk
+(:mod:`rubdiag._cache`, keyed by the rig's content, the code and the environment); the
+reduced model has its own cache
 (:func:`rubdiag.reduce.reduced_model`). A cached value holds the bits computed on a miss, so
 a run gives the same bits either way (``tests/simulate/test_rig_cache.py``).
 
@@ -17,7 +19,7 @@ import numpy as np
 
 from rubdiag import _cache
 
-__all__ = ["assembled", "damped_model", "forward_critical_speeds"]
+__all__ = ["assembled", "damped_model", "forward_critical_speeds", "whirl_threshold_speed"]
 
 #: the model's sparse matrices (CSR), as the disk cache holds them
 _MATRICES = ("M", "K", "G", "K_structural", "C_discrete")
@@ -74,3 +76,24 @@ def forward_critical_speeds(rig, n: int) -> tuple[float, ...]:
     arrays, _ = _cache.cached("critical-speeds", {"rig": rig_to_dict(rig), "n": int(n)},
                               ("speeds_rad_s",), compute)
     return tuple(float(x) for x in arrays["speeds_rad_s"])
+
+
+def whirl_threshold_speed(rig, critical_rad_s: tuple[float, ...]) -> float | None:
+    """The threshold of instability (rad/s) of ``rig`` on its journal bearings, sought
+    between half the first and twice the last of ``critical_rad_s``, its forward critical
+    speeds (:func:`rubdiag.modal.stability.threshold_speed`; None: stable there), once
+    per rig and environment on disk."""
+    from rubdiag.model.io import rig_to_dict
+
+    def compute() -> dict[str, np.ndarray]:
+        from rubdiag.assembly import assemble
+        from rubdiag.modal import with_rayleigh
+        from rubdiag.modal.stability import threshold_speed, whirl_range
+
+        found = threshold_speed(with_rayleigh(assemble(rig)), *whirl_range(critical_rad_s))
+        return {"speed_rad_s": np.array(np.nan if found is None else found)}
+
+    depends_on = {"rig": rig_to_dict(rig), "critical_rad_s": [float(x) for x in critical_rad_s]}
+    arrays, _ = _cache.cached("whirl-threshold", depends_on, ("speed_rad_s",), compute)
+    found = float(arrays["speed_rad_s"])
+    return None if np.isnan(found) else found
