@@ -10,8 +10,8 @@ moved when they are not.
 ``tests/dataset/test_design_expansion.py`` expands every shipped design again and asks for
 exactly these rows.
 
-    python scripts/design_run_ids.py            # -> data/design_run_ids.csv
-    python scripts/design_run_ids.py --check    # compare; exit 1 on the first difference
+    python scripts/design_run_ids.py                     # -> data/design_run_ids.csv
+    python scripts/design_run_ids.py --check --jobs 2    # compare; exit 1 on a difference
 """
 
 from __future__ import annotations
@@ -28,23 +28,24 @@ OUT = ROOT / "data" / "design_run_ids.csv"
 COLUMNS = ("design", "index", "run_id", "point_id", "speed_rpm", "gap_m")
 
 
-def rows(path: Path) -> list[dict]:
-    """The rows of the design at ``path`` (module docstring), in the order of its runs."""
+def rows(path: Path, jobs: int = 1) -> list[dict]:
+    """The rows of the design at ``path`` (module docstring), in the order of its runs,
+    expanded on ``jobs`` worker processes."""
     from rubdiag.dataset import Design
 
     return [{"design": path.name, "index": str(index), "run_id": item.run_id,
              "point_id": item.point_id, "speed_rpm": repr(float(item.speed_rpm)),
              "gap_m": "" if item.run.gap_m is None else repr(float(item.run.gap_m))}
-            for index, item in enumerate(Design.from_toml(path).runs())]
+            for index, item in enumerate(Design.from_toml(path).runs(jobs=jobs))]
 
 
-def table(paths) -> str:
+def table(paths, jobs: int = 1) -> str:
     """The CSV text of the rows of every design in ``paths``."""
     buffer = io.StringIO()
     writer = csv.DictWriter(buffer, COLUMNS, lineterminator="\n")
     writer.writeheader()
     for path in paths:
-        writer.writerows(rows(path))
+        writer.writerows(rows(path, jobs))
     return buffer.getvalue()
 
 
@@ -52,8 +53,9 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--check", action="store_true",
                         help="compare with data/design_run_ids.csv instead of writing it")
+    parser.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
     args = parser.parse_args(argv)
-    text = table(sorted(DESIGNS.glob("*.toml")))
+    text = table(sorted(DESIGNS.glob("*.toml")), args.jobs)
     if not args.check:
         OUT.write_text(text, encoding="utf-8")
         print(f"{OUT}: {text.count(chr(10)) - 1} runs")

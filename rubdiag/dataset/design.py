@@ -106,7 +106,9 @@ computed once from the rig, so that the resolved design makes bit-identical runs
 machine). ``Design.from_toml(d.to_toml()) == d`` and the text round-trips exactly.
 
 Every value is checked when the design is made, before any run, with one-line
-``ValueError`` messages.
+``ValueError`` messages; what takes an eigenvalue search per rotor (each whirl rotor's
+threshold of instability) when its runs are expanded (:meth:`Design.runs`), before any is
+simulated.
 """
 
 from __future__ import annotations
