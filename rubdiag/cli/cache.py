@@ -7,7 +7,8 @@ def register(sub) -> None:
     p = sub.add_parser(
         "cache", help="show or clear the disk cache of rig-only results",
         description="Runs keep what depends only on the rig (the assembled and reduced "
-        "models, the critical speeds) in a disk cache, keyed by the rig's content, the "
+        "models, the critical speeds, the threshold of instability on journal bearings) in "
+        "a disk cache, keyed by the rig's content, the "
         "rubdiag version and the BLAS kernels, so that the next run of the rig starts at "
         "once. The folder is $RUBDIAG_CACHE_DIR (empty: no disk cache), else the platform's "
         "cache folder (~/.cache/rubdiag on Linux). Deleting it is safe at any time.")

@@ -85,3 +85,25 @@ def test_a_point_that_fails_is_named_as_it_was():
     with pytest.raises(ValueError, match=rf"^point {first} \(case = .*unbalance_scale = 0, "
                                          r".*\): factors.interference_ratio = .*approach is 0"):
         design.runs(jobs=2)
+
+
+def test_a_threshold_read_from_the_disk_cache_is_the_one_searched(tmp_path, monkeypatch):
+    from rubdiag import _cache
+    from rubdiag._blas import one_thread
+    from rubdiag.modal import stability
+    from rubdiag.model import preset_rig
+    from rubdiag.simulate.rig_cache import forward_critical_speeds, whirl_threshold_speed
+
+    monkeypatch.setenv(_cache.ENV, str(tmp_path))
+    rig = preset_rig("paper-journal")
+    with one_thread():
+        critical = forward_critical_speeds(rig, 2)
+        searched = whirl_threshold_speed(rig, critical)
+    assert len(list(tmp_path.glob("whirl-threshold-*.npz"))) == 1
+
+    def search(*args, **kwargs):
+        raise AssertionError("a cached threshold was searched again")
+
+    monkeypatch.setattr(stability, "threshold_speed", search)
+    assert whirl_threshold_speed(rig, critical) == searched
+    assert 0.5 * critical[0] < searched < 2.0 * critical[1]
