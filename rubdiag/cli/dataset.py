@@ -117,20 +117,17 @@ def _dry_run(args, path: Path) -> int:
     the example's first :data:`CALIBRATION_SHARE` in a process of its own while this one
     expands the design, and scales its CPU time to the whole run."""
     from collections import Counter
-    from concurrent.futures import ProcessPoolExecutor
 
     from rubdiag.dataset.design import Design
-    from rubdiag.dataset.workers import start_local_worker
 
     design = Design.from_toml(path)
     if args.out is not None:
         from rubdiag.dataset.store import DatasetFolder
 
         DatasetFolder(args.out).check_writable(design.to_toml())
-    example = design.design_run(0)
-    with ProcessPoolExecutor(max_workers=1, initializer=start_local_worker) as pool:
-        calibration = pool.submit(_calibrate, example.run, CALIBRATION_SHARE)
+    with _Calibration(design) as calibration:
         runs = design.runs(jobs=args.jobs or (os.cpu_count() or 1))
+        example = runs[0]
         if args.out is not None:
             from rubdiag.dataset import pending_runs
 
@@ -173,6 +170,49 @@ def _dry_run(args, path: Path) -> int:
           f"{_duration(per_run_s * len(todo) / workers)} (runs that rub take longer than runs "
           "that do not)")
     return 0
+
+
+class _Calibration:
+    """:func:`_calibrate` of ``design``'s first run (made there: :meth:`Design.design_run`)
+    in a process of its own, started at once (a context manager): :meth:`result` waits for
+    it; leaving the context ends the process if it is still running (an error, or nothing
+    to run)."""
+
+    def __init__(self, design):
+        import multiprocessing
+
+        self._receive, send = multiprocessing.Pipe(duplex=False)
+        self._process = multiprocessing.Process(target=_calibration_process,
+                                                args=(design, CALIBRATION_SHARE, send),
+                                                daemon=True)
+        self._process.start()
+        send.close()            # the child's end: recv() sees its exit
+
+    def __enter__(self) -> _Calibration:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self._process.is_alive():
+            self._process.terminate()
+        self._process.join()
+
+    def result(self) -> tuple[str, float, float]:
+        try:
+            return self._receive.recv()
+        except EOFError:
+            return f"error (the process ended with code {self._process.exitcode})", 0.0, 0.0
+
+
+def _calibration_process(design, share: float, send) -> None:
+    from rubdiag.dataset.workers import start_local_worker
+
+    start_local_worker()
+    try:
+        run = design.design_run(0).run
+    except ValueError as exc:       # the expansion names it
+        send.send((f"error ({exc})", 0.0, 0.0))
+        return
+    send.send(_calibrate(run, share))
 
 
 def _calibrate(run, share: float) -> tuple[str, float, float]:

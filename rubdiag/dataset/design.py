@@ -184,6 +184,10 @@ _SECTIONS = {
 }
 
 
+class _Repeated(ValueError):
+    """Two points of a design make the same run (its message is whole: no point prefix)."""
+
+
 @dataclass(frozen=True)
 class DesignRun:
     """One run of a design: the design point (factor name -> value, canonical order), the
@@ -482,45 +486,62 @@ class Design:
         run is built (and so checked) here, before any is simulated. What the runs refer
         to — each distinct rotor's critical speeds and threshold of instability, the rub
         runs' linear approaches — is computed once, on ``jobs`` worker processes (None:
-        every core; :mod:`rubdiag.dataset.resolve`): the same runs on any number."""
+        every core; :mod:`rubdiag.dataset.resolve`): the same runs on any number. A point
+        that cannot be made is named (the first in the design's order)."""
         points = self.points()
-        out, failure = [], None
+        whirl = ["whirl" in faults_in(p.get("fault", "none")) for p in points]
+        built: dict[int, list | ValueError] = {}    # index -> [(replicate, run, ratio)]
         with Workers(jobs) as workers:
-            resolve_rotors(*self._rotors(points), workers)
-            built = []                  # (index, point, replicate, run, interference ratio)
-            for index, point in enumerate(points):
-                try:
-                    for replicate in range(self.replicates):
-                        built.append((index, point, replicate, *self._run(point, replicate)))
-                except ValueError as exc:
-                    failure = (index, point, exc)
-                    break
-            wanted = [item for item in built if item[4] is not None and item[2] == 0]
-            approaches = start_approaches([item[3] for item in wanted], workers)
+            thresholds = resolve_rotors(*self._rotors(points), workers)
+            # the points without whirl while the workers seek the thresholds, then the rest
+            self._build(points, [k for k, w in enumerate(whirl) if not w], built)
+            approaches = [self._start_approaches(built, workers)]
+            thresholds()
+            self._build(points, [k for k, w in enumerate(whirl) if w], built)
+            approaches.append(self._start_approaches(
+                {k: built[k] for k, w in enumerate(whirl) if w}, workers))
             # the runs without an approach to wait for are made while the workers work
-            made = {k: self._item(point, replicate, run)
-                    for k, (_, point, replicate, run, ratio) in enumerate(built) if ratio is None}
-            found = dict(zip((item[0] for item in wanted), approaches(), strict=True))
-        seen = {}
-        for k, (index, point, replicate, run, ratio) in enumerate(built):
-            if ratio is None:
-                item = made[k]
-            else:
-                try:
-                    run = _gap_from_interference(run, ratio, found[index])
-                except ValueError as exc:
-                    failure = (index, point, exc)
-                    break
-                item = self._item(point, replicate, run)
-            if item.run_id in seen:
-                raise ValueError(f"the design repeats a run: point {index} is point "
-                                 f"{seen[item.run_id]} ({_describe(point)})")
-            seen[item.run_id] = index
-            out.append(item)
-        if failure is not None:
-            index, point, exc = failure
-            raise ValueError(f"point {index} ({_describe(point)}): {exc}") from None
+            made = {(k, replicate): self._item(points[k], replicate, run)
+                    for k, runs in built.items() if not isinstance(runs, ValueError)
+                    for replicate, run, ratio in runs if ratio is None}
+            found = {k: value for wait in approaches for k, value in wait().items()}
+        out, seen = [], {}
+        for index, point in enumerate(points):
+            try:
+                if isinstance(built[index], ValueError):
+                    raise built[index]
+                for replicate, run, ratio in built[index]:
+                    item = (made[(index, replicate)] if ratio is None else self._item(
+                        point, replicate, _gap_from_interference(run, ratio, found[index])))
+                    if item.run_id in seen:
+                        raise _Repeated(f"the design repeats a run: point {index} is point "
+                                        f"{seen[item.run_id]} ({_describe(point)})")
+                    seen[item.run_id] = index
+                    out.append(item)
+            except _Repeated as exc:
+                raise ValueError(str(exc)) from None
+            except ValueError as exc:
+                raise ValueError(f"point {index} ({_describe(point)}): {exc}") from None
         return out
+
+    def _build(self, points: list, indices, built: dict) -> None:
+        """The runs of the points ``indices`` into ``built`` (index -> [(replicate, run,
+        interference ratio or None)], or the ValueError making one raised)."""
+        for k in indices:
+            try:
+                built[k] = [(r, *self._run(points[k], r)) for r in range(self.replicates)]
+            except ValueError as exc:
+                built[k] = exc
+
+    @staticmethod
+    def _start_approaches(built: dict, workers: Workers):
+        """Start the linear approaches of the points of ``built`` whose gap is set from
+        one (a point's replicates share it); the returned function waits for them: index
+        -> approach (m) or the ValueError computing it raised."""
+        wanted = {k: runs[0][1] for k, runs in built.items()
+                  if not isinstance(runs, ValueError) and runs[0][2] is not None}
+        found = start_approaches(list(wanted.values()), workers)
+        return lambda: dict(zip(wanted, found(), strict=True))
 
     def design_run(self, index: int, replicate: int = 0) -> DesignRun:
         """The run ``runs()[index * replicates + replicate]`` alone: design point ``index``,
@@ -645,8 +666,7 @@ class Design:
                   label=f"{_describe(shown_point(point))}, replicate {replicate}", **options)
         if self.ramp is not None:
             _check_top_speed(run)
-        return run, point["interference_ratio"] if rub and "interference_ratio" in point \
-            else None
+        return run, point.get("interference_ratio") if rub else None
 
 
 def _lowest(factor: Factor) -> float:
@@ -682,9 +702,9 @@ def _check_revolutions(duration_s: float | None, discard_s: float, ramp: SpeedRa
 
 
 def _check_top_speed(run: Run) -> None:
-    top = max(run.speed_profile.speeds_rad_s) * 30.0 / math.pi
     from rubdiag.runs.features import max_tracked_rpm
 
+    top = max(run.speed_profile.speeds_rad_s) * 30.0 / math.pi
     fastest = max_tracked_rpm(run.output_rate_hz)
     if top > fastest:
         raise ValueError(f"the ramp reaches {top:.6g} rpm (allowed: at most {fastest:.6g} rpm "

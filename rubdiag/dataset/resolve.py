@@ -54,18 +54,24 @@ def _value(found):
     return found
 
 
-def resolve_rotors(critical: Sequence, thresholds: Sequence, workers: Workers) -> None:
+def resolve_rotors(critical: Sequence, thresholds: Sequence,
+                   workers: Workers) -> Callable[[], None]:
     """Compute, on ``workers``, what :func:`critical_speeds_rad_s` and
     :func:`whirl_threshold_rad_s` do not hold yet: ``critical``, (rig, n) pairs, and
-    ``thresholds``, (rig, critical_rig) pairs. The critical speeds come first: the
-    thresholds' searches start from them."""
+    ``thresholds``, (rig, critical_rig) pairs. The critical speeds are computed here (the
+    thresholds' searches start from them); the thresholds are started, and the returned
+    function waits for them."""
     needed = [*critical, *((rig, 2) for _, rig in thresholds)]
     missing = [key for key in dict.fromkeys(needed) if key not in _CRITICAL]
     _CRITICAL.update(zip(missing, workers.map(_critical, missing), strict=True))
     pending = [(rig, _CRITICAL[(base, 2)]) for rig, base in dict.fromkeys(thresholds)
                if rig not in _THRESHOLD and not isinstance(_CRITICAL[(base, 2)], ValueError)]
-    _THRESHOLD.update(zip((rig for rig, _ in pending), workers.map(_threshold, pending),
-                          strict=True))
+    found = workers.start(_threshold, pending)
+
+    def wait() -> None:
+        _THRESHOLD.update(zip((rig for rig, _ in pending), found(), strict=True))
+
+    return wait
 
 
 def start_approaches(runs: Sequence, workers: Workers) -> Callable[[], list]:
