@@ -1,10 +1,13 @@
 """Plain journal bearings: the nonlinear short-bearing film force, one formula for two uses.
 
 The formula (:func:`film_force`, a Numba function) gives the force the oil film exerts on the
-journal at any position and velocity, and its Jacobian. The element of the time integrator
-calls it at every Newton iteration; :func:`linearised_coefficients` calls the same function at
-the static equilibrium, where its Jacobian is the speed-dependent, cross-coupled stiffness
-and damping of the bearing. This module imports nothing of rubdiag but Numba's set-up, so
+journal at any position and velocity, and its Jacobian. :func:`linearised_coefficients`
+calls it at the static equilibrium, where its Jacobian is the speed-dependent, cross-coupled
+stiffness and damping of the bearing; the element of the time integrator evaluates the same
+integral at every Newton iteration through :func:`step_film_terms`, with as few Gauss points
+as the eccentricity needs (the same terms to round-off, at a tenth of the cost). The
+reference keeps its own arithmetic: the critical speeds and thresholds that define dataset
+runs come from it, to the bit. This module imports nothing of rubdiag but Numba's set-up, so
 that the kernels and the modal layer may both use it.
 
 Model: the short-bearing (Ocvirk) approximation of Reynolds' equation, in which the axial
