@@ -73,11 +73,15 @@ STEP_FIELDS = ("step_error", "dt_max_s")
 
 def noise_id(run: Run) -> str:
     """The id a run's measurement noise is drawn from: its :func:`run_id` without the step
-    settings (:data:`STEP_FIELDS`), so that a run with long steps and the same run at 10 µs
-    carry the same noise draw (a run without long steps: its run id)."""
+    settings (:data:`STEP_FIELDS`) and without ``Reduction.keep_idle_contacts``, so that a
+    run with long steps and the same run at 10 µs, or with its idle contacts kept, carry
+    the same noise draw (a run without either: its run id)."""
     data = canonical_run(run)
     for name in STEP_FIELDS:
         data.pop(name, None)
+    if isinstance(data.get("reduction"), dict):
+        data["reduction"] = {k: v for k, v in data["reduction"].items()
+                             if k != "keep_idle_contacts"}
     return _digest("run", data)
 
 

@@ -70,24 +70,28 @@ class ReducedModel:
         return np.linalg.solve(Z, self.project_force(force_hat))
 
 
-def contact_dofs(model) -> np.ndarray:
-    """Every DOF a contact element of ``model``'s rig acts on (ascending; empty without)."""
+def contact_dofs(model, blade_contacts: bool = True) -> np.ndarray:
+    """Every DOF a contact element of ``model``'s rig acts on (ascending; empty without);
+    without ``blade_contacts``, those of its stator contacts only."""
     dofs = [np.zeros(0, np.int64)]
     geo = model.blade_contacts
-    if geo is not None:
+    if geo is not None and blade_contacts:
         dofs += [geo.tip_dofs.ravel(), geo.casing_dofs.ravel()]
     for sc in model.rig.stator_contacts:
         dofs.append([model.dofs.index(sc.node, "y"), model.dofs.index(sc.node, "z")])
     return np.unique(np.concatenate(dofs).astype(np.int64))
 
 
-def boundary_dofs(model, reduction: Reduction) -> np.ndarray:
+def boundary_dofs(model, reduction: Reduction, blade_contacts: bool = True) -> np.ndarray:
     """The DOFs ``reduction`` keeps physical (ascending): :func:`contact_dofs`, with
     ``tip_rotations`` the in-plane rotation of each contact blade's tip, every DOF of its
     ``shaft_nodes``, every pedestal DOF of the rig (a pedestal may be loose: a nonlinear
     element there needs the physical DOF; a rig without pedestals has none), and the y and z
-    of every journal bearing's node (its film is a nonlinear element)."""
-    dofs = [contact_dofs(model), model.dofs.component("pedestal")]
+    of every journal bearing's node (its film is a nonlinear element). Without
+    ``blade_contacts``, the blade contacts' DOFs are left to the modes (a run whose blades
+    cannot reach the casing: :mod:`rubdiag.simulate.idle_contacts`). Empty for a rig
+    without nonlinear elements (which has no reduced model)."""
+    dofs = [contact_dofs(model, blade_contacts), model.dofs.component("pedestal")]
     for k in model.journal_bearings:
         node = model.rig.bearings[k].node
         dofs.append([model.dofs.index(node, "y"), model.dofs.index(node, "z")])
@@ -97,21 +101,20 @@ def boundary_dofs(model, reduction: Reduction) -> np.ndarray:
         except ValueError:
             raise ValueError(f"reduction.shaft_nodes: {node} is not a shaft node of rig "
                              f"{model.rig.name!r} (allowed: its shaft node numbers)") from None
-    if reduction.tip_rotations and model.rig.contact is not None:
+    if blade_contacts and reduction.tip_rotations and model.rig.contact is not None:
         tip = model.rig.blades.n_elements
         dofs.append([model.dofs.index(f"blade {b}.{tip}", "rx") for b in model.rig.contact.blades])
-    boundary = np.unique(np.concatenate(dofs).astype(np.int64))
-    if not boundary.size:
-        raise ValueError(f"rig {model.rig.name!r} has no nonlinear element: a reduction keeps "
-                         "the DOFs of its contacts, pedestals, journal bearings and fault "
-                         "nodes physical, and there are none")
-    return boundary
+    return np.unique(np.concatenate(dofs).astype(np.int64))
 
 
-def reduced_model(rig, reduction: Reduction | None = None) -> ReducedModel:
+def reduced_model(rig, reduction: Reduction | None = None, *,
+                  blade_contacts: bool = True) -> ReducedModel:
     """The reduced model of ``rig`` (default :class:`Reduction`); cached per process and on
-    disk (module docstring): the same rig and reduction are reduced once per environment."""
-    return _reduced_model(rig, Reduction() if reduction is None else reduction)
+    disk (module docstring): the same rig and reduction are reduced once per environment.
+    ``blade_contacts=False``: the blade contacts' DOFs left to the modes
+    (:func:`boundary_dofs`)."""
+    return _reduced_model(rig, Reduction() if reduction is None else reduction,
+                          bool(blade_contacts))
 
 
 #: the arrays of a reduced model as the disk cache holds them
@@ -119,7 +122,7 @@ _ARRAYS = ("boundary", "T", "mode_frequencies_hz", "first_dropped_hz", "M", "K",
 
 
 @functools.lru_cache(maxsize=8)
-def _reduced_model(rig, reduction: Reduction) -> ReducedModel:
+def _reduced_model(rig, reduction: Reduction, blade_contacts: bool) -> ReducedModel:
     from rubdiag.model.io import rig_to_dict
 
     if not isinstance(reduction, Reduction):
@@ -127,8 +130,10 @@ def _reduced_model(rig, reduction: Reduction) -> ReducedModel:
                         "(expected a Reduction)")
     start = time.perf_counter()
     depends_on = {"rig": rig_to_dict(rig), "reduction": reduction.description()}
+    if not blade_contacts:      # the key of a model with them is the one it always had
+        depends_on["blade_contacts"] = False
     arrays, from_disk = _cache.cached("reduced-model", depends_on, _ARRAYS,
-                                      functools.partial(_reduce, rig, reduction))
+                                      functools.partial(_reduce, rig, reduction, blade_contacts))
     basis = CraigBampton(boundary=arrays["boundary"], T=arrays["T"],
                          mode_frequencies_hz=arrays["mode_frequencies_hz"],
                          first_dropped_hz=float(arrays["first_dropped_hz"]))
@@ -137,7 +142,7 @@ def _reduced_model(rig, reduction: Reduction) -> ReducedModel:
                         build_seconds=time.perf_counter() - start)
 
 
-def _reduce(rig, reduction: Reduction) -> dict[str, np.ndarray]:
+def _reduce(rig, reduction: Reduction, blade_contacts: bool) -> dict[str, np.ndarray]:
     """The reduction itself, on one BLAS thread: the arrays of :data:`_ARRAYS`."""
     from rubdiag._blas import one_thread
     from rubdiag.assembly import assemble
@@ -145,8 +150,12 @@ def _reduce(rig, reduction: Reduction) -> dict[str, np.ndarray]:
 
     with one_thread():
         model = with_rayleigh(assemble(rig))
-        basis = craig_bampton(model.M, model.K, boundary_dofs(model, reduction),
-                              reduction.cutoff_hz)
+        boundary = boundary_dofs(model, reduction, blade_contacts)
+        if not boundary.size:
+            raise ValueError(f"rig {rig.name!r} has no nonlinear element: a reduction keeps "
+                             "the DOFs of its contacts, pedestals, journal bearings and fault "
+                             "nodes physical, and there are none")
+        basis = craig_bampton(model.M, model.K, boundary, reduction.cutoff_hz)
         M, K = _modal_tail(basis.boundary.size, _symmetric(basis.project(model.M)),
                            _symmetric(basis.project(model.K)))
         C, G = basis.project(model.C), basis.project(model.G)

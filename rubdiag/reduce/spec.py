@@ -45,27 +45,42 @@ class Reduction:
     A run with faults adds its fault elements' nodes itself
     (:func:`rubdiag.simulate.rig_system.rig_system`).
 
+    A run whose blade contacts cannot close — their gap at least
+    :data:`~rubdiag.simulate.idle_contacts.IDLE_GAP_RATIO` times the linear approach, a
+    fault dataset's healthy and lone-fault runs with the casing out of reach — is simulated
+    on the reduction without them: their tips and casing nodes are left to the modes like
+    any linear DOF (43 instead of 66 coordinates on the journal-bearing rig), and the result
+    reports them open throughout (:mod:`rubdiag.simulate.idle_contacts`).
+    ``keep_idle_contacts`` keeps them physical all the same (the comparison of the two).
+
     Use :meth:`for_features` to derive the cutoff from a speed range.
     """
 
     cutoff_hz: float = DEFAULT_CUTOFF_HZ
     tip_rotations: bool = True
     shaft_nodes: tuple[int, ...] = ()
+    keep_idle_contacts: bool = False
 
     def __post_init__(self):
         _check.number("cutoff_hz", self.cutoff_hz, lo=1.0, hi=1e6)
         if not isinstance(self.tip_rotations, bool):
             raise _check.wrong_type("tip_rotations", self.tip_rotations, "True or False")
+        if not isinstance(self.keep_idle_contacts, bool):
+            raise _check.wrong_type("keep_idle_contacts", self.keep_idle_contacts,
+                                    "True or False")
         nodes = tuple(sorted({int(n) for n in _check.indices("shaft_nodes", self.shaft_nodes)}))
         object.__setattr__(self, "shaft_nodes", nodes)
 
     def description(self) -> dict:
-        """The reduction as JSON-ready data: ``shaft_nodes`` only when there are some, so
-        that a reduction without them has the description (and the runs their ids and the
-        disk cache its keys) it had before the field existed."""
+        """The reduction as JSON-ready data: ``shaft_nodes`` only when there are some and
+        ``keep_idle_contacts`` only when set, so that a reduction without them has the
+        description (and the runs their ids and the disk cache its keys) it had before the
+        fields existed."""
         out = {"cutoff_hz": float(self.cutoff_hz), "tip_rotations": bool(self.tip_rotations)}
         if self.shaft_nodes:
             out["shaft_nodes"] = list(self.shaft_nodes)
+        if self.keep_idle_contacts:
+            out["keep_idle_contacts"] = True
         return out
 
     @property

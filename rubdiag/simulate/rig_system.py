@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rubdiag.simulate.films import film_elements, film_equilibrium
+from rubdiag.simulate.idle_contacts import MIN_IDLE_GAP_M, is_idle
 from rubdiag.simulate.run import Run
 from rubdiag.simulate.system import Contacts, HarmonicForce
 
@@ -40,7 +41,9 @@ class RigSystem:
     element takes over (a loose pedestal's support in its direction);
     ``gap_shift`` (n_c,): what each contact's gap was raised by so that it is the run's gap
     at the static equilibrium (its static approach, m; zeros without a static load or with
-    its clearances ``"unloaded"``), over which ``approach`` is measured."""
+    its clearances ``"unloaded"``), over which ``approach`` is measured; ``idle``: the blade
+    contacts the run cannot close, left out of a reduced model (physical DOFs;
+    :mod:`rubdiag.simulate.idle_contacts`), which the result reports open."""
 
     M: object
     C: object
@@ -57,6 +60,7 @@ class RigSystem:
     extra: dict
     fault_elements: tuple = ()
     gap_shift: np.ndarray | None = None
+    idle: Contacts = dataclasses.field(default_factory=Contacts.empty)
 
     def damping(self, speed: float):
         """``C + Ω G`` at spin speed Ω (rad/s)."""
@@ -82,39 +86,29 @@ def rig_system(run: Run, model) -> RigSystem:
             x_static = q_static = _static_state(model, f_static, speed)
             force = force + _static_force(f_static, speed)
         contacts, approach, shift = _contacts(run, model, q_hat, q_static)
+        idle = Contacts.empty()
         force = _with_fault_loads(force, run, model, speed, lambda dofs: dofs)
         fault_elements = () if run.faults is None else run.faults.elements(run.rig)
         fault_elements += film_elements(run.rig, model.dofs)
         parts = (model.M, model.C, model.K, model.G)
         recovery, solver, extra = None, "sparse", {}
     else:
-        from rubdiag.reduce import reduced_model
-
-        reduced = reduced_model(run.rig, _with_fault_nodes(run))
-        index = reduced.basis.boundary_index
-        films = tuple(_renumbered(e, index) for e in film_elements(run.rig, model.dofs))
-        x_hat = _reduced_response(reduced, model, F, speed)
-        q_hat = reduced.basis.T @ x_hat
-        F_r = reduced.project_force(F)
-        force = HarmonicForce(np.arange(F_r.size), F_r, speed)
-        if f_static is not None:    # the reduced system's own static equilibrium
-            f_r = reduced.project_force(f_static)
-            x_static = (_reduced_equilibrium(reduced, model, f_r, films, speed) if films
-                        else np.linalg.solve(reduced.K, f_r))
-            q_static = reduced.basis.T @ x_static
-            force = force + _static_force(f_r, speed)
-        contacts, approach, shift = _contacts(run, model, q_hat, q_static)
-        contacts = dataclasses.replace(contacts, dof_a=index(contacts.dof_a),
-                                       dof_b=index(contacts.dof_b))
-        # the fault nodes are boundary coordinates: a load there is a load on its coordinate
-        force = _with_fault_loads(force, run, model, speed, index)
+        reduced = _Reduced(run, model, F, f_static, blade_contacts=not _may_idle(run, model))
+        if not reduced.blade_contacts and not is_idle(run.gap_m, reduced.approach):
+            reduced = _Reduced(run, model, F, f_static, blade_contacts=True)
+        x_hat, x_static, q_hat, q_static = (reduced.x_hat, reduced.x_static, reduced.q_hat,
+                                            reduced.q_static)
+        force, contacts, approach, shift = (reduced.force, reduced.contacts, reduced.approach,
+                                            reduced.shift)
+        idle, index = reduced.idle, reduced.index
         fault_elements = () if run.faults is None else tuple(
             _renumbered(e, index) for e in run.faults.elements(run.rig))
-        fault_elements += films
-        parts = (reduced.M, reduced.C, reduced.K, reduced.G)
-        recovery, solver = reduced.basis.T, "dense"
-        extra = {"n_reduced": reduced.n_reduced, "cutoff_hz": run.reduction.cutoff_hz,
-                 "reduction_seconds": reduced.build_seconds}
+        fault_elements += reduced.films
+        model_r = reduced.model
+        parts = (model_r.M, model_r.C, model_r.K, model_r.G)
+        recovery, solver = model_r.basis.T, "dense"
+        extra = {"n_reduced": model_r.n_reduced, "cutoff_hz": run.reduction.cutoff_hz,
+                 "reduction_seconds": model_r.build_seconds}
     if run.faults is not None:
         parts = (*parts[:2], _without_taken_springs(parts[2], run, model,
                                                     None if recovery is None else index),
@@ -125,7 +119,59 @@ def rig_system(run: Run, model) -> RigSystem:
     return RigSystem(*parts, force=force, contacts=contacts, x0=x0,
                      v0=np.real(1j * speed * x_hat), approach=approach, recovery=recovery,
                      linear_solver=solver, model="full" if recovery is None else "reduced",
-                     extra=extra, fault_elements=fault_elements, gap_shift=shift)
+                     extra=extra, fault_elements=fault_elements, gap_shift=shift, idle=idle)
+
+
+def _may_idle(run: Run, model) -> bool:
+    """Whether the run's blade contacts may be left out (:mod:`.idle_contacts`): a reduced
+    run whose gap is at least the idle minimum, unless the reduction keeps them, and whose
+    rig has other nonlinear elements (without, the run is linear: no reduced model)."""
+    from rubdiag.reduce import boundary_dofs
+
+    return (run.contact_law is not None and not run.reduction.keep_idle_contacts
+            and run.gap_m >= MIN_IDLE_GAP_M
+            and boundary_dofs(model, _with_fault_nodes(run), blade_contacts=False).size > 0)
+
+
+class _Reduced:
+    """The reduced parts of a run's system: its reduced model (with or without the blade
+    contacts' DOFs), its steady state, loads and contacts in the reduced coordinates, and
+    the blade contacts left out (``idle``, physical DOFs; empty with them)."""
+
+    def __init__(self, run: Run, model, F, f_static, blade_contacts: bool):
+        from rubdiag.reduce import reduced_model
+
+        speed = run.speed_rad_s
+        spec = dataclasses.replace(_with_fault_nodes(run), keep_idle_contacts=False)
+        self.blade_contacts = blade_contacts
+        self.model = reduced = reduced_model(run.rig, spec, blade_contacts=blade_contacts)
+        self.index = index = reduced.basis.boundary_index
+        self.films = tuple(_renumbered(e, index) for e in film_elements(run.rig, model.dofs))
+        self.x_hat = _reduced_response(reduced, model, F, speed)
+        self.q_hat = reduced.basis.T @ self.x_hat
+        F_r = reduced.project_force(F)
+        force = HarmonicForce(np.arange(F_r.size), F_r, speed)
+        self.x_static = self.q_static = None
+        if f_static is not None:    # the reduced system's own static equilibrium
+            f_r = reduced.project_force(f_static)
+            self.x_static = (_reduced_equilibrium(reduced, model, f_r, self.films, speed)
+                             if self.films else np.linalg.solve(reduced.K, f_r))
+            self.q_static = reduced.basis.T @ self.x_static
+            force = force + _static_force(f_r, speed)
+        contacts, self.approach, shift = _contacts(run, model, self.q_hat, self.q_static)
+        n_blade = 0 if blade_contacts or run.contact_law is None else len(run.contact_law.blades)
+        self.shift = shift[n_blade:]
+        self.idle = _rows(contacts, slice(0, n_blade))
+        contacts = _rows(contacts, slice(n_blade, None))
+        self.contacts = dataclasses.replace(contacts, dof_a=index(contacts.dof_a),
+                                            dof_b=index(contacts.dof_b))
+        # the fault nodes are boundary coordinates: a load there is a load on its coordinate
+        self.force = _with_fault_loads(force, run, model, speed, index)
+
+
+def _rows(contacts: Contacts, rows: slice) -> Contacts:
+    """The elements ``rows`` of ``contacts``."""
+    return Contacts(*(getattr(contacts, f.name)[rows] for f in dataclasses.fields(Contacts)))
 
 
 def linear_approach(run: Run, model) -> float:

@@ -33,6 +33,7 @@ from rubdiag.model.io import rig_from_dict, rig_to_dict
 from rubdiag.model.rig import BladeContact, Unbalance
 from rubdiag.reduce import Reduction
 from rubdiag.simulate.faults import Crack, Faults, Looseness
+from rubdiag.simulate.idle_contacts import report_open
 from rubdiag.simulate.misalignment import Misalignment
 from rubdiag.simulate.result import EpisodeLog, SimulationDiverged, StatusLog, SystemResult
 from rubdiag.simulate.rig_cache import damped_model
@@ -113,6 +114,9 @@ def _simulate(run: Run, progress, raise_on_failure: bool) -> SimulationResult:
     elements = rs.contacts.elements() + rs.fault_elements if rs.fault_elements else rs.contacts
     points = response_points(run.rig)
     record = [_dof(model, p) for p in points]
+    idle = rs.idle
+    if len(idle):       # their tips and casing nodes too, for their gaps and slips
+        record += [*idle.dof_a.ravel(), *idle.dof_b.ravel()]
     info = {"linear_approach_m": rs.approach, "model": rs.model, **rs.extra}
     try:
         profile = run.speed_profile
@@ -127,9 +131,14 @@ def _simulate(run: Run, progress, raise_on_failure: bool) -> SimulationResult:
             sensor_dofs=sensor_dofs(run), gap_ramp=gap_ramp, omega=speed,
             linear_solver=rs.linear_solver, recovery=rs.recovery,
             progress=progress, raise_on_failure=True, **varying)
+        if len(idle):
+            system = report_open(system, idle, len(points))
     except SimulationDiverged as exc:
-        exc.result.extra.update(info)
-        partial = SimulationResult(run, points, exc.result, time.perf_counter() - start_time)
+        failed = exc.result
+        if len(idle) and "idle_contacts" not in failed.extra:
+            failed = report_open(failed, idle, len(points), check=False)
+        failed.extra.update(info)
+        partial = SimulationResult(run, points, failed, time.perf_counter() - start_time)
         if raise_on_failure:
             raise SimulationDiverged(str(exc), partial) from None
         return partial
