@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
 import sys
+import warnings
 
 _INPUT_HELP = (
     "signal file: .csv/.txt (header row, one column per channel), .npz (one 1-D array per "
@@ -200,8 +202,28 @@ def _load(path, args, keep_flat: bool = False):
         table = features_by_revolution(frame, fs, angle, tacho=args.tacho,
                                        revs_per_bin=args.revs_per_bin, columns=args.column)
     else:
-        table = features(frame, fs, speed, tacho=args.tacho, columns=args.column)
+        with _named(path):
+            table = features(frame, fs, speed, tacho=args.tacho, columns=args.column)
     return frame, fs, table
+
+
+@contextlib.contextmanager
+def _named(path):
+    """A guessed speed's refusal and ambiguity warning name the file ``path`` (``compare``
+    reads two)."""
+    from rubdiag.signal.speed import SpeedAmbiguous
+    from rubdiag.signal.speedvote import SpeedNotFound
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            yield
+        except SpeedNotFound as exc:
+            raise SpeedNotFound(f"{path}: {exc}") from None
+    for w in caught:
+        named = issubclass(w.category, SpeedAmbiguous)
+        warnings.warn_explicit(f"{path}: {w.message}" if named else w.message, w.category,
+                               w.filename, w.lineno)
 
 
 def check_across_speed(args) -> None:

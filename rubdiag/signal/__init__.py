@@ -6,7 +6,8 @@ Public API (all frequencies in Hz, speeds in rpm, amplitudes in the signal's uni
 * :func:`spectral_lines` ``(x, fs, …) -> (f, amplitude, phase_deg)`` — exact lines.
 * :func:`tacho_speed`, :func:`dominant_speed` — running speed in rpm; :func:`voted_speed` —
   the speed of a record whose channels' strongest lines vote (what :func:`features` and
-  ``rubdiag predict`` guess).
+  ``rubdiag predict`` guess); :class:`SpeedAmbiguous` — the warning of a guess whose 1× may
+  be a weaker line at 1/2 or 1/3 of it.
 * :func:`tacho_angle`, :func:`tacho_rpm`, :func:`angle_from_rpm` — shaft angle (rad) and speed
   (rpm) at every sample, for records at a variable speed.
 * :func:`resample_to_angle` ``(x, fs, angle, …) -> (revolutions, x_angle)`` — computed order
@@ -45,7 +46,7 @@ from rubdiag.signal.ordertrack import (
     rpm_order_map,
 )
 from rubdiag.signal.spectrum import amplitude_spectrum
-from rubdiag.signal.speed import dominant_speed, tacho_speed
+from rubdiag.signal.speed import SpeedAmbiguous, dominant_speed, tacho_speed
 from rubdiag.signal.speedtable import REVOLUTION_FEATURE_NAMES, features_by_revolution
 from rubdiag.signal.speedvote import voted_speed
 from rubdiag.signal.table import (
@@ -64,6 +65,7 @@ __all__ = [
     "REVOLUTION_FEATURE_NAMES",
     "CombinationPair",
     "RubFeatures",
+    "SpeedAmbiguous",
     "amplitude_spectrum",
     "angle_from_rpm",
     "combination_pairs",

@@ -7,6 +7,7 @@ combination search and the scikit-learn transformer all read from its result.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -17,7 +18,14 @@ from rubdiag.signal.orders import HALF_ORDERS, HARMONICS, THIRD_ORDERS, OrderLin
 from rubdiag.signal.records import check_fs, check_resolution, check_signals, check_speed
 from rubdiag.signal.sidebands import Sidebands, broadband_rms, sidebands
 from rubdiag.signal.spectrum import _Spectra, _spectra
-from rubdiag.signal.speed import MIN_SPEED_CONFIDENCE, dominant_line, speed_confidence
+from rubdiag.signal.speed import (
+    MIN_SPEED_CONFIDENCE,
+    SpeedAmbiguous,
+    ambiguity,
+    dominant_line,
+    speed_confidence,
+    submultiple_lines,
+)
 
 #: Width of a noise-floor block, in orders.
 FLOOR_WIDTH_ORDERS = 0.5
@@ -47,9 +55,11 @@ def analyse(
     """Analyse the rows of ``X`` (n_rows, n_samples) sampled at ``fs`` Hz.
 
     ``speed_rpm`` is a number, one number per row, or None: each row's strongest line is
-    taken as 1×, and a row whose line stands less than :data:`MIN_SPEED_CONFIDENCE` above
-    the noise floor raises (``labels`` name the rows). ``checked=True`` skips the checks of
-    ``X`` (the caller made them); every row must move (no still rows: they have no lines).
+    taken as 1×, a row whose line stands less than :data:`MIN_SPEED_CONFIDENCE` above
+    the noise floor raises (``labels`` name the rows), and rows whose 1× may be a line at
+    1/2 or 1/3 of it warn :class:`~rubdiag.signal.speed.SpeedAmbiguous` once.
+    ``checked=True`` skips the checks of ``X`` (the caller made them); every row must move
+    (no still rows: they have no lines).
     """
     opts = Options() if options is None else options
     fs = check_fs(fs)
@@ -63,6 +73,8 @@ def analyse(
     if speed_rpm is None:
         confidence = speed_confidence(spec.amplitude, floor, p)
         _check_guess(f1, confidence, labels)
+        _warn_ambiguous(submultiple_lines(spec, floor, f1, opts.threshold, opts.band), f1,
+                        labels)
     else:
         confidence = np.full(X.shape[0], np.nan)
     check_resolution(f1, fs, spec.nperseg, opts.min_revolutions)
@@ -99,3 +111,15 @@ def _check_guess(f1_hz: np.ndarray, confidence: np.ndarray, labels) -> None:
             f"speed_confidence = {confidence[i]:.3g} times above the noise floor (allowed: "
             f">= {MIN_SPEED_CONFIDENCE:g}); it looks like noise. Give speed_rpm or a tacho signal"
         )
+
+
+def _warn_ambiguous(lines: np.ndarray, f1_hz: np.ndarray, labels) -> None:
+    """One :class:`SpeedAmbiguous` warning for the rows whose guessed 1× may be a line at
+    1/2 or 1/3 of it (``lines``: :func:`~rubdiag.signal.speed.submultiple_lines`)."""
+    rows = np.flatnonzero((lines > 0).any(axis=1))
+    if rows.size:
+        i = int(rows[0])
+        where = f" of {'row ' + str(i) if labels is None else labels[i]}"
+        more = f" ({rows.size} of {f1_hz.size} rows so)" if rows.size > 1 else ""
+        warnings.warn(ambiguity(60.0 * f1_hz[i], lines[i], where) + more, SpeedAmbiguous,
+                      stacklevel=3)

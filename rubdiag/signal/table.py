@@ -50,11 +50,12 @@ Still channels
 A channel whose samples are all equal (a dead sensor, a casing no blade touched) is valid
 input with no line at all: every line is absent (:func:`still_features`: amplitudes, ``rms``
 and levels 0, locations NaN), ``speed_rpm`` is the record's speed, given or guessed from
-the other channels (NaN in the batch path, or when every channel is still: nothing to guess
-from) and ``speed_confidence`` NaN. The rule is the same
-for :func:`features`, :func:`prefixed_features`, :func:`feature_matrix` and
+the other channels (NaN in the batch path) and ``speed_confidence`` NaN. The rule is the
+same for :func:`features`, :func:`prefixed_features`, :func:`feature_matrix` and
 :class:`~rubdiag.signal.RubFeatures`; the other rows of a batch are analysed as usual, and an
-input whose every channel is still gives every row absent, without an exception.
+input whose every channel is still gives every row absent, without an exception — except
+a record given to :func:`features` without its speed: with no line to guess it from, it is
+refused (ValueError).
 
 Layout
 ------
@@ -87,7 +88,7 @@ from rubdiag.signal.records import (
     check_speed,
     transposed_hint,
 )
-from rubdiag.signal.speed import tacho_speed_range
+from rubdiag.signal.speed import SpeedAmbiguous, tacho_speed_range
 from rubdiag.signal.speedvote import voted_speed
 
 # Rows analysed together: bounds the memory of the batch path.
@@ -250,7 +251,10 @@ def features(
         (:func:`~rubdiag.signal.speedvote.voted_speed`: a noise-only channel does not
         spoil it) and every channel is analysed at that speed: the ``speed_confidence``
         column says how far the agreeing lines stand above the noise, and a speed that
-        does not stand out (below ``MIN_SPEED_CONFIDENCE``) raises a ValueError.
+        does not stand out (below ``MIN_SPEED_CONFIDENCE``), or a record whose every
+        channel is still (no line at all), raises a ValueError. A guess that may be 2× or
+        3× (a line at 1/2 or 1/3 of its frequency) warns :class:`SpeedAmbiguous`
+        (:mod:`rubdiag.signal.speed`, "Which line is 1×").
     tacho : str or array_like, optional
         Name of the once-per-revolution channel, or the pulse train itself (same ``fs``).
         The tacho channel (and a channel named ``tacho``) is never analysed. Its mean speed
@@ -305,12 +309,16 @@ def features(
     layout = ("signal", "channel") if array and np.ndim(signal) == 2 else None
     vote = None
     if speed_rpm is None:
+        record = os.fspath(signal) if isinstance(signal, str | os.PathLike) else None
         try:
             moving = ~check_signals(X, "signal", labels)[1]
-            vote = voted_speed(X, fs, opts, labels) if moving.any() else None
+            vote = voted_speed(X, fs, opts, labels, record)   # a constant record: refused
         except RecordTooShort as exc:
             raise _with_hint(exc, X, layout) from None
-        speed_rpm = None if vote is None else vote.rpm
+        speed_rpm = vote.rpm
+        if vote.ambiguous:
+            warnings.warn(vote.ambiguity("" if record is None else f" of {record}"),
+                          SpeedAmbiguous, stacklevel=2)
     values = _feature_matrix(X, fs, speed_rpm, opts, labels, layout)
     if vote is not None:        # the record's guessed speed, on the channels that move
         values[moving, 1] = vote.confidence
