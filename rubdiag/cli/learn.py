@@ -30,8 +30,9 @@ def register(sub) -> None:
         "point, the shaft channels that carry more than their noise floor — needs no "
         "tuning and does not lean on the casing channel, which in this model moves only "
         "through contact. Warnings (a class with too few runs, a class never recognised, "
-        "no margin over the best baseline or chance) are printed and written into the "
-        "report, metrics.json and model.json. See README, 'Classifiers'.")
+        "no margin over the best baseline or chance, a shuffled-label control above "
+        "chance) are printed on stderr and written into the report, metrics.json and "
+        "model.json: the same list. See README, 'Classifiers'.")
     p.add_argument("dataset", type=Path, metavar="DATASET_DIR",
                    help="dataset folder (rubdiag dataset)")
     p.add_argument("--out", type=Path, metavar="MODEL_DIR", required=True,
@@ -89,7 +90,9 @@ def register(sub) -> None:
         "model is loaded once): a folder, a quoted glob pattern, or a list. Each file's "
         "speed is the first of: its row in --speeds, its tacho (--tacho, or a column named "
         "tacho when --speed-rpm is not given), --speed-rpm, the estimate per window; the "
-        "table's speed_source column says which.")
+        "table's speed_source column says which, and speed_ambiguous flags an estimate "
+        "whose 1x may be a line at 1/2 or 1/3 of the strongest (a warning line says so). "
+        "The model's training warnings are told once per call.")
     p.add_argument("model", type=Path, metavar="MODEL_DIR", help="model folder (rubdiag train)")
     p.add_argument("inputs", nargs="+", metavar="INPUT",
                    help="signal file (.csv/.txt with a header row, .npz, .parquet; a time "
@@ -184,7 +187,7 @@ def _train(args) -> int:
         for line in confuser_lines(table):
             print(f"  {line}")
     for w in meta.get("warnings", []):
-        print(f"warning: {w}")
+        _warn("train", w)
     print(f"wrote {', '.join(sorted(p.name for p in out.iterdir()))}; the evaluation is in "
           f"{out / 'report.md'}")
     return 0
@@ -200,7 +203,7 @@ def _evaluate(args) -> int:
         model = load_model(args.model)
         bar.update()
         result = evaluate_model(model, args.dataset, progress=bar)
-    _model_warnings("evaluate", args.model, model.meta)
+    _model_warnings("evaluate", args.model, model.meta.get("warnings", []))
     for w in result.warnings:
         _warn("evaluate", w)
     if args.json:
@@ -236,7 +239,8 @@ def _predict(args) -> int:
                     units=_pairs(args.unit, "--unit", "CHANNEL=UNIT"), fs=args.fs,
                     speed_rpm=args.speed_rpm if speeds is None else speeds,
                     tacho=args.tacho, progress=not args.quiet)
-    _model_warnings("predict", args.model, model.meta)  # with a prediction: a bad input is one line
+    # with a prediction (a bad input is one line), once per call, not the small-class counts
+    _model_warnings("predict", args.model, table.attrs["model_warnings"])
     for row in table.itertuples():
         if row.warnings and row.window != "all":
             _warn("predict", f"{row.input}, window {row.window}: {row.warnings}")
@@ -317,9 +321,9 @@ def _fault_verdicts(table) -> list[str]:
     return lines
 
 
-def _model_warnings(command: str, folder, meta: dict) -> None:
-    """What the model's training warned of, once per warning, on stderr."""
-    for w in meta.get("warnings", []):
+def _model_warnings(command: str, folder, warnings: list) -> None:
+    """What the model's training warned of (``warnings``), once each, on stderr."""
+    for w in warnings:
         _warn(command, f"model {folder} (from its training, see its report.md): {w}")
 
 

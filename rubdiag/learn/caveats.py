@@ -1,5 +1,4 @@
-"""What an evaluation says against its model: the warnings ``rubdiag train`` prints, writes
-into ``report.md``, ``metrics.json`` and ``model.json``, and ``predict`` repeats.
+"""What an evaluation says against its model: one list of warnings, made once at training.
 
 A model is saved whatever it scored — a poor model is still worth a report — but these
 signs that it learnt little must not go unsaid:
@@ -9,14 +8,23 @@ signs that it learnt little must not go unsaid:
 * held-out macro-F1 no higher than the best baseline's (the same estimator on the 1×
   levels, the speed or the design factors alone): the features add nothing;
 * held-out macro-F1 inside chance: at most the upper end of the shuffled-label control's
-  permutation-null interval.
+  permutation-null interval;
+* the shuffled-label control itself above chance: more shuffles outside their null
+  interval than chance allows, which a leak through the split causes.
+
+:func:`training_warnings` makes the list; ``rubdiag train`` prints it (stderr),
+``report.md`` renders it under "Warnings", ``metrics.json`` and ``model.json`` store it
+(``warnings``) — the same sentences everywhere. A prediction repeats, once per call, only
+those that concern it (:func:`prediction_warnings`): a class's run count says how far its
+held-out scores can be trusted, which the training told once.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["MIN_RUNS_PER_CLASS", "training_warnings"]
+__all__ = ["MIN_RUNS_PER_CLASS", "prediction_warnings", "small_class_warnings",
+           "training_warnings"]
 
 #: Fewest runs of a class for its held-out scores to mean much: two per fold of the
 #: default 5-fold split. With fewer, a recall moves by 0.1 or more per run, and folds
@@ -24,14 +32,18 @@ __all__ = ["MIN_RUNS_PER_CLASS", "training_warnings"]
 MIN_RUNS_PER_CLASS = 10
 
 
+def small_class_warnings(class_counts: dict) -> list[str]:
+    """The warnings of the classes with fewer than :data:`MIN_RUNS_PER_CLASS` runs
+    (``class_counts``: class -> runs), one sentence each."""
+    return [f"class {c} has {n} runs, fewer than the {MIN_RUNS_PER_CLASS} "
+            "(MIN_RUNS_PER_CLASS) its held-out scores need to mean much"
+            for c, n in class_counts.items() if n < MIN_RUNS_PER_CLASS]
+
+
 def training_warnings(ev) -> list[str]:
     """The warnings of an :class:`~rubdiag.learn.evaluate.Evaluation` (module docstring),
     one sentence each; empty when none applies."""
-    out = []
-    for c, n in ev.class_counts.items():
-        if n < MIN_RUNS_PER_CLASS:
-            out.append(f"class {c} has {n} runs, fewer than the {MIN_RUNS_PER_CLASS} "
-                       "(MIN_RUNS_PER_CLASS) its held-out scores need to mean much")
+    out = small_class_warnings(ev.class_counts)
     for c, row in ev.per_class.iterrows():
         if row["support"] > 0 and row["recall"] == 0:
             out.append(f"class {c}: held-out recall 0 (none of its {int(row['support'])} "
@@ -46,7 +58,21 @@ def training_warnings(ev) -> list[str]:
                 out.append(f"held-out macro-F1 {f1:.3f} is no higher than the best "
                            f"baseline's ({best}: {values[best]:.3f}): on this data the "
                            "model does no better than that baseline alone")
-    if ev.shuffled is not None and f1 <= ev.shuffled["null_hi"]:
+    shuffled = ev.shuffled
+    if shuffled is not None and f1 <= shuffled["null_hi"]:
         out.append(f"held-out macro-F1 {f1:.3f} is within chance (the shuffled-label "
-                   f"control's null interval reaches {ev.shuffled['null_hi']:.3f})")
+                   f"control's null interval reaches {shuffled['null_hi']:.3f})")
+    if shuffled is not None and not shuffled.get("inside", True):
+        out.append(f"the shuffled-label control scored above chance: "
+                   f"{shuffled['n_outside']} of {shuffled['n_shuffles']} shuffles outside "
+                   f"their null interval (chance allows {shuffled['allowed_outside']}); look "
+                   "for a leak through the split (runs of one design point on both sides)")
     return out
+
+
+def prediction_warnings(meta: dict) -> list[str]:
+    """The training warnings of a model description (``model.json``) that concern its
+    predictions: every one but the small-class counts (:func:`small_class_warnings` of
+    its ``class_counts``), in their order."""
+    told = set(small_class_warnings(meta.get("class_counts", {})))
+    return [w for w in meta.get("warnings", []) if w not in told]

@@ -8,7 +8,8 @@
 * grouped permutation importances on the held-out rows (each derived feature permuted in
   every channel at once, and each channel as a whole);
 * the baselines — the same estimator on the 1× levels only, on the speed only, on the
-  design factors only — and the score with and without casing channels;
+  design factors only (those every run shows: :func:`baseline_factors`) — and the score
+  with and without casing channels;
 * the pipeline trained on labels shuffled between design points (``n_shuffles`` shuffles),
   each scored against the permutation-null interval of its own prediction: no more of them
   outside than chance allows (if more, something leaks through the split);
@@ -57,8 +58,8 @@ from rubdiag.learn.metrics import (
 from rubdiag.learn.pipelines import baseline_pipeline, make_pipeline
 from rubdiag.learn.splits import Fold, folds
 
-__all__ = ["CrossPrediction", "Evaluation", "condition_factors", "cross_predict", "evaluate",
-           "resolve_channels", "target_values"]
+__all__ = ["CrossPrediction", "Evaluation", "baseline_factors", "condition_factors",
+           "cross_predict", "evaluate", "resolve_channels", "target_values"]
 
 
 def target_values(data: pd.DataFrame, target: str) -> np.ndarray:
@@ -345,18 +346,27 @@ _PERMUTED_CELLS = 1_000_000
 
 def _baselines(data, y, splits, groups, classes, channels, estimator, n_bootstrap, seed,
                on_fold=None):
-    """The same estimator on what should not be enough: 1× levels, speed, design factors."""
+    """The same estimator on what should not be enough: 1× levels, speed, design factors
+    (``left_out``: the factors left out of that baseline, :func:`baseline_factors`). A
+    baseline without a column is not fitted: NaN scores."""
     rows = []
+    factors, left_out = baseline_factors(data)
     candidates = [
-        ("1x level only", [f"{c}{SEPARATOR}amp_1x" for c in channels]),
-        ("speed only", ["speed_rpm"]),
-        ("design factors only", condition_factors(data)),
+        ("1x level only", [f"{c}{SEPARATOR}amp_1x" for c in channels], []),
+        ("speed only", ["speed_rpm"], []),
+        ("design factors only", factors, left_out),
     ]
-    for name, columns in candidates:
-        cp = cross_predict(baseline_pipeline(columns, estimator, seed), data, y, splits,
-                           on_fold=on_fold)
-        s = _scores(y, cp, groups, classes, n_bootstrap, seed)
+    for name, columns, unused in candidates:
+        if columns:
+            cp = cross_predict(baseline_pipeline(columns, estimator, seed), data, y, splits,
+                               on_fold=on_fold)
+            s = _scores(y, cp, groups, classes, n_bootstrap, seed)
+        else:
+            for _ in _progress.counted(splits, on_fold):     # the bar counts its folds
+                pass
+            s = dict.fromkeys(("macro_f1", "balanced_accuracy"), Score(np.nan, np.nan, np.nan))
         rows.append({"baseline": name, "columns": ", ".join(columns),
+                     "left_out": ", ".join(unused),
                      "macro_f1": s["macro_f1"], "balanced_accuracy": s["balanced_accuracy"]})
     return pd.DataFrame(rows).set_index("baseline")
 
@@ -366,6 +376,25 @@ def condition_factors(data: pd.DataFrame) -> list[str]:
     severity …). The ``fault`` factor is not one: it names the faults the design meant
     the run to have — the label as designed — and it is text."""
     return [c for c in factor_columns(data) if pd.api.types.is_numeric_dtype(data[c])]
+
+
+def baseline_factors(data: pd.DataFrame) -> tuple[list[str], list[str]]:
+    """The design factors the design-factors baseline reads, and those it leaves out.
+
+    A factor blank (NaN) in some runs is blank by design for some level — a crack's depth
+    where no crack acted, the gap where nothing rubs, the speed ratio of a whirling run
+    (:func:`rubdiag.dataset.faults.shown_point`): where it is blank tells the level, and a
+    baseline reading it is an oracle. Such factors are left out; the audit
+    (:func:`audit_columns`) still lists any factor that separates the classes.
+
+    Returns
+    -------
+    (list of str, list of str)
+        The :func:`condition_factors` every run shows, and those blank in some run.
+    """
+    factors = condition_factors(data)
+    blank = [c for c in factors if data[c].isna().any()]
+    return [c for c in factors if c not in blank], blank
 
 
 def _casing(data, y, splits, groups, classes, channels, families, estimator, scores,

@@ -19,9 +19,12 @@ beside it), so many short files cost little more than their features.
 
 Refused (ValueError): a missing channel (every one named, with the ``rubdiag train
 --channels`` that makes a model without them), an unknown unit, a record shorter than one
-window, a sampling rate too low for the highest order the model's features reach. Told
-(the ``warnings`` column): a speed, or features, outside what the model saw in training —
-the prediction is then an extrapolation.
+window, a sampling rate too low for the highest order the model's features reach, a
+record with no line to estimate its speed from (a constant signal). Told (the ``warnings``
+column): a speed, or features, outside what the model saw in training — the prediction is
+then an extrapolation — and an estimated speed that is ambiguous (``speed_ambiguous``: a
+line at 1/2 or 1/3 of the strongest may be 1×; :mod:`rubdiag.signal.speed`, "Which line
+is 1×").
 
 Nothing here imports the simulator.
 """
@@ -40,6 +43,7 @@ from threadpoolctl import threadpool_limits  # installed with scikit-learn
 from rubdiag import _check
 from rubdiag._progress import steps
 from rubdiag.dataset.schema import PAIR_FEATURES, SEPARATOR, pair_channel
+from rubdiag.learn.caveats import prediction_warnings
 from rubdiag.learn.columns import channels_of, read_dataset
 from rubdiag.learn.confusers import calls_rub
 from rubdiag.learn.inputs import Speeds, expand_inputs, speeds_per_file
@@ -47,8 +51,9 @@ from rubdiag.learn.persist import Model, load_model
 from rubdiag.learn.train import required_fs
 from rubdiag.signal.io import read_signals
 from rubdiag.signal.options import Options
+from rubdiag.signal.records import check_signals
 from rubdiag.signal.speed import tacho_speed
-from rubdiag.signal.speedvote import SpeedNotFound, voted_speed
+from rubdiag.signal.speedvote import SpeedNotFound, SpeedVote, voted_speed
 from rubdiag.signal.table import prefixed_feature_row
 
 __all__ = ["RANGE_TOLERANCE", "RUB_LIKELY", "UNITS", "fault_columns", "missing_channels",
@@ -122,10 +127,13 @@ def predict(model, inputs, *, columns=None, units=None, fs=None, speed_rpm=None,
     -------
     pandas.DataFrame
         One row per window: ``input``, ``window`` (0, 1 …), ``start_s``, ``end_s`` (from
-        the record's start), ``speed_rpm``, ``speed_source``, ``predicted``, ``p_<class>``
-        for every class, ``warnings`` (empty, or what lies outside the training ranges);
-        after a file's windows a row with ``window`` = ``"all"``: the class most windows
-        have (ties: the higher mean probability) and the mean probabilities. A file's
+        the record's start), ``speed_rpm``, ``speed_source``, ``speed_ambiguous`` (True
+        where the estimated speed may be 2× or 3×: the strongest line, taken as 1×, has a
+        line at 1/2 or 1/3 of its frequency), ``predicted``, ``p_<class>`` for every class,
+        ``warnings`` (empty, or what lies outside the training ranges, and why a speed is
+        ambiguous); after a file's windows a row with ``window`` = ``"all"``: the class
+        most windows have (ties: the higher mean probability), the mean probabilities, and
+        ``speed_ambiguous`` if any window's is. A file's
         speed is the first of: its own (a per-file ``speed_rpm``: ``speed_source`` =
         ``"speeds"``), its tacho (``tacho``, else a column named ``tacho`` unless one
         number ``speed_rpm`` is given: ``"tacho"``, per window), the one number
@@ -133,7 +141,8 @@ def predict(model, inputs, *, columns=None, units=None, fs=None, speed_rpm=None,
         dataset folder gives one row per run (``input`` = its ``run_id``, ``window`` 0:
         the stored analysis window, times from the run's start, ``speed_source``
         ``"dataset"``). ``attrs["model_warnings"]``: what the model's training warned of
-        (:mod:`rubdiag.learn.caveats`; empty if nothing). A ``fault``-target model's
+        that concerns its predictions (:func:`rubdiag.learn.caveats.prediction_warnings`:
+        not the small-class counts; empty if nothing). A ``fault``-target model's
         table has, before ``warnings``, ``p_predicted``, ``p_rubbing`` (the summed
         probability of the classes with rub), ``confuser`` and ``p_confuser`` (the most
         probable class without rub; :func:`fault_columns`).
@@ -165,7 +174,7 @@ def predict(model, inputs, *, columns=None, units=None, fs=None, speed_rpm=None,
         else:
             rows.append((k, windows.of(path, speed)))
     out = _in_order(model, rows, stored)
-    out.attrs["model_warnings"] = list(model.meta.get("warnings", []))
+    out.attrs["model_warnings"] = prediction_warnings(model.meta)
     return out
 
 
@@ -203,7 +212,7 @@ def predict_rows(model: Model, data: pd.DataFrame) -> pd.DataFrame:
     ids = data["run_id"] if "run_id" in data.columns else pd.Series(range(len(data)))
     return _table(model, data, [str(i) for i in ids], np.zeros(len(data), dtype=int),
                   np.full(len(data), start), np.full(len(data), start + window_s),
-                  np.full(len(data), "dataset", dtype=object))
+                  np.full(len(data), "dataset", dtype=object), [""] * len(data))
 
 
 class _Windows:
@@ -251,10 +260,11 @@ class _Windows:
         if n_windows == 0:
             raise ValueError(f"{name}: the record lasts {X.shape[1] / fs:.4g} s, shorter "
                              f"than one window of the model ({self.window_s:g} s)")
-        rows = []
+        rows, ambiguity = [], []
         for i in range(n_windows):
             part = slice(i * n, (i + 1) * n)
             where = f"{name}, window {i}"
+            said = ""
             if source == "speeds":
                 speed = given
             elif source == "tacho":
@@ -262,7 +272,8 @@ class _Windows:
             elif source == "speed_rpm":
                 speed = self.speed_rpm
             else:
-                speed = _dominant_speed(X[:, part], fs, model.channels, self.opts, where)
+                vote = _dominant_speed(X[:, part], fs, model.channels, self.opts, where)
+                speed, said = vote.rpm, vote.ambiguity()
             _check_fs(model, fs, speed, where)
             signals = dict(zip(model.channels, X[:, part], strict=True))
             row = prefixed_feature_row(signals, fs, speed, separator=SEPARATOR,
@@ -271,9 +282,10 @@ class _Windows:
                 row.update(pair_columns(signals, fs, speed))
             self._check_measured(row, fs, speed, where)
             rows.append(row)
+            ambiguity.append(said)
         starts = np.arange(n_windows) * n / fs
         return {"rows": rows, "input": str(path), "starts": starts, "ends": starts + n / fs,
-                "source": source}
+                "source": source, "ambiguity": ambiguity}
 
     def _pulses(self, frame: pd.DataFrame, name: str):
         """The tacho pulses of a file without its own speed: ``tacho``'s column, else a
@@ -315,7 +327,8 @@ def _in_order(model: Model, files: list, stored: list) -> pd.DataFrame:
                          np.concatenate([np.arange(c) for c in count]),
                          np.concatenate([f["starts"] for _, f in files]),
                          np.concatenate([f["ends"] for _, f in files]),
-                         [f["source"] for _, f in files for _ in f["rows"]])
+                         [f["source"] for _, f in files for _ in f["rows"]],
+                         [a for _, f in files for a in f["ambiguity"]])
         majority = _majority(windows, model, np.r_[0, np.cumsum(count)])
         order = np.array([k for k, _ in files])
         pieces += [windows, majority]
@@ -331,8 +344,9 @@ def _in_order(model: Model, files: list, stored: list) -> pd.DataFrame:
 
 
 def _table(model: Model, data: pd.DataFrame, inputs, windows, starts, ends,
-           sources) -> pd.DataFrame:
-    """Window rows: probabilities of the pipeline, warnings from the training ranges."""
+           sources, ambiguity) -> pd.DataFrame:
+    """Window rows: probabilities of the pipeline, warnings from the training ranges and
+    ``ambiguity`` (per row: why its estimated speed is ambiguous, "" if it is not)."""
     pipeline = model.pipeline
     proba = pipeline.predict_proba(data)
     classes = [str(c) for c in pipeline.classes_]
@@ -340,12 +354,14 @@ def _table(model: Model, data: pd.DataFrame, inputs, windows, starts, ends,
     table = pd.DataFrame({"input": inputs, "window": pd.Series(windows, dtype=object),
                           "start_s": starts, "end_s": ends, "speed_rpm": speed,
                           "speed_source": sources,
+                          "speed_ambiguous": np.array([bool(a) for a in ambiguity]),
                           "predicted": np.asarray(classes, dtype=object)[proba.argmax(axis=1)]})
     for j, c in enumerate(classes):
         table[f"p_{c}"] = proba[:, j]
     Z = pipeline.named_steps["features"].transform(data)
     table = fault_columns(table, model)
-    table["warnings"] = _range_warnings(model, speed, Z)
+    table["warnings"] = ["; ".join(w for w in pair if w) for pair
+                         in zip(ambiguity, _range_warnings(model, speed, Z), strict=True)]
     return table
 
 
@@ -406,6 +422,7 @@ def _majority(table: pd.DataFrame, model: Model, bounds) -> pd.DataFrame:
     column = {c: table[c].to_numpy() for c in ("input", "start_s", "end_s", "speed_rpm",
                                                "speed_source", "predicted")}
     warned = (table["warnings"] != "").to_numpy()
+    ambiguous = table["speed_ambiguous"].to_numpy()
     rows = []
     for a, b in itertools.pairwise(bounds):
         mean = p[a:b].mean(axis=0)
@@ -417,6 +434,7 @@ def _majority(table: pd.DataFrame, model: Model, bounds) -> pd.DataFrame:
                      "end_s": column["end_s"][a:b].max(),
                      "speed_rpm": float(np.median(column["speed_rpm"][a:b])),
                      "speed_source": column["speed_source"][a],
+                     "speed_ambiguous": bool(ambiguous[a:b].any()),
                      "predicted": classes[tied[np.argmax(mean[tied])]],
                      **{f"p_{c}": mean[j] for j, c in enumerate(classes)},
                      "warnings": (f"{n_warned} of {b - a} windows with warnings" if n_warned
@@ -486,16 +504,18 @@ def _options(model: Model) -> dict:
             for k, v in model.meta["feature_options"].items()}
 
 
-def _dominant_speed(X: np.ndarray, fs: float, channels, options: Options, where: str) -> float:
+def _dominant_speed(X: np.ndarray, fs: float, channels, options: Options,
+                    where: str) -> SpeedVote:
     """The running speed of a window from the dominant lines of its channels: their vote
     (:func:`rubdiag.signal.speedvote.voted_speed`, the estimator of ``rubdiag features``
-    too)."""
+    too), with what makes it ambiguous."""
     try:
-        return voted_speed(X, fs, options, list(channels)).rpm
+        return voted_speed(X, fs, options, list(channels))
     except SpeedNotFound:
-        raise ValueError(f"{where}: the speed cannot be estimated (no line of "
-                         f"{', '.join(channels)} stands out of the noise as 1x); give "
-                         "speed_rpm (--speed-rpm) or a tacho (--tacho)") from None
+        why = ("every channel is constant: no line at all" if check_signals(X)[1].all()
+               else f"no line of {', '.join(channels)} stands out of the noise as 1x")
+        raise ValueError(f"{where}: the speed cannot be estimated ({why}); give speed_rpm "
+                         "(--speed-rpm) or a tacho (--tacho)") from None
 
 
 def _check_fs(model: Model, fs: float, speed: float, where: str) -> None:

@@ -86,6 +86,11 @@ def _left_out(ev) -> dict:
             "n_rubbing": choice.n_rubbing, "note": choice.describe()}
 
 
+def _score(value: Score) -> str:
+    """A score as the report shows it; "–" for one that was not measured (NaN)."""
+    return str(value) if math.isfinite(value.value) else "–"
+
+
 def _table(frame: pd.DataFrame, floatfmt: str = ".3f") -> str:
     head = "| " + " | ".join([frame.index.name or "", *map(str, frame.columns)]) + " |"
     rule = "|" + "---|" * (len(frame.columns) + 1)
@@ -118,11 +123,17 @@ def evaluation_markdown(ev, top: int = 15) -> str:
     if ev.baselines is not None:
         out += ["## Baselines (same estimator, same folds)", "", "| baseline | macro_f1 | "
                 "balanced_accuracy |", "|---|---|---|"]
-        out += [f"| {name} | {row['macro_f1']} | {row['balanced_accuracy']} |"
+        out += [f"| {name} | {_score(row['macro_f1'])} | {_score(row['balanced_accuracy'])} |"
                 for name, row in ev.baselines.iterrows()]
-        best = max(ev.baselines["macro_f1"], key=lambda s: s.value)
-        out += ["", f"Model minus best baseline: "
-                f"{ev.scores['macro_f1'].value - best.value:+.3f} macro-F1.", ""]
+        scored = [s.value for s in ev.baselines["macro_f1"] if math.isfinite(s.value)]
+        if scored:
+            out += ["", f"Model minus best baseline: "
+                    f"{ev.scores['macro_f1'].value - max(scored):+.3f} macro-F1."]
+        left_out = {name: row["left_out"] for name, row in ev.baselines.iterrows()
+                    if row.get("left_out")}
+        out += [f"Left out of \"{name}\": {unused} — blank by design for some levels "
+                "(where a factor is blank tells the level)." for name, unused in left_out.items()]
+        out += [""]
     if ev.casing is not None:
         out += [f"Casing channels: macro-F1 with {ev.casing['with']}, without "
                 f"{ev.casing['without']}.", ""]
@@ -131,7 +142,7 @@ def evaluation_markdown(ev, top: int = 15) -> str:
     if ev.shuffled is not None:
         s = ev.shuffled
         verdict = "chance, as it must be" if s["inside"] else \
-            "more than chance allows: look for a leak through the split"
+            "more than chance allows (see Warnings)"
         out += ["## Shuffled labels", "", f"{s['n_shuffles']} shuffles between design points: "
                 f"median macro-F1 {s['macro_f1']:.3f}, median permutation-null interval "
                 f"[{s['null_lo']:.3f}, {s['null_hi']:.3f}]; {s['n_outside']} outside their "

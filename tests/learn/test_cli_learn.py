@@ -99,7 +99,8 @@ def test_predict_table_and_json_agree(trained, csv, small_dataset, capsys):
     assert code == 0 and err == ""
     lines = text.splitlines()
     assert lines[0].split() == ["input", "window", "start_s", "end_s", "speed_rpm",
-                                "speed_source", "predicted", "p_False", "p_True"]
+                                "speed_source", "speed_ambiguous", "predicted", "p_False",
+                                "p_True"]
     assert [line.split()[1] for line in lines[1:]] == ["0", "all"]
     code, text, _ = run(["predict", out, csv, "--json"], capsys)
     records = json.loads(text)
@@ -108,8 +109,9 @@ def test_predict_table_and_json_agree(trained, csv, small_dataset, capsys):
     assert records[0]["warnings"] == ""
     shown = lines[1].split()
     assert shown[5] == records[0]["speed_source"] == "estimated"     # no tacho column
-    assert shown[6] == records[0]["predicted"]
-    assert float(shown[8]) == pytest.approx(records[0]["p_True"], abs=5e-4)
+    assert shown[6] == str(records[0]["speed_ambiguous"])
+    assert shown[7] == records[0]["predicted"]
+    assert float(shown[9]) == pytest.approx(records[0]["p_True"], abs=5e-4)
     # a dataset folder: one row per run
     code, text, _ = run(["predict", out, small_dataset, "--json"], capsys)
     assert len(json.loads(text)) == 24

@@ -219,6 +219,13 @@ class TestChance:
         assert not ev.shuffled["inside"]
         assert ev.shuffled["n_outside"] == ev.shuffled["n_shuffles"]       # every one
         assert ev.shuffled["macro_f1"] > ev.shuffled["null_hi"]
+        # said as a warning, the one the report gives (not a verdict of its own)
+        (leak,) = [w for w in ev.warnings if "look for a leak" in w]
+        assert leak.startswith(f"the shuffled-label control scored above chance: "
+                               f"{ev.shuffled['n_shuffles']} of {ev.shuffled['n_shuffles']} "
+                               "shuffles outside their null interval (chance allows 1)")
+        report = ev.to_markdown()
+        assert report.count("look for a leak") == 1 and f"- {leak}" in report
 
 
 def test_a_class_absent_from_training_is_not_scored():

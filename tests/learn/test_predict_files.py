@@ -146,17 +146,23 @@ def test_each_file_read_at_its_own_speed_and_swapping_them_shows(model_dir, plan
 
 def test_a_tacho_wins_over_the_estimate_when_2x_is_stronger_than_1x(model, tmp_path):
     """With 2× twice as strong as 1×, the dominant line is 2×: the estimate reads twice
-    the speed; the tacho column reads it right, and so does a file's own speed."""
+    the speed and says it is ambiguous (1× may be the line at half of it); the tacho column
+    reads it right, and so does a file's own speed."""
     signals = record(1500.0, two=2.0, seed=7)
     n = len(signals["shaft"])
     plain = write(tmp_path / "plain.csv", signals)
     keyed = write(tmp_path / "keyed.csv", signals, pulses=tacho(1500.0, n))
-    guessed = predict(model, plain).iloc[0]
-    assert guessed["speed_source"] == "estimated"
-    assert guessed["speed_rpm"] == pytest.approx(3000.0, rel=1e-3)
-    measured = predict(model, keyed).iloc[0]
-    assert measured["speed_source"] == "tacho"
-    assert measured["speed_rpm"] == pytest.approx(1500.0, rel=1e-3)
+    guessed = predict(model, plain)
+    assert list(guessed["speed_source"]) == ["estimated"] * 2
+    assert guessed["speed_rpm"].iloc[0] == pytest.approx(3000.0, rel=1e-3)
+    assert list(guessed["speed_ambiguous"]) == [True, True]          # the window, "all"
+    assert guessed["warnings"].iloc[0].startswith(
+        "the speed is ambiguous: 3000 rpm is the strongest line, taken as 1x, but a line at "
+        "1/2 of its frequency (1500 rpm)")
+    measured = predict(model, keyed)
+    assert measured["speed_source"].iloc[0] == "tacho"
+    assert measured["speed_rpm"].iloc[0] == pytest.approx(1500.0, rel=1e-3)
+    assert not measured["speed_ambiguous"].any()
     # a file without its own speed (empty in the speeds) falls to its tacho, then to
     # the estimate; a file with one keeps it, tacho or not
     speeds = tmp_path / "speeds.csv"
