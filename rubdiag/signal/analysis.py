@@ -2,7 +2,8 @@
 
 :func:`analyse` computes the spectra, the local noise floor, the significant lines, the order
 lines, the sidebands and the broadband levels of every row at once; the feature table, the
-combination search and the scikit-learn transformer all read from its result.
+combination search and the scikit-learn transformer all read from its result. Everything after
+the speed is read from the spectrum without the lines' leakage (:mod:`rubdiag.signal.linefree`).
 """
 
 from __future__ import annotations
@@ -12,6 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rubdiag.signal.linefree import REACH_ORDERS, line_free
 from rubdiag.signal.lines import block_bins, line_mask, noise_floor
 from rubdiag.signal.options import Options
 from rubdiag.signal.orders import HALF_ORDERS, HARMONICS, THIRD_ORDERS, OrderLines, order_lines
@@ -78,6 +80,11 @@ def analyse(
     else:
         confidence = np.full(X.shape[0], np.nan)
     check_resolution(f1, fs, spec.nperseg, opts.min_revolutions)
+    # the lines found on the spectrum as computed are fitted and their leakage taken out;
+    # the floor and the lines are then found again on what is left (rubdiag.signal.linefree)
+    mask = line_mask(spec.amplitude, floor, opts.threshold, spec.kernel)
+    spec = line_free(X, spec, mask, REACH_ORDERS * f1)
+    floor = noise_floor(spec.amplitude, block_bins(FLOOR_WIDTH_ORDERS * f1, spec.df))
     mask = line_mask(spec.amplitude, floor, opts.threshold, spec.kernel)
     half = order_lines(spec, mask, HALF_ORDERS, f1, opts.band)
     third = order_lines(spec, mask, THIRD_ORDERS, f1, opts.band)
@@ -93,7 +100,7 @@ def analyse(
         half=half,
         third=third,
         sidebands=sidebands(spec, mask, centre, f1),
-        broadband=broadband_rms(spec, centre, f1, half.amp[:, harmonic], floor),
+        broadband=broadband_rms(spec, centre, f1, half.present[:, harmonic]),
         rms=X.std(axis=1),
         options=opts,
     )

@@ -5,6 +5,14 @@ The broadband RMS around each harmonic (``bb_<n>x_rms``: n× ± 0.25× without t
 so a channel's quietest band is its *noise floor*, and a band over the floor says how far it
 stands out of the noise: ≈ 1 for noise alone, however loud the machine or its sensor.
 
+How the lines are left out: every line up to 9.25× is fitted (exact frequency, amplitude and
+phase) and subtracted from the record, and only its main lobe put back
+(:mod:`rubdiag.signal.linefree`); a band then leaves out its n× line's main lobe. A line
+between two FFT bins would otherwise leak over the whole band — a clean 1× and 2× of
+0.35 × 1× read ``bb_2x_over_floor`` 16.5 at 1451.84 rpm (1-s window) and 1.0 at 1500 rpm;
+both now read 1.0, and a speed swept across two bins moves the bands and the floor by less
+than :data:`~rubdiag.signal.linefree.OFF_BIN_BAND_TOLERANCE`.
+
 A record without noise has no such floor — a simulation's raw output, a record of high
 resolution: its quietest band holds round-off, window leakage and float32 storage, 1e-8 to
 1e-6 of the channel's level, or exactly 0. Every band over that reads 1e4 to 1e8, which a

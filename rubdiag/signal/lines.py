@@ -6,6 +6,11 @@ strongest bin, so that round-off and window leakage in noise-free signals are ne
 The *local noise floor* is the median amplitude over blocks of ``floor_width_hz`` (by default
 0.5× of the running speed), interpolated linearly between block centres: the median ignores
 the few bins that lines occupy in a block.
+
+A line between two bins leaks beyond its main lobe and lifts the median of the blocks around
+it, hiding weak lines near it (a sideband, ½×) at some speeds and not at others. So lines are
+found twice: on the spectrum, then — their leakage taken out
+(:mod:`rubdiag.signal.linefree`) — floor and lines again; the second finding is the one used.
 """
 
 from __future__ import annotations
@@ -13,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from rubdiag import _check
+from rubdiag.signal.linefree import line_free
 from rubdiag.signal.options import Options
 from rubdiag.signal.records import check_fs, check_signals
 from rubdiag.signal.spectrum import _spectra
@@ -68,8 +74,13 @@ def spectral_lines(
     spec = _spectra(X, fs, opts.window, opts.nperseg, None, None, opts.detrend)
     if still[0]:
         return np.empty(0), np.empty(0), np.empty(0)
-    floor = noise_floor(spec.amplitude, block_bins(np.array([width]), spec.df))
-    mask = line_mask(spec.amplitude, floor, opts.threshold, spec.kernel)
+    blocks = block_bins(np.array([width]), spec.df)
+    mask = line_mask(spec.amplitude, noise_floor(spec.amplitude, blocks), opts.threshold,
+                     spec.kernel)
+    # found again without the lines' leakage, as the features find them
+    spec = line_free(X, spec, mask, np.array([np.inf]))
+    mask = line_mask(spec.amplitude, noise_floor(spec.amplitude, blocks), opts.threshold,
+                     spec.kernel)
     p = np.flatnonzero(mask[0])[np.newaxis, :]
     f, amp, phase = spec.kernel.refine(spec.amplitude, spec.first, p, spec.df)
     return f[0], amp[0], phase[0]

@@ -6,12 +6,14 @@ including, 0.25× is tried; a spacing counts when both n× − Δ and n× + Δ h
 line (within ±1 bin, which allows for off-bin lines). The spacing whose weaker line is the
 strongest wins; Δ is then half the distance between the two exact line frequencies.
 
-*Broadband level.* The RMS of the spectrum over n× ± 0.25×, without the bins of the n× line
-itself (its main lobe plus one bin on each side), from the amplitude spectrum by Parseval's
-theorem with the window's equivalent noise bandwidth; the bins near n× where the line's window
-leakage stands above the local noise floor are left out too, and the power of the bins kept
-is scaled to the whole band. It measures the study's "wide
-continuous peak near 4×" (noise, a smeared hump, and any sidebands).
+*Broadband level.* The RMS of the spectrum over n× ± 0.25× without the n× line, from the
+amplitude spectrum by Parseval's theorem with the window's equivalent noise bandwidth. Both
+read the spectrum without the lines' leakage (:mod:`rubdiag.signal.linefree`: every line up
+to 9.25× fitted and subtracted, its main lobe kept), so a line between two bins puts nothing
+beside its main lobe; the broadband leaves out the n× line's main lobe (the bins within
+``kernel.lobe`` of it: 3 or 4 with the Hann window) and scales the power of the bins kept to
+the whole band. It measures the study's "wide continuous peak near 4×" (noise, a smeared
+hump, and any sidebands).
 """
 
 from __future__ import annotations
@@ -24,8 +26,6 @@ from rubdiag.signal.spectrum import _Spectra
 
 #: Sidebands and the broadband band extend to ± this many orders around n×.
 HALF_WIDTH_ORDERS = 0.25
-#: Bins on each side of a line where its window leakage may be left out of the broadband.
-LEAKAGE_BINS = 16
 
 
 @dataclass(frozen=True)
@@ -88,17 +88,16 @@ def broadband_rms(
     spec: _Spectra,
     centre_hz: np.ndarray,
     f1_hz: np.ndarray,
-    line_amp: np.ndarray,
-    floor: np.ndarray,
+    present: np.ndarray,
 ) -> np.ndarray:
     """RMS (unit of the signal) over ``centre ± 0.25×`` without the centre line.
 
-    Left out are the bins of the line's main lobe plus one on each side, and the bins (up
-    to :data:`LEAKAGE_BINS` away) where the window leakage of the line (amplitude
-    ``line_amp``, 0 when absent) exceeds the local noise ``floor``. The power of the bins
-    kept is scaled to the whole band, so white noise of density ``S`` (unit²/Hz) reads
-    ``sqrt(S · 0.5×)`` whatever was left out. NaN when nothing is left (a present line
-    whose main lobe covers the whole band of a very short record).
+    ``spec`` is the spectrum without the lines' leakage
+    (:func:`~rubdiag.signal.linefree.line_free`), so only the centre line's main lobe
+    (the bins within ``kernel.lobe`` of it) is left out, where the line is ``present``.
+    The power of the bins kept is scaled to the whole band, so white noise of density
+    ``S`` (unit²/Hz) reads ``sqrt(S · 0.5×)`` wherever the line falls. NaN when nothing is
+    left (a present line whose main lobe covers the whole band of a very short record).
     """
     a = spec.amplitude
     n_rows, n_bins = a.shape
@@ -111,19 +110,13 @@ def broadband_rms(
     rows = np.arange(n_rows)[:, np.newaxis]
     total = cum[rows, hi + 1] - cum[rows, lo]
     n_band = hi - lo + 1
-    # bins the line occupies: its main lobe, and where its leakage stands above the floor
-    j = np.rint(c).astype(np.int64)[..., np.newaxis] + np.arange(-LEAKAGE_BINS, LEAKAGE_BINS + 1)
-    inside = (j >= lo[..., np.newaxis]) & (j <= hi[..., np.newaxis])
-    jc = np.clip(j, 0, n_bins - 1)
-    dist = np.abs(j - c[..., np.newaxis])
-    leak = np.nan_to_num(line_amp)[..., np.newaxis] * np.interp(
-        dist, spec.kernel.d, spec.kernel.mag, right=0.0
-    )
     # an absent line occupies no bins: on short records its main lobe would be most of
     # the band, and dropping it would leave nothing to measure
-    present = (np.nan_to_num(line_amp) > 0)[..., np.newaxis]
-    lobe = present & (dist <= spec.kernel.lobe + 1)
-    drop = inside & (lobe | (leak > floor[rows[..., np.newaxis], jc]))
+    lobe = spec.kernel.lobe
+    j = np.rint(c).astype(np.int64)[..., np.newaxis] + np.arange(-lobe, lobe + 1)
+    drop = ((j >= lo[..., np.newaxis]) & (j <= hi[..., np.newaxis]) & present[..., np.newaxis]
+            & (np.abs(j - c[..., np.newaxis]) < lobe))
+    jc = np.clip(j, 0, n_bins - 1)
     total -= np.where(drop, a[rows[..., np.newaxis], jc] ** 2, 0.0).sum(axis=-1)
     kept = n_band - drop.sum(axis=-1)
     power = np.maximum(total, 0.0) * n_band / np.maximum(kept, 1)

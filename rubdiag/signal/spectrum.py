@@ -105,6 +105,10 @@ class _Spectra:
     resolution: float  # fs / nperseg, Hz
     nperseg: int
     kernel: _Kernel
+    window: np.ndarray  # (nperseg,) the window array
+    noverlap: int
+    nfft: int
+    detrend: object
 
 
 def _segment_params(n: int, nperseg, noverlap, nfft) -> tuple[int, int, int]:
@@ -160,30 +164,15 @@ def _spectra(
     n_rows, n = X.shape
     nperseg, noverlap, nfft = _segment_params(n, nperseg, noverlap, nfft)
     w = _window_array(window, nperseg)
-    step = nperseg - noverlap
-    n_seg = 1 + (n - nperseg) // step
+    n_seg = 1 + (n - nperseg) // (nperseg - noverlap)
     n_bins = nfft // 2 + 1
-    scale = np.full(n_bins, 2.0 / w.sum())
-    scale[0] /= 2.0
-    if nfft % 2 == 0:
-        scale[-1] /= 2.0
     amplitude = np.empty((n_rows, n_bins))
     first = np.empty((n_rows, n_bins), dtype=np.complex128) if phase else None
     chunk = max(1, _MAX_BINS_PER_CHUNK // (n_bins * n_seg))
     for start in range(0, n_rows, chunk):
-        rows = X[start : start + chunk]
-        if n_seg == 1:
-            seg = rows[:, np.newaxis, :nperseg]
-        else:
-            view = np.lib.stride_tricks.sliding_window_view(rows, nperseg, axis=-1)
-            seg = view[:, ::step][:, :n_seg]
-        spec = np.fft.rfft(_detrend(seg, detrend) * w, n=nfft, axis=-1)
-        spec *= scale
-        if n_seg == 1:
-            amplitude[start : start + chunk] = np.abs(spec[:, 0])
-        else:
-            power = spec.real**2 + spec.imag**2
-            amplitude[start : start + chunk] = np.sqrt(power.mean(axis=1))
+        seg = _segments(X[start : start + chunk], nperseg, noverlap)
+        spec = _segment_spectra(seg, w, nfft, detrend)
+        amplitude[start : start + chunk] = _mean_amplitude(spec)
         if phase:
             first[start : start + chunk] = spec[:, 0]
     return _Spectra(
@@ -194,7 +183,42 @@ def _spectra(
         resolution=fs / nperseg,
         nperseg=nperseg,
         kernel=_kernel(w.tobytes(), nfft),
+        window=w,
+        noverlap=noverlap,
+        nfft=nfft,
+        detrend=detrend,
     )
+
+
+def _segments(rows: np.ndarray, nperseg: int, noverlap: int) -> np.ndarray:
+    """The segments of each row, a view (n_rows, n_seg, nperseg)."""
+    step = nperseg - noverlap
+    n_seg = 1 + (rows.shape[-1] - nperseg) // step
+    if n_seg == 1:
+        return rows[:, np.newaxis, :nperseg]
+    view = np.lib.stride_tricks.sliding_window_view(rows, nperseg, axis=-1)
+    return view[:, ::step][:, :n_seg]
+
+
+def _segment_spectra(seg: np.ndarray, w: np.ndarray, nfft: int, detrend) -> np.ndarray:
+    """Complex peak-amplitude spectra of segments (…, nperseg): a sine of amplitude ``A`` on
+    bin ``k`` reads ``A e^{iφ}`` there (the window's coherent gain divided out)."""
+    n_bins = nfft // 2 + 1
+    scale = np.full(n_bins, 2.0 / w.sum())
+    scale[0] /= 2.0
+    if nfft % 2 == 0:
+        scale[-1] /= 2.0
+    spec = np.fft.rfft(_detrend(seg, detrend) * w, n=nfft, axis=-1)
+    spec *= scale
+    return spec
+
+
+def _mean_amplitude(spec: np.ndarray) -> np.ndarray:
+    """Amplitude of segment spectra (n_rows, n_seg, n_bins), RMS-averaged over segments."""
+    if spec.shape[1] == 1:
+        return np.abs(spec[:, 0])
+    power = spec.real**2 + spec.imag**2
+    return np.sqrt(power.mean(axis=1))
 
 
 @dataclass(frozen=True)
@@ -231,6 +255,14 @@ class _Kernel:
             leak = amplitude[rows[:, np.newaxis], near] * self.sidelobe[m]
             level = np.maximum(level, leak.max(axis=1))
         return level
+
+    def transform(self, d):
+        """The window's transform at offsets ``d`` (bins, ``|d| <= 17``) over its value at 0:
+        a line ``A e^{iφ}`` at bin ν reads ``A e^{iφ} transform(k - ν)`` at bin ``k``.
+        ``W(-d)`` is the conjugate of ``W(d)`` (a real window)."""
+        a = np.abs(d)
+        value = np.interp(a, self.d, self.mag) * np.exp(1j * np.interp(a, self.d, self.arg))
+        return np.where(d < 0.0, np.conj(value), value)
 
     def refine(self, amplitude, first, p, df):
         """Exact frequency (Hz), amplitude and phase (deg) of the lines peaking at bins ``p``.

@@ -27,7 +27,9 @@ Columns (``<k>`` is an order label such as ``1x``, ``1p5x``, ``0p33x``; ``<n>`` 
     and k/3 × (k not a multiple of 3).
 ``sb_<n>x_delta_hz``, ``sb_<n>x_lower``, ``sb_<n>x_upper``, ``bb_<n>x_rms``
     Sideband spacing Δ (Hz) and the amplitudes of n× − Δ and n× + Δ; RMS over n× ± 0.25×
-    without the n× line (see :mod:`rubdiag.signal.sidebands`).
+    without the n× line (see :mod:`rubdiag.signal.sidebands`). Both are read with every
+    line's leakage taken out (:mod:`rubdiag.signal.linefree`): a line between two bins puts
+    nothing beside its main lobe, and the broadband leaves out the n× line's main lobe.
 ``combo_fa_hz``, ``combo_fb_hz``, ``combo_order``, ``combo_amp_a``, ``combo_amp_b``
     The strongest combination pair f_a + f_b = m× (see :mod:`rubdiag.signal.combinations`).
 
