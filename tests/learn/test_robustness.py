@@ -213,14 +213,7 @@ class TestCurve:
         assert stored["macro_f1"].iloc[0] == pytest.approx(curve["macro_f1"].iloc[0],
                                                            abs=1e-12)
 
-    @pytest.mark.parametrize("snr_db", [30.0, pytest.param(10.0, marks=pytest.mark.xfail(
-        strict=True, reason=(
-            "borderline at 10 dB since the small dataset takes long steps (2026-11-27): the "
-            "small forest's p(rub) for the 12 noisy quiet runs is 0.28-0.66 (2 above 0.5; "
-            "0.00-0.12 without the noise); the same test on the dataset made at 10 µs "
-            "passes. The features of runs without rub change by < 0.01 of the scatter with "
-            "long steps (README 'Steps sized by error'): the forest, trained on 24 rows, "
-            "splits elsewhere, and 10 dB was at its edge")))])
+    @pytest.mark.parametrize("snr_db", [30.0, 10.0])
     def test_noise_alone_is_not_read_as_rub(self, small_rows, windows, p_ref, snr_db):
         """The default features read broadband over the channel's own noise floor: noise-
         only bands stay ≈ 1 however loud the noise, so a model trained at the dataset's
