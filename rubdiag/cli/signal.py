@@ -170,8 +170,9 @@ def load(path, args, keep_flat: bool = False):
     """Channels (DataFrame), fs (Hz), the feature table (with ``--revs-per-bin``: the
     table across speed, :func:`rubdiag.signal.features_by_revolution`) and the unit
     (:func:`unit_of`) of one signal file (``keep_flat``: :func:`_load`)."""
+    unit = unit_of(path, args)      # a wrong --unit is refused before any analysis
     frame, fs, table = _load(path, args, keep_flat)
-    return frame, fs, table, unit_of(path, args)
+    return frame, fs, table, unit
 
 
 def _load(path, args, keep_flat: bool = False):
