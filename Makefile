@@ -6,7 +6,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 OUT ?= out
 
-.PHONY: run test test-slow lint bench clean
+.PHONY: run test test-slow lint bench docs clean
 
 # one stamp per set of dependencies: `make run` never installs the test tools
 $(VENV)/.runtime: pyproject.toml
@@ -19,6 +19,10 @@ $(VENV)/.dev: $(VENV)/.runtime
 	$(BIN)/python -m pip install --quiet -e '.[dev,dask]'
 	touch $@
 
+$(VENV)/.docs: $(VENV)/.runtime
+	$(BIN)/python -m pip install --quiet -e '.[docs]'
+	touch $@
+
 run: $(VENV)/.runtime
 	$(BIN)/rubdiag table2 --out $(OUT)
 
@@ -28,6 +32,11 @@ test: $(VENV)/.dev
 
 test-slow: $(VENV)/.dev
 	$(BIN)/python -m pytest -n 2 --dist loadfile -m slow
+
+# the documentation site into docs/_build/html, warnings as errors; the notebooks are
+# executed on small inputs and their outputs cached in docs/_build/jupyter_cache
+docs: $(VENV)/.docs
+	$(BIN)/python -m sphinx -b html -W --keep-going docs docs/_build/html
 
 lint: $(VENV)/.dev
 	$(BIN)/ruff check .

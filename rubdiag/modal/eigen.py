@@ -60,7 +60,7 @@ class Modes:
 
     @property
     def natural_frequencies(self) -> np.ndarray:
-        """|λ| (rad/s): the undamped natural frequency for light damping."""
+        """``|λ|`` (rad/s): the undamped natural frequency for light damping."""
         return np.abs(self.eigenvalues)
 
     @property

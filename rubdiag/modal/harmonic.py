@@ -56,7 +56,7 @@ class HarmonicResponse:
         return _semi_major(self.amplitude(node, "y"), self.amplitude(node, "z"))
 
     def shaft_deflection(self):
-        """Per shaft node: (|q̂_y|, |q̂_z|, orbit semi-major axis), all in m."""
+        """Per shaft node: (``|q̂_y|``, ``|q̂_z|``, orbit semi-major axis), all in m."""
         y = np.array([self.amplitude(lbl, "y") for lbl in self._shaft_labels()])
         z = np.array([self.amplitude(lbl, "z") for lbl in self._shaft_labels()])
         return np.abs(y), np.abs(z), _semi_major(y, z)

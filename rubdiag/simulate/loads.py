@@ -62,7 +62,7 @@ class HarmonicForce:
 
     ``dofs`` (m,) int, ``amplitudes`` (m,) complex (N), ``omega`` (m,) the shaft speed Ω
     (rad/s; at constant speed, order 1, the term's angular frequency). ``order`` (m,) k,
-    |k| <= 100 (default 1: once per revolution), nonzero but for the law ``"constant"``,
+    ``|k| <= 100`` (default 1: once per revolution), nonzero but for the law ``"constant"``,
     where k = 0 is a static load f = Re(F). ``law`` one of ``"unbalance"``
     (default), ``"constant"``, ``"table"``, for all terms or one per term. ``table``: the
     (speed_rad_s, factor) knots (K, 2) of the ``"table"`` terms, speeds >= 0 increasing,
