@@ -79,6 +79,9 @@ def test_a_strong_line_between_bins_moves_no_band_and_no_line(order, ratio, sigm
         np.testing.assert_array_equal(amps == 0.0, on_bin == 0.0, err_msg=f"offset {offset}")
         np.testing.assert_allclose(amps, on_bin, rtol=OFF_BIN_LINE_TOLERANCE, atol=0.0,
                                    err_msg=f"offset {offset}")
+    counts = ["n_half_orders", "n_third_orders"]                 # no line found or lost
+    assert (table.groupby("offset")[counts].nunique() == 1).all().all()
+    assert (table.groupby("offset")[counts].first() == table[counts].iloc[0]).all().all()
     assert (table["amp_1x"] - 1.0).abs().max() < OFF_BIN_LINE_TOLERANCE
     strong = "amp_" + f"{order:g}".replace(".", "p") + "x"
     assert (table[strong] / ratio - 1.0).abs().max() < OFF_BIN_LINE_TOLERANCE
