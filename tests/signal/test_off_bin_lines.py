@@ -147,3 +147,11 @@ def test_the_tolerances_are_the_ones_the_readme_and_the_docstring_state():
         for tolerance in (OFF_BIN_BAND_TOLERANCE, OFF_BIN_LINE_TOLERANCE):
             stated = f"{100 * tolerance:g} %"
             assert re.search(rf"(?<![\d.]){re.escape(stated)}", " ".join(text.split())), stated
+
+
+def test_a_combination_pair_beside_strong_lines_between_bins_reads_as_on_a_bin():
+    # 0.45× + 1.55× = 2× (0.01 and 0.012) beside a 1× and a 2× of 0.5
+    table = _sweep([(2.0, 0.5), (0.45, 0.01), (1.55, 0.012)], 1e-4)
+    assert (table["combo_order"] == 2.0).all()
+    assert table["combo_amp_a"].to_numpy() == pytest.approx(0.01, rel=OFF_BIN_LINE_TOLERANCE)
+    assert table["combo_amp_b"].to_numpy() == pytest.approx(0.012, rel=OFF_BIN_LINE_TOLERANCE)
