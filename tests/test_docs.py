@@ -5,6 +5,7 @@ warnings as errors (slow: ``make docs`` executes the notebooks too)."""
 from __future__ import annotations
 
 import importlib
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -40,6 +41,23 @@ def test_every_notebook_is_a_tutorial():
     notebooks = sorted(p.stem for p in (DOCS.parent / "notebooks").glob("*.ipynb"))
     page = generate.tutorials_page(notebooks)
     assert all(f"\n{stem}\n" in page for stem in notebooks)
+
+
+def test_the_tour_runs_and_finds_the_rub(tmp_path, monkeypatch):
+    """The getting-started tour's code cells, run in order as the page shows them: the
+    simulated rub is found by the model trained in the tour, and the dataset holds runs
+    with and without rub."""
+    cells = re.findall(r"```\{code-cell\} ipython3\n(.*?)```", (DOCS / "tour.md").read_text(),
+                       re.S)
+    assert len(cells) >= 5
+    monkeypatch.setenv("MPLBACKEND", "Agg")
+    monkeypatch.chdir(tmp_path)
+    namespace: dict = {}
+    for cell in cells:
+        exec(cell, namespace)
+    data, table = namespace["data"], namespace["table"]
+    assert set(data["rub"].astype(bool)) == {True, False}
+    assert (table["predicted"].astype(str) == "True").all()
 
 
 @pytest.mark.slow
