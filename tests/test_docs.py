@@ -43,21 +43,46 @@ def test_every_notebook_is_a_tutorial():
     assert all(f"\n{stem}\n" in page for stem in notebooks)
 
 
-def test_the_tour_runs_and_finds_the_rub(tmp_path, monkeypatch):
-    """The getting-started tour's code cells, run in order as the page shows them: the
-    simulated rub is found by the model trained in the tour, and the dataset holds runs
-    with and without rub."""
-    cells = re.findall(r"```\{code-cell\} ipython3\n(.*?)```", (DOCS / "tour.md").read_text(),
-                       re.S)
-    assert len(cells) >= 5
+def run_page(page: Path, tmp_path, monkeypatch) -> dict:
+    """Run a page's code cells in order, as the built page shows them; their namespace."""
+    cells = re.findall(r"```\{code-cell\} ipython3\n(.*?)```", page.read_text(), re.S)
+    assert cells, f"{page.name} has no code cell"
     monkeypatch.setenv("MPLBACKEND", "Agg")
     monkeypatch.chdir(tmp_path)
     namespace: dict = {}
     for cell in cells:
         exec(cell, namespace)
+    return namespace
+
+
+def test_the_tour_runs_and_finds_the_rub(tmp_path, monkeypatch):
+    """The getting-started tour: the dataset holds runs with and without rub, and the
+    simulated rub is found by the model trained in the tour."""
+    namespace = run_page(DOCS / "tour.md", tmp_path, monkeypatch)
     data, table = namespace["data"], namespace["table"]
     assert set(data["rub"].astype(bool)) == {True, False}
     assert (table["predicted"].astype(str) == "True").all()
+
+
+def test_your_own_rig_moves_the_first_critical_speed_down(tmp_path, monkeypatch):
+    """A heavier disc lowers the first critical speed, and a misspelt key is refused by
+    name."""
+    namespace = run_page(DOCS / "how-to" / "own-rig.md", tmp_path, monkeypatch)
+    rig, paper = namespace["rig"], namespace["paper_rig"]()
+    assert rig.discs[0].thickness_m == pytest.approx(1.5 * paper.discs[0].thickness_m)
+    from rubdiag.assembly import assemble
+    from rubdiag.modal import critical_speeds
+
+    assert critical_speeds(assemble(rig), n=1)[0] < critical_speeds(assemble(paper), n=1)[0]
+
+
+def test_comparing_records_shows_the_rub_beside_the_healthy_machine(tmp_path, monkeypatch,
+                                                                      capsys):
+    """compare prints both records' features and writes the figure."""
+    namespace = run_page(DOCS / "how-to" / "compare-records.md", tmp_path, monkeypatch)
+    printed = capsys.readouterr().out
+    assert "healthy.csv" in printed and "rubbing.csv" in printed and "um" in printed
+    assert (namespace["folder"] / "spectra.png").stat().st_size > 10_000
 
 
 @pytest.mark.slow
