@@ -22,7 +22,9 @@ Refused (ValueError): a missing channel (every one named, with the ``rubdiag tra
 window, a sampling rate too low for the highest order the model's features reach, a
 record with no line to estimate its speed from (a constant signal). Told (the ``warnings``
 column): a speed, or features, outside what the model saw in training — the prediction is
-then an extrapolation — and an estimated speed that is ambiguous (``speed_ambiguous``: a
+then an extrapolation; the warning names the features furthest outside, with their values
+and training ranges (a feature over the noise floor at its least value, 1, is never
+outside) — and an estimated speed that is ambiguous (``speed_ambiguous``: a
 line at 1/2 or 1/3 of the strongest may be 1×; :mod:`rubdiag.signal.speed`, "Which line
 is 1×").
 
@@ -56,7 +58,8 @@ from rubdiag.signal.speed import tacho_speed
 from rubdiag.signal.speedvote import SpeedNotFound, SpeedVote, voted_speed
 from rubdiag.signal.table import prefixed_feature_row
 
-__all__ = ["RANGE_TOLERANCE", "RUB_LIKELY", "UNITS", "fault_columns", "missing_channels",
+__all__ = ["FLOOR_SUFFIX", "NAMED_FEATURES", "RANGE_TOLERANCE", "RUB_LIKELY", "UNITS",
+           "fault_columns", "missing_channels",
            "predict", "predict_rows", "unit_factor"]
 
 #: Units a channel may be given in, per quantity: factor to SI.
@@ -76,6 +79,13 @@ RUB_LIKELY = 0.5
 #: speed) beyond the range counts as inside: a speed read from a spectrum line and
 #: features of a resampled record are not exact to the last digits.
 RANGE_TOLERANCE = 0.01
+
+#: How many of the features outside their training range a warning names (the furthest
+#: outside first, in units of their range).
+NAMED_FEATURES = 3
+
+#: The name ending of a feature read over the channel's noise floor: 1 at the floor.
+FLOOR_SUFFIX = "_over_floor"
 
 
 def unit_factor(quantity: str, unit: str) -> float:
@@ -444,15 +454,19 @@ def _majority(table: pd.DataFrame, model: Model, bounds) -> pd.DataFrame:
 
 def _range_warnings(model: Model, speed: np.ndarray, Z: np.ndarray) -> list[str]:
     """What of each window (its speed, its features ``Z``) lies outside the training
-    ranges, in words ("" if nothing)."""
+    ranges, in words ("" if nothing): the number of features outside and the
+    :data:`NAMED_FEATURES` furthest outside (in units of their range), each with its value
+    and training range. A feature read over the noise floor (``…_over_floor``) takes 1 at
+    the floor, its least value: 1 is never outside, whatever the training rows read."""
     lo, hi = model.meta["speed_range_rpm"]
     ranges = model.meta["feature_ranges"]
     names = list(ranges)
     bounds = np.array([ranges[n] for n in names], dtype=np.float64).reshape(-1, 2)
     low, high = bounds[:, 0], bounds[:, 1]
     tol = RANGE_TOLERANCE * (high - low)
-    # the worst: furthest outside in units of its range (a constant feature first)
-    scale = np.maximum(high - low, np.finfo(float).tiny)
+    floor = np.array([n.endswith(FLOOR_SUFFIX) for n in names], dtype=bool)
+    low = np.where(floor, np.minimum(low, 1.0), low)
+    scale = np.maximum(high - low, np.finfo(float).tiny)   # a constant feature first
     out = []
     for s, z in zip(speed, Z, strict=True):
         said = []
@@ -462,10 +476,13 @@ def _range_warnings(model: Model, speed: np.ndarray, Z: np.ndarray) -> list[str]
         excess = np.maximum(low - tol - z, z - high - tol)
         outside = np.flatnonzero(excess > 0)
         if outside.size:
-            j = outside[np.argmax(excess[outside] / scale[outside])]
+            worst = outside[np.argsort(-excess[outside] / scale[outside],
+                                       kind="stable")][:NAMED_FEATURES]
+            named = ", ".join(f"{names[j]} = {z[j]:.4g} (range {bounds[j, 0]:.4g} to "
+                              f"{high[j]:.4g})" for j in worst)
+            more = " …" if outside.size > worst.size else ""
             said.append(f"{outside.size} of {len(names)} features outside their training "
-                        f"range (worst: {names[j]} = {z[j]:.4g}, range {low[j]:.4g} to "
-                        f"{high[j]:.4g})")
+                        f"range: {named}{more}")
         out.append("; ".join(said))
     return out
 

@@ -119,12 +119,6 @@ def test_many_files_in_one_call_are_the_files_one_by_one(model, plant):
     assert list(majority["predicted"]) == [str(truth[p.name][1]) for p in paths]
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "the 1300-rpm record's bb_3x_over_floor is 1: with the 1x and 2x leakage taken out "
-    "(rubdiag.signal.linefree) its bands hold noise alone and 3x is its quietest, while none "
-    "of the 16 training rows had 3x as its quietest band (range 1.109-2.058); the range "
-    "check counts 1, the value every band over the floor takes at the floor, as outside. "
-    "Met when the range check reads an over-floor feature's lower bound as 1"))
 def test_each_file_read_at_its_own_speed_and_swapping_them_shows(model_dir, plant, tmp_path,
                                                                 capsys):
     """Two records of the same machine (no rub) at 1300 and 1700 rpm: at their own speeds
@@ -148,6 +142,24 @@ def test_each_file_read_at_its_own_speed_and_swapping_them_shows(model_dir, plan
     assert (ok["speed_source"] == "speeds").all() and (bad["speed_source"] == "speeds").all()
     assert list(ok["predicted"]) == ["False", "False"] and list(ok["warnings"]) == ["", ""]
     assert all(features_outside(w) >= 2 for w in bad["warnings"])
+
+
+def test_a_range_warning_names_the_features_with_values_and_ranges(model, plant):
+    """Swapped speeds: the warning names at most NAMED_FEATURES features, each with the
+    value the window read and the model's training range, which it lies outside; a band
+    at the noise floor (1) is never among them."""
+    from rubdiag.learn.predict import NAMED_FEATURES
+
+    folder, _ = plant
+    table = predict(model, [folder / "a_slow.csv"], speed_rpm=[1700.0])
+    warning = table["warnings"].iloc[0]
+    named = re.findall(r"(\S+__\S+) = (\S+) \(range (\S+) to (\S+)\)", warning)
+    assert 1 <= len(named) <= min(NAMED_FEATURES, features_outside(warning))
+    ranges = model.meta["feature_ranges"]
+    for name, value, lo, hi in named:
+        assert [float(lo), float(hi)] == pytest.approx(ranges[name], rel=1e-3)
+        assert not float(lo) <= float(value) <= float(hi), name
+        assert not (name.endswith("_over_floor") and float(value) == 1.0)
 
 
 def test_a_tacho_wins_over_the_estimate_when_2x_is_stronger_than_1x(model, tmp_path):
