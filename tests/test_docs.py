@@ -85,6 +85,17 @@ def test_comparing_records_shows_the_rub_beside_the_healthy_machine(tmp_path, mo
     assert (namespace["folder"] / "spectra.png").stat().st_size > 10_000
 
 
+def test_a_killed_dataset_resumes_where_it_stopped(tmp_path, monkeypatch):
+    """The job killed after four stored runs: the rerun reuses at least those four and the
+    folder ends with every run of the design once."""
+    namespace = run_page(DOCS / "how-to" / "dataset-resume.md", tmp_path, monkeypatch)
+    assert namespace["job"].returncode == -9
+    stored = int(re.search(r"(\d+) already stored", namespace["done"].stdout).group(1))
+    assert 4 <= stored < 16
+    rows = namespace["rows"]
+    assert len(rows) == rows["run_id"].nunique() == 16
+
+
 @pytest.mark.slow
 def test_the_site_builds_without_a_warning(tmp_path):
     pytest.importorskip("sphinx")
