@@ -255,4 +255,6 @@ def _spec(factor) -> str:
         return "levels " + ", ".join(v if isinstance(v, str) else f"{v:g}"
                                      for v in factor.levels)
     n = f", {factor.n} grid levels" if factor.n is not None else ""
+    if factor.bands is not None:
+        return " and ".join(f"{low:g} … {high:g}" for low, high in factor.bands) + n
     return f"{factor.low:g} … {factor.high:g}{n}"

@@ -2,8 +2,12 @@
 
 A list is always a set of levels (``case = [1, 2]``, ``gap_mm = [1.9, 2.3]``); a table
 ``{low, high}`` is a continuous range, which a grid cuts into ``n`` equally spaced levels
-(``{low, high, n}``, both ends included). Every value is checked against the factor's
-physical range when the factor is made.
+(``{low, high, n}``, both ends included). A table ``{bands = [[a, b], [c, d], …]}`` is a
+range made of separate bands (``speed_ratio = {bands = [[0.45, 0.55], [0.9, 1.1]]}``:
+around half the critical speed and around it): each band owns an equal share of the
+sampling axis, as levels do, and is continuous inside it; a grid takes ``n`` levels in
+each band. Every value is checked against the factor's physical range when the factor is
+made.
 
 Factors (``FACTORS``, in their canonical order) and their physical ranges:
 
@@ -103,21 +107,28 @@ EXCLUSIVE = (("case", "phase_diff_deg"), ("speed_ratio", "speed_rpm"),
 
 #: Factors that take levels only (a range of them means nothing).
 _LEVELS_ONLY = ("case", "fault")
-_RANGE_KEYS = ("low", "high", "n")
+_RANGE_KEYS = ("low", "high", "n", "bands")
 
 
 @dataclass(frozen=True)
 class Factor:
     """One factor of a design: ``levels`` (a tuple), or a range ``low`` < ``high`` with an
-    optional number of grid levels ``n`` (>= 2; used by ``method = "grid"`` only)."""
+    optional number of grid levels ``n`` (>= 2; used by ``method = "grid"`` only), or
+    ``bands``: ``((low, high), …)`` ranges in increasing order that do not overlap (then
+    ``low`` and ``high`` are the first band's low and the last band's high, and ``n``
+    counts grid levels per band)."""
 
     name: str
     levels: tuple | None = None
     low: float | None = None
     high: float | None = None
     n: int | None = None
+    bands: tuple | None = None
 
     def __post_init__(self):
+        if self.bands is not None:
+            self._check_bands()
+            return
         if self.name not in FACTORS:
             raise ValueError(f"unknown factor 'factors.{self.name}' "
                              f"(allowed: {', '.join(FACTORS)})")
@@ -151,6 +162,42 @@ class Factor:
         if self.n is not None:
             _check.integer(f"{where}.n", self.n, lo=2)
 
+    def _check_bands(self) -> None:
+        where = f"factors.{self.name}"
+        if self.levels is not None or self.low is not None or self.high is not None:
+            raise ValueError(f"{where} has bands and levels or low/high (allowed: one of "
+                             "them)")
+        if self.name in _LEVELS_ONLY:
+            raise _check.wrong_type(where, {"bands": self.bands}, "a list of levels")
+        allowed = "a list of [low, high] pairs, e.g. [[0.45, 0.55], [0.9, 1.1]]"
+        if isinstance(self.bands, str | bytes | Mapping) or not hasattr(self.bands,
+                                                                          "__iter__"):
+            raise _check.wrong_type(f"{where}.bands", self.bands, allowed)
+        bands = []
+        for i, band in enumerate(self.bands):
+            if isinstance(band, str | bytes | Mapping) or not hasattr(band, "__iter__") \
+                    or len(band) != 2:
+                raise _check.wrong_type(f"{where}.bands[{i}]", band, allowed)
+            low, high = (FACTORS[self.name](f"{where}.bands[{i}][{j}]", v)
+                         for j, v in enumerate(band))
+            if not low < high:
+                raise _check.out_of_range(f"{where}.bands[{i}][0]", low,
+                                          f"< its high = {_check.plain(high)}")
+            if bands and low <= bands[-1][1]:
+                raise _check.out_of_range(f"{where}.bands[{i}][0]", low,
+                                          f"> the previous band's high = "
+                                          f"{_check.plain(bands[-1][1])} (bands in "
+                                          "increasing order, apart)")
+            bands.append((float(low), float(high)))
+        if len(bands) < 2:
+            raise ValueError(f"{where}.bands has {len(bands)} band(s) (allowed: at least "
+                             "2; one range is {low, high})")
+        object.__setattr__(self, "bands", tuple(bands))
+        object.__setattr__(self, "low", bands[0][0])
+        object.__setattr__(self, "high", bands[-1][1])
+        if self.n is not None:
+            _check.integer(f"{where}.n", self.n, lo=2)
+
     @classmethod
     def from_spec(cls, name: str, spec) -> Factor:
         """A factor from its TOML form: a list of levels or a table ``{low, high[, n]}``."""
@@ -168,10 +215,11 @@ class Factor:
                                 "a list of levels or a table {low, high}")
 
     def to_spec(self):
-        """The TOML form: a list of levels, or ``{low, high[, n]}``."""
+        """The TOML form: a list of levels, ``{low, high[, n]}`` or ``{bands[, n]}``."""
         if self.levels is not None:
             return list(self.levels)
-        spec = {"low": self.low, "high": self.high}
+        spec = ({"low": self.low, "high": self.high} if self.bands is None
+                else {"bands": [list(b) for b in self.bands]})
         return spec if self.n is None else {**spec, "n": self.n}
 
     @property
@@ -191,14 +239,26 @@ class Factor:
         if self.n is None:
             raise ValueError(f"factors.{self.name}.n is missing (method = 'grid' needs the "
                              "number of levels of each {low, high} factor)")
-        step = (self.high - self.low) / (self.n - 1)
-        return tuple([self.low + i * step for i in range(self.n - 1)] + [self.high])
+        return tuple(v for low, high in self.bands or ((self.low, self.high),)
+                     for v in _spaced(low, high, self.n))
 
     def from_unit(self, u: float):
         """The value at unit-interval coordinate ``u`` in [0, 1): ``low + u·(high - low)``
         for a range; for k levels, level ``floor(u·k)`` — each level owns an equal share of
-        the interval, in the order the levels are listed."""
+        the interval, in the order the levels are listed; for k bands, band ``floor(u·k)``
+        at ``low + (u·k - floor(u·k))·(high - low)``."""
+        if self.bands is not None:
+            k = len(self.bands)
+            i = min(math.floor(u * k), k - 1)
+            low, high = self.bands[i]
+            return low + (u * k - i) * (high - low)
         if self.levels is None:
             return self.low + u * (self.high - self.low)
         k = len(self.levels)
         return self.levels[min(math.floor(u * k), k - 1)]
+
+
+def _spaced(low: float, high: float, n: int) -> list[float]:
+    """``n`` equally spaced values from ``low`` to ``high``, both ends exact."""
+    step = (high - low) / (n - 1)
+    return [low + i * step for i in range(n - 1)] + [high]

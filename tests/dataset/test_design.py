@@ -373,7 +373,7 @@ BAD = [
     ({**GOOD, "sensors": []}, r"sensors is empty"),
     ({**GOOD, "noise": {"displacement_m": -1e-6}}, r"noise.displacement_m = -1e-06 is out of "),
     (edit("factors", mu={"low": 0.1, "high": 0.5, "step": 0.1}),
-     r"unknown key 'factors.mu.step' \(allowed: low, high, n\)"),
+     r"unknown key 'factors.mu.step' \(allowed: low, high, n, bands\)"),
     (edit("factors", mu={"low": 0.5, "high": 0.1}),
      r"factors.mu.low = 0.5 is out of range \(allowed: < high = 0.1\)"),
     (edit("factors", mu={"low": 0.1}), r"factors.mu.high is missing"),

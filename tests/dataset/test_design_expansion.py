@@ -42,6 +42,14 @@ def test_the_multi_fault_journal_design_expands_into_its_reference_runs():
     assert SCRIPT.rows(SCRIPT.DESIGNS / name, jobs=2) == reference(name)
 
 
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["faults_bands.toml", "faults_bands_slice.toml"])
+def test_the_speed_band_designs_expand_into_their_reference_runs(name):
+    """960 and 320 runs on 81 rig variants, half of them rub runs whose gaps come from their
+    linear approaches (about 25 s of CPU for the larger one)."""
+    assert SCRIPT.rows(SCRIPT.DESIGNS / name, jobs=2) == reference(name)
+
+
 RIG_FACTORS = """
 [base]
 rig = "paper"
