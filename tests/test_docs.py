@@ -96,6 +96,20 @@ def test_a_killed_dataset_resumes_where_it_stopped(tmp_path, monkeypatch):
     assert len(rows) == rows["run_id"].nunique() == 16
 
 
+def test_a_plant_record_is_predicted_from_the_probes_it_has(tmp_path, monkeypatch):
+    """One probe and an x-y pair: the rubbing run's CSV is called rub, the healthy one not,
+    in Python and on the command line (speeds from a CSV)."""
+    namespace = run_page(DOCS / "how-to" / "plant-probes.md", tmp_path, monkeypatch)
+    assert namespace["one"].channels == ["shaft11_y_disp"]
+    done = namespace["done"]
+    assert done.returncode == 0, done.stderr
+    verdicts = {line.split(".csv")[0]: re.findall(r"\b(True|False)\b", line)[-1]
+                for line in done.stdout.splitlines() if ".csv" in line and " all " in line}
+    assert verdicts == {"rubbing": "True", "healthy": "False"}
+    table = namespace["table"]
+    assert (table["predicted"].astype(str) == "True").all()
+
+
 @pytest.mark.slow
 def test_the_site_builds_without_a_warning(tmp_path):
     pytest.importorskip("sphinx")
