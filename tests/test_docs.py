@@ -110,6 +110,18 @@ def test_a_plant_record_is_predicted_from_the_probes_it_has(tmp_path, monkeypatc
     assert (table["predicted"].astype(str) == "True").all()
 
 
+def test_a_runup_shows_its_rub_in_the_order_tracks(tmp_path, monkeypatch):
+    """In contact, 3x stands more than 10 times above its level before the first contact,
+    and 1x peaks inside the contact band."""
+    namespace = run_page(DOCS / "how-to" / "runup.md", tmp_path, monkeypatch)
+    tracks, summary = namespace["tracks"], namespace["summary"]
+    first, last = summary["first_contact_rpm"], summary["last_contact_rpm"]
+    before = tracks[tracks["rpm"] < first - 20]
+    during = tracks[(tracks["rpm"] > first) & (tracks["rpm"] < last)]
+    assert during["amp_3x"].max() > 10 * before["amp_3x"].max()
+    assert first <= summary["peak_rpm"] <= last
+
+
 @pytest.mark.slow
 def test_the_site_builds_without_a_warning(tmp_path):
     pytest.importorskip("sphinx")
