@@ -55,6 +55,20 @@ kinematic model does not give: ``ratio_1x`` and ``ratio_3x`` add, at 1× and 3×
 the 2× terms scaled by that ratio — CALIBRATIONS (default 0: the derived model alone),
 limited to [0, 1) so that 2× stays the dominant line.
 
+The signature, and where the sources disagree
+---------------------------------------------
+The coupling's loads are even orders, 2x first; the rotor amplifies that 2x where it meets
+a critical speed, near half of it, as Sekhar & Prabhu (1995) found, and Patel & Darpe
+(2009) measured 2x of the order of 1x or above. The direction of that 2x is where published
+models differ: ROSS's hexangular-coupling model turns it purely backward, while the
+kinematics here (a joint's secondary moment, its bend fixed in space, turns forward at 2φ)
+turn the load's 2x purely forward. This model follows the kinematics: they come from the
+coupling's geometry alone, with no fitted stiffness, and are checked against closed forms;
+the response's direction then depends on the supports (journal films make the 2x orbit an
+ellipse with a reverse part). tests/simulate/test_misalignment_signature.py checks it on
+``paper-journal`` (α₀ = 10 mrad: 2x/1x 2.0-5.4 at half the first critical speed,
+0.018-0.050 at it; the 2x response forward).
+
 Every term is a load by order (:mod:`rubdiag.simulate.loads`) with the law "constant": T
 does not depend on the speed (a torque that does is a "table" law, left to the caller).
 Units SI: m, rad, N·m, N.

@@ -9,6 +9,15 @@ whose seat force never reaches zero is the linear pedestal (the seat spring in K
 :func:`lift_off_fraction` is the raw measure the labels use: the time the pedestal spends off
 its seat (status 1, or 3 with a retaining stiffness) over the run time, from the result's
 ``time_in_status`` (each accepted step counts with its end-of-step status).
+
+The signature: a support that lifts off its seat makes sub-harmonics, ½x first and ⅓x,
+with their harmonics, while a seated one adds none (Muszynska & Goldman 1995, "Chaotic
+responses of unbalanced rotor/bearing/stator systems with looseness or rubs", Chaos,
+Solitons & Fractals 5(9) 1683-1704; Muszynska 2005, "Rotordynamics").
+tests/simulate/test_looseness_signature.py checks it on ``paper-journal``: the drive-end
+pedestal lifting off at half the first critical speed shows ½x at 0.38 of its 1x, 1½x and
+2x at 0.1, along the loose direction alone; the journal on it shows ½x at 0.14, the disc
+0.04 — the oil film stands between the pedestal and the shaft.
 """
 
 from __future__ import annotations
