@@ -3,7 +3,8 @@
 * ``api/<subpackage>.rst``: one page per public subpackage, its module docstring and an
   autosummary table of the names of its ``__all__`` (each with a page of its own);
 * ``cli.md``: every ``rubdiag`` command's help, as ``rubdiag COMMAND --help`` prints it;
-* ``tutorials/index.md``: the notebooks, in order.
+* ``tutorials/index.md``: the notebooks, in order;
+* ``features.md``: the dictionary of the feature columns (:mod:`rubdiag.signal.glossary`).
 
 A page is rewritten only when its text changes, so that an unchanged page is not rebuilt.
 """
@@ -31,6 +32,7 @@ def write_all(folder: Path) -> None:
     for name in SUBPACKAGES:
         _write(folder / "api" / f"{name}.rst", api_page(f"rubdiag.{name}"))
     _write(folder / "cli.md", cli_page())
+    _write(folder / "features.md", features_page())
     notebooks = sorted(p.stem for p in (ROOT / "notebooks").glob("*.ipynb"))
     _write(folder / "tutorials" / "index.md", tutorials_page(notebooks))
 
@@ -58,6 +60,28 @@ def cli_page() -> str:
            "```text", parser.format_help().rstrip(), "```", ""]
     for name, sub in commands.choices.items():
         out += [f"## `rubdiag {name}`", "", "```text", sub.format_help().rstrip(), "```", ""]
+    return "\n".join(out)
+
+
+def features_page() -> str:
+    """The feature dictionary: one table row per name pattern."""
+    from rubdiag.signal.glossary import glossary_frame
+
+    frame = glossary_frame()
+    out = ["# Feature columns", "",
+           "What each feature column of a feature table or a dataset row means. A dataset "
+           "stores a channel's features as `<channel>__<feature>` (`shaft11_y_disp__amp_2x`) "
+           "and a probe pair's as `<node>_yz_disp__<feature>`; its `columns.csv` gives every "
+           "column's group, channel and unit. `rubdiag.signal.glossary.describe(name)` looks "
+           "a column up.", "",
+           "In a pattern, `<k>` is an order label (`1x`, `2x`, `1p5x` for 1.5×, `0p33x` for "
+           "⅓×) and `<n>` a harmonic, 1 to 8. The unit *signal* is the unit of the signal "
+           "(m for a simulation's displacements, the probe's unit for a measurement).", ""]
+    for row, title in (("channel", "A channel's row"), ("pair", "A probe pair's row")):
+        out += [f"## {title}", "", "| column | unit | meaning |", "|---|---|---|"]
+        for e in frame[frame["row"] == row].itertuples():
+            out.append(f"| `{e.pattern}` | {e.unit} | {e.meaning} |")
+        out.append("")
     return "\n".join(out)
 
 

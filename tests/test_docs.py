@@ -37,6 +37,14 @@ def test_every_command_has_its_help_on_the_command_line_page():
         assert parser.format_help().rstrip() in page
 
 
+def test_the_feature_page_lists_every_pattern_with_its_unit():
+    from rubdiag.signal.glossary import GLOSSARY
+
+    page = generate.features_page()
+    for entry in GLOSSARY:
+        assert f"| `{entry.pattern}` | {entry.unit} |" in page
+
+
 def test_every_notebook_is_a_tutorial():
     notebooks = sorted(p.stem for p in (DOCS.parent / "notebooks").glob("*.ipynb"))
     page = generate.tutorials_page(notebooks)
