@@ -32,7 +32,7 @@ def test_units_agree_with_the_dataset_column_map():
     columns = [f"shaft11_y_disp__{n}" for n in FEATURE_NAMES if n not in ("speed_rpm",)]
     columns += [f"shaft11_yz_disp__{n}" for n in PAIR_FEATURES]
     table = column_map(columns, sensors)
-    for column, unit in zip(table["column"], table["unit"]):
+    for column, unit in zip(table["column"], table["unit"], strict=True):
         expected = glossary.describe(column).unit
         assert unit == ("m" if expected == "signal" else expected), column
 
