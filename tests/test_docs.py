@@ -130,6 +130,18 @@ def test_a_runup_shows_its_rub_in_the_order_tracks(tmp_path, monkeypatch):
     assert first <= summary["peak_rpm"] <= last
 
 
+def test_a_dataset_on_dask_is_the_local_one_to_the_bit(tmp_path, monkeypatch):
+    """Every run made on a LocalCluster, and every feature equal to the local processes'."""
+    pytest.importorskip("dask.distributed")
+    namespace = run_page(DOCS / "how-to" / "dask.md", tmp_path, monkeypatch)
+    assert namespace["summary"]["ok"] == 6 and namespace["summary"]["failed"] == 0
+    on_dask, local = namespace["on_dask"], namespace["local"]
+    assert list(on_dask.index) == list(local.index)
+    features = namespace["features"]
+    assert len(features) > 100
+    assert on_dask[features].equals(local[features])
+
+
 @pytest.mark.slow
 def test_the_site_builds_without_a_warning(tmp_path):
     pytest.importorskip("sphinx")
