@@ -62,19 +62,34 @@ def register(sub) -> None:
                    "(no importances files)")
     p.add_argument("--overwrite", action="store_true",
                    help="replace the model already in MODEL_DIR")
+    p.add_argument("--leave-out", metavar="FACTOR=LO:HI",
+                   help="train without the runs whose design factor FACTOR lies in LO..HI "
+                   "(both included), to score the model on them with rubdiag evaluate "
+                   "--band: a level of a model-uncertainty factor, a speed band, a case")
     add_quiet_option(p)
     p.set_defaults(func=_train)
 
     p = sub.add_parser(
-        "evaluate", help="score a saved model on another dataset",
-        description="Predict every run of DATASET_DIR with the model of MODEL_DIR and score "
-        "it: macro-F1 and balanced accuracy with 95 % bootstrap intervals over design "
-        "points, per-class precision and recall, the confusion matrix and, on a dataset with "
-        "faults beside rub (a rub or fault model), the false rub alarm rate per confuser "
-        "and the rub recall beside each. Runs of a class the model does not know are "
-        "counted, not scored.")
+        "evaluate", help="score a saved model on another dataset or on labelled records",
+        description="Predict every run of DATASET_DIR (or of one band of it, --band), or "
+        "every file of a labelled record list, with the model of MODEL_DIR and score it: "
+        "macro-F1 and balanced accuracy with 95 % bootstrap intervals over design points "
+        "(records: each its own), per-class precision and recall, the confusion matrix and, "
+        "for a rub or fault model, the false rub alarm rate and the rub recall per confuser "
+        "(a dataset with faults beside rub) and per kind of run or record, with Wilson "
+        "intervals. A record list is a CSV: file (a signal file, its path absolute or "
+        "relative to the list), a label column (rub, severity, rub_state, or faults: none, "
+        "rub, crack, rub+crack ...), optionally kind (any words; the per-kind scores) and "
+        "speed_rpm (empty: the tacho or the estimate); each file is predicted as rubdiag "
+        "predict does, by the majority of its windows. Runs of a class the model does not "
+        "know are counted, not scored.")
     p.add_argument("model", type=Path, metavar="MODEL_DIR", help="model folder (rubdiag train)")
-    p.add_argument("dataset", type=Path, metavar="DATASET_DIR", help="dataset folder")
+    p.add_argument("dataset", type=Path, metavar="DATA",
+                   help="dataset folder, or labelled record list (.csv)")
+    p.add_argument("--band", metavar="FACTOR=LO:HI",
+                   help="score only the runs whose design factor FACTOR lies in LO..HI "
+                   "(both included): the band a model was trained without (rubdiag train "
+                   "--leave-out)")
     p.add_argument("--json", action="store_true", help="print the scores as JSON")
     add_quiet_option(p)
     p.set_defaults(func=_evaluate)
@@ -146,6 +161,21 @@ def _pairs(values: list[str], option: str, what: str) -> dict[str, str]:
     return out
 
 
+def _band(text: str | None, option: str):
+    """``FACTOR=LO:HI`` as ``(factor, lo, hi)``; None for None."""
+    if text is None:
+        return None
+    factor, sep, span = text.partition("=")
+    lo, colon, hi = span.partition(":")
+    try:
+        if not (sep and colon and factor.strip()):
+            raise ValueError
+        return factor.strip(), float(lo), float(hi)
+    except ValueError:
+        raise ValueError(f"{option} {text!r} is not FACTOR=LO:HI (e.g. "
+                         "bearing_clearance_scale=1.05:1.05)") from None
+
+
 def _train(args) -> int:
     from rubdiag.learn.train import check_out
 
@@ -162,7 +192,8 @@ def _train(args) -> int:
     model = train(args.dataset, out, target=args.target, estimator=args.estimator,
                   split=args.split, channels=channels, seed=args.seed, families=families,
                   overwrite=args.overwrite, n_splits=args.n_splits,
-                  progress=not args.quiet, **extras)
+                  progress=not args.quiet, leave_out=_band(args.leave_out, "--leave-out"),
+                  **extras)
     meta = model.meta
     f1 = meta["scores"]["macro_f1"]
     print(f"{out}: {meta['target']} classifier ({meta['estimator']}; channels "
@@ -194,6 +225,7 @@ def _train(args) -> int:
 
 
 def _evaluate(args) -> int:
+    band = _band(args.band, "--band")          # before any work
     from rubdiag import _progress
     from rubdiag.learn.persist import load_model
     from rubdiag.learn.train import evaluate_model
@@ -202,7 +234,7 @@ def _evaluate(args) -> int:
         _progress.label(bar, "reading the model")
         model = load_model(args.model)
         bar.update()
-        result = evaluate_model(model, args.dataset, progress=bar)
+        result = evaluate_model(model, args.dataset, progress=bar, band=band)
     _model_warnings("evaluate", args.model, model.meta.get("warnings", []))
     for w in result.warnings:
         _warn("evaluate", w)

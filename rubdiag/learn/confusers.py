@@ -22,15 +22,18 @@ import numpy as np
 import pandas as pd
 
 from rubdiag.dataset.fault_levels import FAULT_KINDS
-from rubdiag.learn.metrics import group_rate
+from rubdiag.learn.metrics import group_rate, wilson_interval
 
-__all__ = ["CONFUSERS", "CONFUSER_COLUMNS", "calls_rub", "confuser_lines", "confuser_table",
-           "has_confusers", "rub_confusers"]
+__all__ = ["CONFUSERS", "CONFUSER_COLUMNS", "KIND_COLUMNS", "calls_rub", "confuser_lines",
+           "confuser_table", "has_confusers", "kind_lines", "kind_table", "rub_confusers",
+           "rubbed"]
 
 #: The runs a rub alarm can be false on: healthy ones and each fault beside rub.
 CONFUSERS = ("none", *FAULT_KINDS)
 #: The columns of :func:`confuser_table`.
 CONFUSER_COLUMNS = ("measure", "faults", "n", "n_called_rub", "rate", "lo", "hi")
+#: The columns of :func:`kind_table`.
+KIND_COLUMNS = ("kind", "measure", "n", "n_called_rub", "rate", "lo", "hi")
 
 _ALARM = "false rub alarm"
 _RECALL = "rub recall"
@@ -130,3 +133,55 @@ def confuser_lines(table: pd.DataFrame) -> list[str]:
         else:
             lines.append(f"{r.measure}, {r.faults}: no run")
     return lines
+
+
+def rubbed(faults) -> np.ndarray:
+    """Per ``faults`` label, whether rub acted (``rub``, ``rub+crack`` …)."""
+    return np.array(["rub" in _parts(f) for f in np.asarray(faults, dtype=str)], dtype=bool)
+
+
+def kind_table(kinds, rubbing, predicted) -> pd.DataFrame:
+    """Per kind of record, how often a model calls it rubbing: the false rub alarm rate of
+    the kind's records without rub and the rub recall of those with, each with its count
+    and Wilson's 95 % interval (:func:`~rubdiag.learn.metrics.wilson_interval`: records of
+    another origin are independent of each other, and a rate of 0 of n still has an upper
+    bound).
+
+    Parameters
+    ----------
+    kinds : array of str
+        The kind of each record (a ``faults`` label, a textbook kind …).
+    rubbing : array of bool
+        Whether each record rubs.
+    predicted : array
+        The model's class of each record (:func:`calls_rub`).
+
+    Returns
+    -------
+    pandas.DataFrame
+        :data:`KIND_COLUMNS`, one row per kind (and per measure where a kind holds records
+        with and without rub), in the order the kinds first appear.
+    """
+    kinds = np.asarray(kinds, dtype=str)
+    rubbing = np.asarray(rubbing, dtype=bool)
+    called = calls_rub(predicted)
+    if not kinds.shape == rubbing.shape == called.shape:
+        raise ValueError(f"kinds, rubbing and predicted: one value per record needed (got "
+                         f"{kinds.size}, {rubbing.size}, {called.size})")
+    rows = []
+    for kind in dict.fromkeys(kinds):
+        for rubs, measure in ((False, _ALARM), (True, _RECALL)):
+            members = (kinds == kind) & (rubbing == rubs)
+            n, hits = int(members.sum()), int((members & called).sum())
+            if n:
+                rows.append({"kind": kind, "measure": measure, "n": n, "n_called_rub": hits,
+                             "rate": hits / n, **dict(zip(("lo", "hi"),
+                                                          wilson_interval(hits, n),
+                                                          strict=True))})
+    return pd.DataFrame(rows, columns=list(KIND_COLUMNS))
+
+
+def kind_lines(table: pd.DataFrame) -> list[str]:
+    """:func:`kind_table` in words, one line per row (for a terminal)."""
+    return [f"{r.kind}: {r.measure} {r.rate:.2f} [{r.lo:.2f}, {r.hi:.2f}] ({r.n_called_rub} "
+            f"of {r.n} called rubbing)" for r in table.itertuples()]

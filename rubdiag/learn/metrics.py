@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 __all__ = ["METRICS", "Score", "bootstrap_weights", "confusion", "group_permutations",
-           "group_rate", "macro_f1", "null_interval", "score"]
+           "group_rate", "macro_f1", "null_interval", "score", "wilson_interval"]
 
 METRICS = ("macro_f1", "balanced_accuracy")
 
@@ -127,6 +127,17 @@ def group_rate(hits, members, groups, n_bootstrap: int = 1000, seed: int = 0) ->
         rates = drawn[:, 1] / drawn[:, 0]
     lo, hi = np.nanpercentile(rates, [2.5, 97.5])
     return Score(float(value), float(lo), float(hi))
+
+
+def wilson_interval(hits: int, n: int, z: float = 1.959963984540054) -> tuple[float, float]:
+    """Wilson's score interval of a proportion ``hits`` / ``n`` (95 % by default): unlike
+    a bootstrap it is not empty at 0 of n or n of n. (NaN, NaN) when ``n`` is 0."""
+    if n == 0:
+        return np.nan, np.nan
+    p = hits / n
+    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
+    half = z * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+    return float(max(centre - half, 0.0)), float(min(centre + half, 1.0))
 
 
 def group_permutations(groups, n: int, rng: np.random.Generator,

@@ -476,8 +476,9 @@ def _range_warnings(model: Model, speed: np.ndarray, Z: np.ndarray) -> list[str]
         excess = np.maximum(low - tol - z, z - high - tol)
         outside = np.flatnonzero(excess > 0)
         if outside.size:
-            worst = outside[np.argsort(-excess[outside] / scale[outside],
-                                       kind="stable")][:NAMED_FEATURES]
+            with np.errstate(over="ignore"):     # a constant feature: infinitely far
+                far = excess[outside] / scale[outside]
+            worst = outside[np.argsort(-far, kind="stable")][:NAMED_FEATURES]
             named = ", ".join(f"{names[j]} = {z[j]:.4g} (range {bounds[j, 0]:.4g} to "
                               f"{high[j]:.4g})" for j in worst)
             more = " …" if outside.size > worst.size else ""

@@ -22,7 +22,7 @@ from sklearn.model_selection import StratifiedGroupKFold
 from rubdiag import _check
 from rubdiag.learn.columns import factor_columns
 
-__all__ = ["Fold", "folds", "split_names"]
+__all__ = ["Fold", "folds", "in_band", "split_names"]
 
 
 @dataclass(frozen=True)
@@ -32,6 +32,24 @@ class Fold:
     name: str
     train: np.ndarray
     test: np.ndarray
+
+
+def in_band(data: pd.DataFrame, factor: str, lo: float, hi: float) -> np.ndarray:
+    """Which rows of ``data`` have the design factor ``factor`` within ``lo`` … ``hi``
+    (both included): a band to hold out of training and score a model on (a level of a
+    model-uncertainty factor, a speed band, a case). A row whose factor is blank is not
+    in any band."""
+    if factor not in factor_columns(data):
+        raise ValueError(f"band: {factor!r} is not a design factor of the data (allowed: "
+                         f"{', '.join(factor_columns(data)) or 'none'})")
+    lo = _check.number("band lo", lo)
+    hi = _check.number("band hi", hi, lo=lo)
+    values = pd.to_numeric(data[factor], errors="coerce").to_numpy(dtype=np.float64)
+    inside = (values >= lo) & (values <= hi)
+    if not inside.any():
+        raise ValueError(f"band: no row has {factor} within {lo:g} … {hi:g} (its values: "
+                         f"{np.nanmin(values):g} … {np.nanmax(values):g})")
+    return inside
 
 
 def split_names(data: pd.DataFrame) -> list[str]:

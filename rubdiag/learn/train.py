@@ -42,20 +42,29 @@ from rubdiag import _progress
 from rubdiag._version import __version__
 from rubdiag.dataset.schema import SEPARATOR
 from rubdiag.learn.columns import read_dataset
-from rubdiag.learn.confusers import confuser_lines, rub_confusers
+from rubdiag.learn.confusers import (
+    confuser_lines,
+    kind_lines,
+    kind_table,
+    rub_confusers,
+    rubbed,
+)
 from rubdiag.learn.evaluate import Evaluation, evaluate, resolve_channels, target_values
 from rubdiag.learn.features import DEFAULT_FAMILIES
 from rubdiag.learn.metrics import Score, confusion, score
 from rubdiag.learn.persist import Model, is_model_dir, load_meta, load_model, save_model
 from rubdiag.learn.pipelines import make_pipeline
+from rubdiag.learn.records import is_record_list, predict_records, read_records
 from rubdiag.learn.report import confuser_records
+from rubdiag.learn.splits import in_band
 from rubdiag.signal.combinations import SUM_ORDERS
 from rubdiag.signal.options import Options
 from rubdiag.signal.orders import HALF_ORDERS, HARMONICS, THIRD_ORDERS, order_label
 from rubdiag.signal.sidebands import HALF_WIDTH_ORDERS
 
-__all__ = ["ModelScores", "check_out", "evaluate_model", "model_meta", "order_reach",
-           "required_fs", "runs_digest", "train", "training_runs"]
+__all__ = ["ModelScores", "band_rows", "check_out", "evaluate_model", "model_meta",
+           "order_reach", "record_kinds", "required_fs", "runs_digest", "train",
+           "training_runs"]
 
 #: Bins between the top of a feature's search band and the Nyquist frequency that the
 #: feature table needs (the spectrum's last bins are never searched).
@@ -64,7 +73,8 @@ EDGE_BINS = 3
 
 def train(dataset, out, target: str = "rub", estimator: str = "rf", split: str = "group",
           channels="auto", seed: int = 0, *, families=DEFAULT_FAMILIES,
-          overwrite: bool = False, progress: bool = False, **evaluate_options) -> Model:
+          overwrite: bool = False, progress: bool = False, leave_out=None,
+          **evaluate_options) -> Model:
     """Evaluate, fit on all rows and save a classifier (module docstring).
 
     Parameters
@@ -84,6 +94,11 @@ def train(dataset, out, target: str = "rub", estimator: str = "rf", split: str =
     progress : bool
         A bar over the evaluation's fits and the final fit on stderr, when it is a
         terminal.
+    leave_out : (str, float, float), optional
+        ``(factor, lo, hi)``: train without the rows whose design factor lies in ``lo`` …
+        ``hi`` (:func:`band_rows`), to score the model on them afterwards
+        (:func:`evaluate_model` with ``band``): a level of a model-uncertainty factor, a
+        speed band, a case.
     **evaluate_options
         Further options of :func:`rubdiag.learn.evaluate` (``n_splits``, ``importances``,
         ``baselines``, ``audit`` …).
@@ -98,6 +113,8 @@ def train(dataset, out, target: str = "rub", estimator: str = "rf", split: str =
     if "acquisition" not in data.attrs:
         raise ValueError("dataset: the rows carry no acquisition (read them with "
                          "rubdiag.learn.read_dataset, or pass the folder)")
+    if leave_out is not None:
+        data = band_rows(data, *leave_out, inside=False)
     resolve_channels(data, channels)          # a wrong name fails before the evaluation
     families = list(families)
     with _progress.bar(1, "train", "fit", progress) as bar:    # the evaluation adds its own
@@ -313,6 +330,7 @@ class ModelScores:
     shared_runs: int | None = None  # runs of the data the model was trained on; None: unknown
     model_warnings: list = dataclasses.field(default_factory=list)   # from its training
     confusers: pd.DataFrame | None = None   # rubdiag.learn.confusers.confuser_table
+    kinds: pd.DataFrame | None = None       # rubdiag.learn.confusers.kind_table
 
     def sample_note(self) -> str:
         """Whether the scores are in-sample: "in-sample: …", "out of sample: …" or
@@ -342,6 +360,7 @@ class ModelScores:
             "shared_runs": self.shared_runs, "sample": self.sample_note(),
             "model_warnings": self.model_warnings,
             "confusers": confuser_records(self.confusers),
+            "kinds": confuser_records(self.kinds),
         }
 
     def to_text(self) -> str:
@@ -358,32 +377,48 @@ class ModelScores:
         if self.confusers is not None:
             lines += ["", "rub against the faults that look like it (rate [95 % interval]):",
                       *confuser_lines(self.confusers)]
+        if self.kinds is not None:
+            lines += ["", "per kind of run or record (rate [95 % Wilson interval]):",
+                      *kind_lines(self.kinds)]
         return "\n".join(lines)
 
 
 def evaluate_model(model, dataset, n_bootstrap: int = 1000, seed: int = 0,
-                   progress=False) -> ModelScores:
-    """Scores of a saved model on another dataset: macro-F1 and balanced accuracy with
-    95 % bootstrap intervals over design points, per-class precision and recall, the
-    confusion matrix and, on a dataset with faults beside rub, the false rub alarms per
-    confuser (``confusers``, :mod:`rubdiag.learn.confusers`). Rows of a class the model
-    does not know are counted (``unknown``) and left out of every score. ``shared_runs``
-    counts the dataset's runs the model was trained on (``model.json``'s
-    ``training_runs``; None for a model that predates that record): the first line of
-    :meth:`ModelScores.to_text` says "in-sample" when any.
+                   progress=False, band=None) -> ModelScores:
+    """Scores of a saved model on data it was not trained on: a dataset (another rig's,
+    another design's, a band of one held out of training) or a labelled record list
+    (:mod:`rubdiag.learn.records`: signal files with their labels — another machine's,
+    another simulator's, textbook records). Macro-F1 and balanced accuracy with 95 %
+    bootstrap intervals over design points (records: each its own), per-class precision
+    and recall, the confusion matrix and, for a ``rub`` or ``fault`` model, the false rub
+    alarms per confuser (``confusers``, on a dataset with faults beside rub:
+    :mod:`rubdiag.learn.confusers`) and per kind of run or record (``kinds``: the
+    ``kind`` column of a record list, else the ``faults`` label, else rub or none; with
+    Wilson intervals, :func:`~rubdiag.learn.confusers.kind_table`). Rows of a class the
+    model does not know are counted (``unknown``) and left out of macro-F1 and balanced
+    accuracy. ``shared_runs`` counts the dataset's runs the model was trained on
+    (``model.json``'s ``training_runs``; None for a model that predates that record): the
+    first line of :meth:`ModelScores.to_text` says "in-sample" when any.
 
     Parameters
     ----------
     model : Model or path
         From :func:`train` or :func:`~rubdiag.learn.persist.load_model` (or its folder).
     dataset : path or DataFrame
-        A dataset folder (or its rows) with the model's channels, in the same units.
+        A dataset folder (or its rows) with the model's channels, in the same units; or a
+        labelled record list (a ``.csv`` path, or its rows from
+        :func:`~rubdiag.learn.records.read_records`).
     n_bootstrap, seed : int
         Bootstrap draws of the intervals and their seed.
     progress : bool or open bar
         A bar over its steps (reading the model and the data, predicting, scoring) on
         stderr when it is a terminal; or an open bar of :mod:`rubdiag._progress` to count
         them on.
+    band : (str, float, float), optional
+        ``(factor, lo, hi)``: score only the dataset's rows whose design factor lies in
+        ``lo`` … ``hi`` (:func:`~rubdiag.learn.splits.in_band`), e.g. a level of a
+        model-uncertainty factor the model was trained without (``train(...,
+        leave_out=...)``).
     """
     from rubdiag.learn.predict import predict_rows
 
@@ -394,11 +429,20 @@ def evaluate_model(model, dataset, n_bootstrap: int = 1000, seed: int = 0,
             model = load_model(model)
             bar.update()
         _progress.label(bar, "reading the data")
-        data = read_dataset(dataset) if isinstance(dataset, str | os.PathLike) else dataset
+        if isinstance(dataset, str | os.PathLike):
+            data = read_records(dataset) if is_record_list(dataset) else read_dataset(dataset)
+        else:
+            data = dataset
+        records = "file" in data.columns and "point_id" not in data.columns
+        if band is not None:
+            if records:
+                raise ValueError("band: a record list has no design factors (allowed: a band "
+                                 "of a dataset)")
+            data = band_rows(data, *band)
         y = target_values(data, model.meta["target"])
         bar.update()
         _progress.label(bar, "predicting")
-        table = predict_rows(model, data)
+        table = predict_records(model, data) if records else predict_rows(model, data)
         bar.update()
         _progress.label(bar, "scoring")
         scores = _scores_of(model, data, y, table, n_bootstrap, seed)
@@ -406,10 +450,25 @@ def evaluate_model(model, dataset, n_bootstrap: int = 1000, seed: int = 0,
     return scores
 
 
+def band_rows(data: pd.DataFrame, factor: str, lo: float, hi: float, *,
+              inside: bool = True) -> pd.DataFrame:
+    """The rows of ``data`` whose design factor lies in ``lo`` … ``hi`` (``inside=False``:
+    the others), with the data's ``attrs`` and ``attrs["band"]`` saying which."""
+    keep = in_band(data, factor, lo, hi)
+    out = data[keep if inside else ~keep].reset_index(drop=True)
+    out.attrs = {**data.attrs, "band": {"factor": factor, "lo": float(lo), "hi": float(hi),
+                                        "inside": inside}}
+    return out
+
+
 def _scores_of(model, data, y, table, n_bootstrap: int, seed: int) -> ModelScores:
     """:func:`evaluate_model`'s scores of ``model``'s predictions ``table`` of ``data``
     (whose classes are ``y``)."""
     source = str(data.attrs.get("source", "dataset"))
+    band = data.attrs.get("band")
+    if band:
+        source += (f" ({band['factor']} {'' if band['inside'] else 'not '}within "
+                   f"{band['lo']:g} … {band['hi']:g})")
     classes = model.classes
     known = np.isin(y, classes)
     unknown = {str(c): int((y[~known] == c).sum()) for c in sorted(set(y[~known]))}
@@ -428,6 +487,9 @@ def _scores_of(model, data, y, table, n_bootstrap: int, seed: int) -> ModelScore
                               "support": cm.sum(axis=1)}, index=pd.Index(classes, name="class"))
     predictions = pd.DataFrame({"run_id": table["input"].to_numpy(), "true": y,
                                 "predicted": predicted, "scored": known})
+    kinds = record_kinds(data, model.meta["target"])
+    if kinds is not None:
+        predictions["kind"], predictions["rubbing"] = kinds
     warnings = [f"{i}: {w}" for i, w in zip(table["input"], table["warnings"], strict=True)
                 if w]
     record = model.meta.get("training_runs")
@@ -445,4 +507,22 @@ def _scores_of(model, data, y, table, n_bootstrap: int, seed: int) -> ModelScore
         model_warnings=list(model.meta.get("warnings", [])),
         # every run was predicted, a class unknown to the model too: all count
         confusers=rub_confusers(data, model.meta["target"], predicted, None, n_bootstrap,
-                                seed))
+                                seed),
+        kinds=None if kinds is None else kind_table(*kinds, predicted))
+
+
+def record_kinds(data: pd.DataFrame, target: str) -> tuple[np.ndarray, np.ndarray] | None:
+    """Each row's kind and whether it rubs, for the per-kind scores of a ``rub`` or
+    ``fault`` model (None for other targets): the kind is the ``kind`` column (a record
+    list's), else the ``faults`` label, else rub / none; rubbing follows ``faults``, else
+    the ``rub`` column."""
+    if target not in ("rub", "fault"):
+        return None
+    if "faults" in data.columns:
+        rubbing = rubbed(data["faults"])
+    else:
+        rubbing = data["rub"].astype(str).str.lower().eq("true").to_numpy()
+    kinds = (data["kind"] if "kind" in data.columns
+             else data["faults"] if "faults" in data.columns
+             else pd.Series(np.where(rubbing, "rub", "none")))
+    return kinds.astype(str).to_numpy(), rubbing
