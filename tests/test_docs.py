@@ -142,6 +142,20 @@ def test_a_dataset_on_dask_is_the_local_one_to_the_bit(tmp_path, monkeypatch):
     assert on_dask[features].equals(local[features])
 
 
+def test_a_crack_resonates_at_half_the_critical_and_rub_shows_beside_it(tmp_path,
+                                                                          monkeypatch):
+    """The crack's 2x/1x at half the critical speed is over 100 times its value at the
+    critical; with rub there the broadband at 2x and the 7x line rise over 100-fold and
+    10-fold, and the blades touch."""
+    rows = run_page(DOCS / "how-to" / "fault-beside-rub.md", tmp_path, monkeypatch)["rows"]
+    half, alone, rub = (rows[k][0] for k in rows)
+    assert half["amp_2x"] / half["amp_1x"] > 100 * alone["amp_2x"] / alone["amp_1x"]
+    assert rub["bb_2x_rms"] / rub["amp_1x"] > 100 * alone["bb_2x_rms"] / alone["amp_1x"]
+    assert rub["amp_7x"] / rub["amp_1x"] > 10 * alone["amp_7x"] / alone["amp_1x"]
+    episodes = [rows[k][1] for k in rows]
+    assert episodes[0] == episodes[1] == 0 < episodes[2]
+
+
 @pytest.mark.slow
 def test_the_site_builds_without_a_warning(tmp_path):
     pytest.importorskip("sphinx")
