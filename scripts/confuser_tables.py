@@ -1,10 +1,18 @@
 #!/usr/bin/env python
-"""The README tables of "Telling rub from its confusers", on the dataset of
-``data/designs/faults_journal.toml`` (fixed seeds: the same rows on any machine).
+"""The tables of "Telling rub from its confusers", on the dataset of a shipped multi-fault
+design (fixed seeds: the same rows on any machine).
 
     rubdiag dataset data/designs/faults_journal.toml --out faults-data --jobs 2
     python scripts/confuser_tables.py faults-data   # -> data/confuser_*.csv, data/one_vs_one.csv
     python scripts/confuser_tables.py --table       # the README blocks, from the CSVs
+
+    rubdiag dataset data/designs/faults_bands_slice.toml --out bands-slice --jobs 2
+    python scripts/confuser_tables.py bands-slice --design faults_bands
+                                      # -> data/bands_confuser_*.csv, data/bands_one_vs_one.csv
+
+``--design`` names the design whose tables are made (:data:`OUTPUTS`): ``faults_journal``
+(the default, whose tables the README shows) or ``faults_bands`` (every level in the same
+speed bands; ``tests/learn/test_bands_confuser_tables.py`` checks its goals).
 
 **Goals** (:data:`CELLS`): :func:`rubdiag.learn.evaluate` with the forest on the shaft
 probes only (``channels="shaft"``: every probe but the casing's) and the order families
@@ -19,8 +27,11 @@ beside each — into ``data/confuser_rates.csv``. :data:`GOALS` are what the iss
 
 **One against one** (:func:`one_vs_one`): for rub against each confuser and each pair of
 confusers (runs whose ``faults`` label is exactly the one fault), the held-out macro-F1
-(5 grouped folds) of a forest on one feature family at a time (:data:`FAMILY_GROUPS`) —
-into ``data/one_vs_one.csv``.
+of a forest on one feature family at a time (:data:`FAMILY_GROUPS`), by design point (5
+grouped folds) and, for ``faults_bands``, by speed band (5 quantile bands of
+``speed_ratio``, each held out once) — into ``data/one_vs_one.csv``
+(``data/bands_one_vs_one.csv``). A pair with fewer than 5 runs of either class is stored
+with NaN scores.
 
 ``tests/learn/test_confuser_tables.py`` checks the README blocks against the CSVs and the
 goals against the stored numbers (those not met as strict xfails with their numbers).
@@ -42,6 +53,13 @@ ROOT = Path(__file__).resolve().parents[1]
 CELLS_CSV = ROOT / "data" / "confuser_cells.csv"
 RATES_CSV = ROOT / "data" / "confuser_rates.csv"
 ONE_CSV = ROOT / "data" / "one_vs_one.csv"
+#: design -> (its cells, rates and one-against-one CSVs, the splits of its one-vs-one table)
+OUTPUTS = {
+    "faults_journal": (CELLS_CSV, RATES_CSV, ONE_CSV, ("group",)),
+    "faults_bands": (ROOT / "data" / "bands_confuser_cells.csv",
+                     ROOT / "data" / "bands_confuser_rates.csv",
+                     ROOT / "data" / "bands_one_vs_one.csv", ("group", "speed_ratio")),
+}
 FAMILIES = ("orders", "sidebands", "combinations", "full_spectrum", "orbit")
 UNCERTAINTY = ("casing_stiffness_scale", "damping_ratio", "disc_mass_scale",
                "oil_viscosity_scale", "bearing_clearance_scale")
@@ -110,33 +128,42 @@ FAMILY_NOTES = {
 SEPARATES = 0.9
 
 
-def one_vs_one(data, features) -> pd.DataFrame:
-    """Held-out macro-F1 of each family on each pair of pure classes (module docstring)."""
-    from sklearn.model_selection import StratifiedGroupKFold
+#: the fewest runs of each class a pair needs (one per grouped fold)
+MIN_PAIR_RUNS = 5
 
+
+def one_vs_one(data, features, splits=("group",)) -> pd.DataFrame:
+    """Held-out macro-F1 of each family on each pair of pure classes, by each of ``splits``
+    (module docstring)."""
     from rubdiag.learn.metrics import score
     from rubdiag.learn.pipelines import make_estimator
+    from rubdiag.learn.splits import folds
 
     faults = data["faults"].astype(str).to_numpy()
     groups = data["point_id"].to_numpy()
     pairs = [("rub", k) for k in CONFUSER_KINDS] + list(itertools.combinations(
         CONFUSER_KINDS, 2))
     rows = []
-    for a, b in pairs:
+    for split, (a, b) in itertools.product(splits, pairs):
         keep = np.flatnonzero((faults == a) | (faults == b))
         y, g = faults[keep], groups[keep]
+        counts = {"split": split, "a": a, "b": b, "n_a": int((y == a).sum()),
+                  "n_b": int((y == b).sum())}
+        if min(counts["n_a"], counts["n_b"]) < MIN_PAIR_RUNS:
+            rows += [{**counts, "family": f, "n_columns": 0, "macro_f1": np.nan, "lo": np.nan,
+                      "hi": np.nan} for f in FAMILY_GROUPS]
+            continue
+        held_out = folds(data.iloc[keep].reset_index(drop=True), split, y)
         for family, pattern in FAMILY_GROUPS.items():
             cols = [c for c in features.columns if re.search(pattern, c.split("__")[-1])]
             X = features.iloc[keep][cols].to_numpy()
             predicted = np.empty(keep.size, dtype=object)
-            splitter = StratifiedGroupKFold(n_splits=5, shuffle=True, random_state=0)
-            for train, test in splitter.split(X, y, g):
-                model = make_estimator("rf", random_state=0).fit(X[train], y[train])
-                predicted[test] = model.predict(X[test])
+            for fold in held_out:
+                model = make_estimator("rf", random_state=0).fit(X[fold.train], y[fold.train])
+                predicted[fold.test] = model.predict(X[fold.test])
             s = score(y, predicted.astype(str), g, sorted({a, b}))["macro_f1"]
-            rows.append({"a": a, "b": b, "n_a": int((y == a).sum()), "n_b": int((y == b).sum()),
-                         "family": family, "n_columns": len(cols), "macro_f1": s.value,
-                         "lo": s.lo, "hi": s.hi})
+            rows.append({**counts, "family": family, "n_columns": len(cols),
+                         "macro_f1": s.value, "lo": s.lo, "hi": s.hi})
     return pd.DataFrame(rows)
 
 
@@ -219,8 +246,11 @@ def blocks() -> dict[str, str]:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("dataset", nargs="?", help="the dataset folder of the design")
+    parser.add_argument("--design", choices=sorted(OUTPUTS), default="faults_journal",
+                        help="whose tables to write (default faults_journal)")
     parser.add_argument("--table", action="store_true", help="print the README blocks")
     args = parser.parse_args(argv)
+    cells_csv, rates_csv, one_csv, splits = OUTPUTS[args.design]
     if not args.table:
         if args.dataset is None:
             parser.error("give the dataset folder, or --table")
@@ -229,17 +259,19 @@ def main(argv=None) -> int:
         data = read_dataset(args.dataset)
         data = data[data["status"] == "ok"].reset_index(drop=True)
         _, features = _channels_and_features(data)
-        one = one_vs_one(data, features)
-        one.to_csv(ONE_CSV, index=False, float_format="%.6g")
-        print(one_vs_one_table(one), flush=True)
+        one = one_vs_one(data, features, splits)
+        one.to_csv(one_csv, index=False, float_format="%.6g")
+        print(one_vs_one_table(one[one.split == "group"]), flush=True)
         cells, rates = [], []
         for target, split in CELLS:
             row, r = goals_cell(data, target, split)
             cells.append(row)
             rates.append(r)
             print(row, flush=True)
-            pd.DataFrame(cells).to_csv(CELLS_CSV, index=False, float_format="%.6g")
-            pd.concat(rates).to_csv(RATES_CSV, index=False, float_format="%.6g")
+            pd.DataFrame(cells).to_csv(cells_csv, index=False, float_format="%.6g")
+            pd.concat(rates).to_csv(rates_csv, index=False, float_format="%.6g")
+        if args.design != "faults_journal":
+            return 0
     for name, body in blocks().items():
         print(f"<!-- {name} -->\n{body}\n<!-- /{name} -->\n")
     return 0
