@@ -167,6 +167,19 @@ def one_vs_one(data, features, splits=("group",)) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
+# --- reading the stored tables -------------------------------------------------------------
+def cell(cells: pd.DataFrame, target: str, split: str) -> pd.Series:
+    """The goals cell of ``target`` held out by ``split``."""
+    return cells[(cells.target == target) & (cells.split == split)].iloc[0]
+
+
+def alarms(rates: pd.DataFrame, target: str, split: str) -> pd.DataFrame:
+    """The false rub alarm of each confuser kind (:data:`CONFUSER_KINDS`), by kind."""
+    r = rates[(rates.target == target) & (rates.split == split)
+              & (rates.measure == "false rub alarm")]
+    return r[r.faults.isin(CONFUSER_KINDS)].set_index("faults")
+
+
 # --- the README blocks ---------------------------------------------------------------------
 def _f(v, lo=None, hi=None) -> str:
     if v != v:

@@ -26,13 +26,11 @@ SPLIT_NAMES = {"group": "design point", "speed_ratio": "speed band"}
 
 
 def _cell(target, split):
-    return CELLS[(CELLS.target == target) & (CELLS.split == split)].iloc[0]
+    return script.cell(CELLS, target, split)
 
 
 def _alarms(target, split):
-    r = RATES[(RATES.target == target) & (RATES.split == split)
-              & (RATES.measure == "false rub alarm")]
-    return r[r.faults.isin(script.CONFUSER_KINDS)].set_index("faults")
+    return script.alarms(RATES, target, split)
 
 
 def test_every_cell_and_pair_is_stored_by_point_and_by_speed_band():

@@ -23,13 +23,11 @@ GOALS = script.GOALS
 
 
 def _cell(target, split):
-    return CELLS[(CELLS.target == target) & (CELLS.split == split)].iloc[0]
+    return script.cell(CELLS, target, split)
 
 
 def _alarms(target, split):
-    r = RATES[(RATES.target == target) & (RATES.split == split)
-              & (RATES.measure == "false rub alarm")]
-    return r[r.faults.isin(script.CONFUSER_KINDS)].set_index("faults")
+    return script.alarms(RATES, target, split)
 
 
 @pytest.mark.parametrize("name", ["confuser-goals", "confuser-recall", "one-vs-one"])
