@@ -40,6 +40,8 @@ A design file has three tables::
     [factors]
     case = [1, 2]                              # a list: levels
     speed_ratio = {low = 0.8, high = 1.2}      # a table: a continuous range
+                                               # ({bands = [[0.45, 0.55], [0.9, 1.1]]}:
+                                               # separate bands, an equal share each)
     gap_mm = {low = 0.5, high = 4.0, n = 8}    # n: the grid's levels of a range
     fault = ["none", "rub", "crack"]           # optional: rubdiag.dataset.faults
     crack_depth_ratio = [0.25, 0.45]           # a fault's severity: only its runs
