@@ -71,8 +71,9 @@ def register(sub) -> None:
 
     p = sub.add_parser(
         "evaluate", help="score a saved model on another dataset or on labelled records",
-        description="Predict every run of DATASET_DIR (or of one band of it, --band), or "
-        "every file of a labelled record list, with the model of MODEL_DIR and score it: "
+        description="Predict every run of the dataset DATA (or of one band of it, --band), "
+        "or every file of the labelled record list DATA, with the model of MODEL_DIR and "
+        "score it: "
         "macro-F1 and balanced accuracy with 95 % bootstrap intervals over design points "
         "(records: each its own), per-class precision and recall, the confusion matrix and, "
         "for a rub or fault model, the false rub alarm rate and the rub recall per confuser "

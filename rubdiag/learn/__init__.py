@@ -20,7 +20,11 @@
   model scored on another dataset; :func:`save_model`, :func:`load_model` — skops with an
   explicit allow-list of types (:mod:`rubdiag.learn.persist`);
 * :func:`predict` — a saved model on measured signals, window by window
-  (:mod:`rubdiag.learn.predict`).
+  (:mod:`rubdiag.learn.predict`);
+* :func:`read_records` — a labelled record list (signal files with their labels) that
+  :func:`evaluate_model` scores (:mod:`rubdiag.learn.records`); :func:`textbook_records` —
+  records of the confusers' textbook signatures made in code, for evaluation only
+  (:mod:`rubdiag.learn.textbook`).
 
 This layer sits above :mod:`rubdiag.dataset` and reads stored datasets only: nothing of it
 imports the simulator.
@@ -42,8 +46,10 @@ from rubdiag.learn.metrics import Score
 from rubdiag.learn.persist import Model, load_model, save_model
 from rubdiag.learn.pipelines import ESTIMATORS, baseline_pipeline, make_estimator, make_pipeline
 from rubdiag.learn.predict import predict
+from rubdiag.learn.records import read_records
 from rubdiag.learn.robustness import noise_curve
 from rubdiag.learn.splits import Fold, folds
+from rubdiag.learn.textbook import textbook_records
 from rubdiag.learn.train import ModelScores, evaluate_model, train
 
 __all__ = [
@@ -78,8 +84,10 @@ __all__ = [
     "noise_curve_figure",
     "predict",
     "read_dataset",
+    "read_records",
     "save_model",
     "shaft_channels",
+    "textbook_records",
     "train",
     "training_warnings",
 ]
