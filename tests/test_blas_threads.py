@@ -20,8 +20,12 @@ SIMULATE = ("from rubdiag.cli import main; main(['simulate', '--case', '2', '--g
             "'--speed-rpm', '5700', '--duration-s', '0.002', '--discard-s', '0', '--json'])")
 
 
+#: thread counts a process may have inherited (a Dask LocalCluster sets them in its parent)
+_THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
+
+
 def _fresh(code: str, **env: str):
-    environ = {k: v for k, v in os.environ.items() if k != "OPENBLAS_NUM_THREADS"} | env
+    environ = {k: v for k, v in os.environ.items() if k not in _THREAD_VARIABLES} | env
     out = subprocess.run([sys.executable, "-c", code], env=environ, capture_output=True,
                          text=True, check=True).stdout
     return json.loads(out.splitlines()[-1])

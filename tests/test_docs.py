@@ -5,6 +5,7 @@ warnings as errors (slow: ``make docs`` executes the notebooks too)."""
 from __future__ import annotations
 
 import importlib
+import os
 import re
 import subprocess
 import sys
@@ -133,7 +134,12 @@ def test_a_runup_shows_its_rub_in_the_order_tracks(tmp_path, monkeypatch):
 def test_a_dataset_on_dask_is_the_local_one_to_the_bit(tmp_path, monkeypatch):
     """Every run made on a LocalCluster, and every feature equal to the local processes'."""
     pytest.importorskip("dask.distributed")
-    namespace = run_page(DOCS / "how-to" / "dask.md", tmp_path, monkeypatch)
+    saved = dict(os.environ)        # the cluster's nannies set thread counts in this process
+    try:
+        namespace = run_page(DOCS / "how-to" / "dask.md", tmp_path, monkeypatch)
+    finally:
+        os.environ.clear()
+        os.environ.update(saved)
     assert namespace["summary"]["ok"] == 6 and namespace["summary"]["failed"] == 0
     on_dask, local = namespace["on_dask"], namespace["local"]
     assert list(on_dask.index) == list(local.index)
