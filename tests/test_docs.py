@@ -64,6 +64,7 @@ def run_page(page: Path, tmp_path, monkeypatch) -> dict:
     return namespace
 
 
+@pytest.mark.slow      # a minute: make docs executes the page too
 def test_the_tour_runs_and_finds_the_rub(tmp_path, monkeypatch):
     """The getting-started tour: the dataset holds runs with and without rub, and the
     simulated rub is found by the model trained in the tour."""
@@ -105,6 +106,7 @@ def test_a_killed_dataset_resumes_where_it_stopped(tmp_path, monkeypatch):
     assert len(rows) == rows["run_id"].nunique() == 16
 
 
+@pytest.mark.slow      # a minute: make docs executes the page too
 def test_a_plant_record_is_predicted_from_the_probes_it_has(tmp_path, monkeypatch):
     """One probe and an x-y pair: the rubbing run's CSV is called rub, the healthy one not,
     in Python and on the command line (speeds from a CSV)."""
