@@ -11,6 +11,7 @@ A page is rewritten only when its text changes, so that an unchanged page is not
 
 from __future__ import annotations
 
+import argparse
 import importlib
 from pathlib import Path
 
@@ -48,17 +49,23 @@ def api_page(module: str) -> str:
     return "\n".join(lines) + "\n"
 
 
-def cli_page() -> str:
-    """Every command's ``--help``, from the parsers themselves."""
+def commands() -> tuple:
+    """``(parser, {name: subparser})`` of the ``rubdiag`` command line."""
     from rubdiag.cli import build_parser
 
     parser = build_parser()
-    commands = next(a for a in parser._actions if a.__class__.__name__ == "_SubParsersAction")
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    return parser, dict(sub.choices)
+
+
+def cli_page() -> str:
+    """Every command's ``--help``, from the parsers themselves."""
+    parser, subcommands = commands()
     out = ["# Command line", "",
            "Every command of `rubdiag`, with the help it prints (`rubdiag COMMAND --help`).",
            "Invalid input is refused in one line on stderr, with exit status 2.", "",
            "```text", parser.format_help().rstrip(), "```", ""]
-    for name, sub in commands.choices.items():
+    for name, sub in subcommands.items():
         out += [f"## `rubdiag {name}`", "", "```text", sub.format_help().rstrip(), "```", ""]
     return "\n".join(out)
 
