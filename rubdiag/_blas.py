@@ -3,9 +3,9 @@
 OpenBLAS picks its kernels for the CPU it finds (SkylakeX on AVX-512 machines, Haswell or Zen
 on AVX2 ones), and the kernels round differently. The simulator's inputs (steady state, Rayleigh
 coefficients, modes) come from LAPACK, and a rub run is chaotic: a difference in the last bit
-of an input becomes a different list of contact episodes after a second. Measured: the README's
-case-2 run gives 315 sliding / 192 sticking entries with the SkylakeX kernels and 332 / 201
-with the Haswell ones, on the same machine.
+of an input becomes a different list of contact episodes after a second. Measured: the
+documentation's case-2 sample run gives 315 sliding / 192 sticking entries with the SkylakeX
+kernels and 332 / 201 with the Haswell ones, on the same machine.
 
 OpenBLAS reads ``OPENBLAS_CORETYPE`` once, when it is loaded, so this must run before numpy or
 scipy is imported: ``import rubdiag`` does it. What the environment already says is kept (a

@@ -10,7 +10,7 @@ def add_fault_options(p) -> None:
     """Add the fault options to a command's parser (``simulate``, ``runup``)."""
     g = p.add_argument_group(
         "faults beside (or instead of) rub",
-        "a breathing crack, a misaligned coupling, a loose pedestal (README, Faults that "
+        "a breathing crack, a misaligned coupling, a loose pedestal (documentation: Faults that "
         "look like rub); "
         "without --gap-mm the run has no blade-casing contact")
     g.add_argument("--gravity-m-s2", type=float,

@@ -17,7 +17,7 @@ def register(sub) -> None:
         "of features per run into DIR/features/ (parquet chunks, each written atomically). "
         "A run is stored as soon as it finishes, before the progress counts it: killed "
         "at any moment, the same command resumes. It also moves unreadable chunks into "
-        "DIR/broken/ and runs their runs again. See README, 'Labelled datasets'.")
+        "DIR/broken/ and runs their runs again. See the documentation, 'Labelled datasets'.")
     p.add_argument("design", type=Path, help="design TOML file")
     p.add_argument("--out", type=Path,
                    help="dataset folder (new, empty, or this design's to resume)")

@@ -32,7 +32,7 @@ def register(sub) -> None:
         "through contact. Warnings (a class with too few runs, a class never recognised, "
         "no margin over the best baseline or chance, a shuffled-label control above "
         "chance) are printed on stderr and written into the report, metrics.json and "
-        "model.json: the same list. See README, 'Classifiers'.")
+        "model.json: the same list. See the documentation, 'Classifiers'.")
     p.add_argument("dataset", type=Path, metavar="DATASET_DIR",
                    help="dataset folder (rubdiag dataset)")
     p.add_argument("--out", type=Path, metavar="MODEL_DIR", required=True,

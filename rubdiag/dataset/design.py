@@ -94,7 +94,7 @@ by default, ``0`` keeps every step at 10 µs or shorter. A closed contact is alw
 integrated at 10 µs or shorter. With the default, against the same runs at 10 µs, the
 labels are the same and the spectral features change by less than a quarter of the scatter
 between start histories; a rubbing run's contact statistics, which are chaotic, change by
-about that scatter (README, "Steps sized by error"). The resolved form writes it only when
+about that scatter (documentation: "Steps sized by error"). The resolved form writes it only when
 it is not the default.
 
 **Resolved form.** :meth:`Design.to_dict` / :meth:`Design.to_toml` write everything a run

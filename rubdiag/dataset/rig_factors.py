@@ -23,7 +23,7 @@ never saw (train on the rest of the factor's range, test on a band of it):
     instability the most.
 
 Which of them matter on the multi-fault rig is measured by ``scripts/uncertainty.py``
-(README, "Model uncertainty"). A design's ``speed_ratio`` is relative to the critical
+(documentation: "Model uncertainty"). A design's ``speed_ratio`` is relative to the critical
 speed of each run's own rig, and a run with whirl turns at ``whirl_speed_ratio`` times its
 own rig's threshold (:class:`rubdiag.dataset.Design`).
 """

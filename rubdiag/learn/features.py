@@ -68,10 +68,10 @@ level. Without rub every band holds only measurement noise, so all of them are â
 loud the machine or its sensor noise; rub lifts the bands near the low harmonics above the
 others. Over the level, the same noise reads as (noise / response): a run far from the
 critical, or a sensor a little noisier than the simulation's, looked like rub. Measured
-on the classifier dataset of the README (rf, grouped split, trained at the dataset's floor,
+on the classifier dataset of the documentation (rf, grouped split, trained at the dataset's floor,
 tested with noise added 40 dB below the rubbing runs' power): rub/no-rub macro-F1 fell
 from 0.98 to 0.40 with the bands over the level, from 0.99 to 0.98 over the floor
-(``noise_curve(..., train_on="stored")``; README "Classifiers").
+(``noise_curve(..., train_on="stored")``; documentation: "The classifier table").
 A record without noise (a simulation's raw output) has no floor: its quietest band is
 round-off, and every band over it would read 1e4 and more. The floor is therefore taken no
 lower than 1e-4 of the level, and a band reads no lower than the floor

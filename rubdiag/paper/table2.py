@@ -251,7 +251,7 @@ def to_markdown(table: pd.DataFrame, reduction=None) -> str:
             f"discarding the first {first.discard_s:g} s; dt = {first.dt_s:g} s (the variable "
             "step may halve it; on the paper rig it never does). Minimum force: smallest "
             "per-episode peak over episodes of at least 2 steps (not converged in dt: see "
-            "README, Time-step convergence).\n")
+            "the documentation, Time-step convergence).\n")
     if reduction is not None:
         note += (f"\nModel: reduced (Craig-Bampton, fixed-interface modes below "
                  f"{reduction.cutoff_hz:g} Hz); the study's values are from its full model.\n")

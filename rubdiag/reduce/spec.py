@@ -38,7 +38,7 @@ class Reduction:
     a blade's first bending below the cutoff, and its frequency comes out 1.5 % high (a
     static load shape's Rayleigh quotient); the stick-slip at the tip is sensitive to it:
     without the rotations the sticking share of the study's cells is 20-45 % low at 2 kHz
-    (README, Reduced model). Results saved before the option existed were made without.
+    (documentation: The reduced model). Results saved before the option existed were made without.
 
     ``shaft_nodes`` keeps every DOF of those shaft nodes physical too: where another
     nonlinear element acts (a breathing crack's element, a misaligned coupling's node).

@@ -5,7 +5,7 @@ line on its bin leaks into no other order (with the Hann window, into its two ne
 bins only). But a 1× that changes within a bin — a run-up through a critical speed, where
 amplitude and phase turn within a few revolutions — is a modulated line, and its window
 spreads it onto the orders beside it: with 4-revolution bins, 0.5× and 1.5× read about 1 %
-of 1× on a 300 rpm/s run-up of the paper rig *without any contact* (README "Run-up and
+of 1× on a 300 rpm/s run-up of the paper rig *without any contact* (documentation: "Run-up and
 coast-down"). :func:`tracking_leakage` computes that level from the track itself, so that a
 figure can say where an order stands above the tracking's own leakage and where it does not.
 """
