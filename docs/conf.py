@@ -2,7 +2,8 @@
 
 Pages that follow the code are written at build time into ``docs/_generated`` (git-ignored):
 the API reference of each subpackage from its ``__all__``, the command-line reference from
-the argparse parsers, and the tutorials (the notebooks of ``notebooks/``, executed on small
+the argparse parsers, the tables of the validation pages from their files in ``data/``, and
+the tutorials (the notebooks of ``notebooks/``, executed on small
 inputs with ``RUBDIAG_QUICK=1``, their outputs cached between builds).
 """
 
@@ -35,7 +36,8 @@ extensions = [
     "myst_nb",
 ]
 source_suffix = {".rst": "restructuredtext", ".md": "myst-nb", ".ipynb": "myst-nb"}
-exclude_patterns = ["_build", "jupyter_execute", "**.ipynb_checkpoints"]
+# the generated tables are parts of pages (``{include}``), not pages
+exclude_patterns = ["_build", "jupyter_execute", "**.ipynb_checkpoints", "_generated/tables"]
 
 autosummary_generate = True
 autodoc_typehints = "none"            # the numpydoc sections give the types
@@ -43,7 +45,8 @@ autodoc_member_order = "bysource"
 numpydoc_show_class_members = False
 numpydoc_xref_param_type = False
 
-myst_enable_extensions = ["dollarmath", "colon_fence"]
+myst_enable_extensions = ["dollarmath", "colon_fence", "substitution"]
+myst_substitutions = generate.substitutions()     # values of data/ and constants in prose
 nb_execution_mode = "cache"
 nb_execution_timeout = 900
 nb_execution_raise_on_error = True

@@ -4,7 +4,10 @@
   autosummary table of the names of its ``__all__`` (each with a page of its own);
 * ``cli.md``: every ``rubdiag`` command's help, as ``rubdiag COMMAND --help`` prints it;
 * ``tutorials/index.md``: the notebooks, in order;
-* ``features.md``: the dictionary of the feature columns (:mod:`rubdiag.signal.glossary`).
+* ``features.md``: the dictionary of the feature columns (:mod:`rubdiag.signal.glossary`);
+* ``tables/<name>.md``: each table of the validation and explanation pages, rendered from its
+  file in ``data/`` by the script that wrote the file (:data:`TABLES`), and the values of
+  ``data/tolerances.toml`` that the pages' prose states (:func:`substitutions`).
 
 A page is rewritten only when its text changes, so that an unchanged page is not rebuilt.
 """
@@ -13,9 +16,14 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import importlib.util
+import json
+import sys
+import tomllib
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+DATA = ROOT / "data"
 
 #: the public subpackages, in the order a user meets them (the layers, bottom up)
 SUBPACKAGES = ("model", "assembly", "modal", "simulate", "reduce", "runs", "signal",
@@ -36,6 +44,8 @@ def write_all(folder: Path) -> None:
     _write(folder / "features.md", features_page())
     notebooks = sorted(p.stem for p in (ROOT / "notebooks").glob("*.ipynb"))
     _write(folder / "tutorials" / "index.md", tutorials_page(notebooks))
+    for name, text in tables().items():
+        _write(folder / "tables" / f"{name}.md", text)
 
 
 def api_page(module: str) -> str:
@@ -99,6 +109,135 @@ def tutorials_page(notebooks: list[str]) -> str:
         "(`RUBDIAG_QUICK=1`) when the documentation is built; run them yourself with "
         "Jupyter for the full sizes.", "",
         "```{toctree}", ":maxdepth: 1", "", *notebooks, "```", ""])
+
+
+def script(name: str):
+    """``scripts/<name>.py`` as the module ``name`` (loaded once): the script that wrote a
+    data file renders its table."""
+    if name not in sys.modules:
+        spec = importlib.util.spec_from_file_location(name, ROOT / "scripts" / f"{name}.py")
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[name] = module
+        spec.loader.exec_module(module)
+    return sys.modules[name]
+
+
+def tolerances() -> dict:
+    """``data/tolerances.toml``: the bands the pages state and the tests apply."""
+    return tomllib.loads((DATA / "tolerances.toml").read_text(encoding="utf-8"))
+
+
+def _percent(fraction: float) -> str:
+    return f"{100 * fraction:g} %"
+
+
+def substitutions() -> dict[str, str]:
+    """The values that prose states, as MyST substitutions (``{{ off_bin_band }}`` in a
+    page): the bands of ``data/tolerances.toml`` and the library's constants."""
+    from rubdiag.learn.caveats import MIN_RUNS_PER_CLASS
+    from rubdiag.learn.channel_choice import NOISE_MARGIN_DB
+
+    t = tolerances()
+    return {"noise_margin_db": f"{NOISE_MARGIN_DB:g}",
+            "min_runs_per_class": f"{MIN_RUNS_PER_CLASS}",
+            "off_bin_band": _percent(t["off_bin_lines"]["band"]),
+            "off_bin_line": _percent(t["off_bin_lines"]["line"]),
+            "noise_free_agreement": _percent(t["noise_free"]["agreement"]),
+            "noise_free_measured": t["noise_free"]["measured"]}
+
+
+def runup_bands_table() -> str:
+    """The run-up checks whose bands ``data/tolerances.toml`` holds."""
+    t = tolerances()
+    stretch, slow = t["speed_stretches"], t["slow_runup"]
+    error = f"{stretch['max_error_of_peak']:.0e}".replace("e-0", "e-")
+    rows = [(stretch["claim"], f"{error} of each channel's peak",
+             stretch["measured"]),
+            (slow["claim"], f"{_percent(slow['amplitude'])}, {slow['phase_deg']:g}°",
+             slow["measured"])]
+    return "\n".join(["| check | band | measured |", "|---|---|---|",
+                      *(f"| {a} | {b} | {c} |" for a, b, c in rows)])
+
+
+def ross_versions() -> str:
+    """What computed ``data/ross_references.json``."""
+    made = json.loads((DATA / "ross_references.json").read_text(encoding="utf-8"))["generated"]
+    return (f"ROSS {made['ross']} (`ross-rotordynamics`), Python {made['python']}, "
+            f"NumPy {made['numpy']}, SciPy {made['scipy']}")
+
+
+def _claims() -> str:
+    claims = script("claims")
+    return claims.render(claims.read())
+
+
+def _mu(render: str) -> str:
+    fit = script("fit_mu")
+    runs = fit.load_runs(fit.DATA)
+    import pandas as pd
+
+    summary = pd.read_csv(fit.DATA / fit.SUMMARY_FILE)
+    return getattr(fit, render)(runs, summary, fit.preset_mu())
+
+
+def _dt_convergence() -> str:
+    dt = script("dt_convergence")
+    return dt.to_markdown(dt.read_summary(dt.SUMMARY_CSV))
+
+
+def _csv_table(name: str, render: str, csv: str = "CSV") -> str:
+    import pandas as pd
+
+    module = script(name)
+    return getattr(module, render)(pd.read_csv(getattr(module, csv)))
+
+
+def _confusers(design: str) -> dict[str, str]:
+    """The confuser tables of ``design``'s dataset; one one-against-one table per split."""
+    import pandas as pd
+
+    module = script("confuser_tables")
+    cells_csv, rates_csv, one_csv, splits = module.OUTPUTS[design]
+    cells, rates, one = (pd.read_csv(path) for path in (cells_csv, rates_csv, one_csv))
+    prefix = "" if design == "faults_journal" else "bands-"
+    out = {f"{prefix}confuser-goals": module.goals_table(cells, rates),
+           f"{prefix}confuser-recall": module.recall_table(rates)}
+    for split in splits:
+        part = one[one["split"] == split] if "split" in one else one
+        name = f"{prefix}one-vs-one" + ("" if split == "group" else f"-{split}")
+        out[name] = module.one_vs_one_table(part) + "\n\n" + module.study_failures(part)
+    return out
+
+
+#: every generated table: name -> what renders it from its files in ``data/``
+TABLES = {
+    "claims": _claims,
+    "mu-fit": lambda: _mu("render"),
+    "mu-validated": lambda: _mu("validated"),
+    "dt-convergence": _dt_convergence,
+    "uncertainty": lambda: _csv_table("uncertainty", "table"),
+    "step-study": lambda: _csv_table("step_study", "markdown"),
+    "learn-table": lambda: _csv_table("learn_table", "table"),
+    "runup-bands": runup_bands_table,
+    "ross-versions": ross_versions,
+    **{name: (lambda design=design, name=name: _confusers(design)[name])
+       for design, names in (("faults_journal", ("confuser-goals", "confuser-recall",
+                                                 "one-vs-one")),
+                             ("faults_bands", ("bands-confuser-goals",
+                                               "bands-confuser-recall", "bands-one-vs-one",
+                                               "bands-one-vs-one-speed_ratio")))
+       for name in names},
+}
+
+
+def table(name: str) -> str:
+    """The generated table ``name`` (Markdown, one final newline)."""
+    return TABLES[name]().rstrip("\n") + "\n"
+
+
+def tables() -> dict[str, str]:
+    """Every generated table, by name."""
+    return {name: table(name) for name in TABLES}
 
 
 def _write(path: Path, text: str) -> None:

@@ -1,6 +1,7 @@
 #!/usr/bin/env python
 """The study's claims: measure each one from a reproduction, keep the verdict in
-``data/claims.csv`` and render README's claims table from it.
+``data/claims.csv``, from which the documentation renders its claims table
+(``docs/generate.py``, :func:`render`).
 
 ``data/claims.csv`` holds one row per claim of the study (section 3, Table 2), with the
 quantity we measure and a tolerance fixed from the study's wording before anything was
@@ -17,10 +18,10 @@ whose per-run quantity lies in ``per_run``.
 
 Usage::
 
-    python scripts/claims.py                       # measure, write the table and README
+    python scripts/claims.py                       # measure, write the table
     python scripts/claims.py --check               # measure and compare; exit 1 if different
-    python scripts/claims.py --no-measure          # status and README from stored measurements
-    python scripts/claims.py --no-measure --check  # fast: does README follow from the table?
+    python scripts/claims.py --no-measure          # statuses from stored measurements
+    python scripts/claims.py --no-measure --check  # fast: do the statuses follow?
 
 Measuring runs Table 2 (``rubdiag.paper.table2``, whose runs are kept in ``OUT/runs``) and
 the two case-1 ensembles (10 runs, kept in ``OUT/claims_ensemble.csv`` with the fingerprint
@@ -42,14 +43,12 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 CLAIMS = ROOT / "data" / "claims.csv"
-README = ROOT / "README.md"
 COLUMNS = ("id", "source", "claim", "quantity", "data", "study", "per_run", "tolerance",
            "rule", "measured", "detail", "status", "reason")
 HOLDS, NOT_REPRODUCED = "holds", "not reproduced"
 #: The case-1 cells whose start histories are compared, (case, g0 in mm).
 ENSEMBLE_CASES = ((1, 2.3), (1, 1.9))
 INTENSITY = {2.3: "light", 1.9: "serious"}
-_BLOCK = re.compile(r"(<!-- claims -->\n)(.*?)(<!-- /claims -->)", re.DOTALL)
 
 
 # --- tolerances -----------------------------------------------------------------------------
@@ -338,7 +337,7 @@ def with_status(claims: list[dict]) -> list[dict]:
     return rows
 
 
-# --- README ---------------------------------------------------------------------------------
+# --- the table ---------------------------------------------------------------------------------
 def _cell_text(text: str) -> str:
     return text.replace("|", "\\|").replace("\n", " ")
 
@@ -371,7 +370,7 @@ def measured_text(claim: dict) -> str:
 
 
 def render(claims: list[dict]) -> str:
-    """README's claims block: one table row per claim, then the count."""
+    """The claims table (Markdown): one row per claim, then the count."""
     lines = ["| id | the study says (where) | we measure | study | tolerance | measured | "
              "verdict |", "|---|---|---|---|---|---|---|"]
     for c in claims:
@@ -391,19 +390,6 @@ def render(claims: list[dict]) -> str:
     return "\n".join(lines) + "\n\n" + summary + "\n"
 
 
-def readme_block(readme: str) -> str:
-    """The text between ``<!-- claims -->`` and ``<!-- /claims -->``."""
-    blocks = _BLOCK.findall(readme)
-    if len(blocks) != 1:
-        raise ValueError(f"README.md has {len(blocks)} claims blocks, want 1")
-    return blocks[0][1]
-
-
-def put_block(readme: str, block: str) -> str:
-    readme_block(readme)            # exactly one
-    return _BLOCK.sub(lambda m: m[1] + block + m[3], readme)
-
-
 # --- command line ---------------------------------------------------------------------------
 def _diff(a: str, b: str, name: str) -> str:
     return "".join(difflib.unified_diff(a.splitlines(True), b.splitlines(True),
@@ -420,14 +406,11 @@ def main(argv=None) -> int:
                         help="reproduction folder (runs reused from OUT/runs); default: out")
     parser.add_argument("--jobs", type=int, default=2, help="processes (default 2)")
     parser.add_argument("--claims", type=Path, default=CLAIMS)
-    parser.add_argument("--readme", type=Path, default=README)
     args = parser.parse_args(argv)
 
     stored = read(args.claims)
     claims = stored if args.no_measure else measure_all(stored, args.out, args.jobs)
     claims = with_status(claims)
-    readme = args.readme.read_text(encoding="utf-8")
-    new_readme = put_block(readme, render(claims))
     missing = [c["id"] for c in claims if c["status"] == NOT_REPRODUCED and not c["reason"]]
 
     def table_text(rows):
@@ -438,14 +421,13 @@ def main(argv=None) -> int:
         return buffer.getvalue()
 
     if args.check:
-        problems = [d for d in (_diff(table_text(stored), table_text(claims), "claims.csv"),
-                                _diff(readme, new_readme, "README.md")) if d]
+        problems = [d for d in (_diff(table_text(stored), table_text(claims), "claims.csv"),)
+                    if d]
         if missing:
             problems.append("not reproduced without a reason: " + ", ".join(missing))
-        print("\n".join(problems) or "claims table and README are current")
+        print("\n".join(problems) or "claims table is current")
         return 1 if problems else 0
     write(claims, args.claims)
-    args.readme.write_text(new_readme, encoding="utf-8")
     for c in claims:
         print(f"{c['id']:4} {c['status']:15} {c['measured']:>8}  {c['detail']}")
     if missing:

@@ -424,11 +424,9 @@ def render(runs: pd.DataFrame, summ: pd.DataFrame, preset_mu: float) -> str:
         text += (f"| {mu_cell(r)} | " + " | ".join(_share(shares[c]) for c in CLAIMS)
                  + f" | {_share(r.claims)} |\n")
     n_ok, n = int(summ["n_ok"].sum()), int(summ["n_runs"].sum())
-    dates = sorted(runs["date"].astype(str).unique())
     text += (f"\nr in % (rms log-ratio of the 5-history medians to the study's numbers, "
              f"× 100); ratios of the medians; claims (ids of `data/claims.csv`) as the share "
-             f"of the 5 or 10 runs each is about. {n_ok} of {n} runs ok; run on "
-             f"{' … '.join(dict.fromkeys([dates[0], dates[-1]]))}, "
+             f"of the 5 or 10 runs each is about. {n_ok} of {n} runs ok, "
              f"{summ['wall_s'].sum() / 60:.0f} min on 2 processes.\n\n")
     for name, split in SPLITS.items():
         s = res[name]

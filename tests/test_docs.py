@@ -170,3 +170,29 @@ def test_the_site_builds_without_a_warning(tmp_path):
                           capture_output=True, text=True)
     assert done.returncode == 0, done.stderr[-3000:]
     assert (tmp_path / "html" / "_generated" / "cli.html").exists()
+
+
+def test_every_generated_table_is_shown_by_one_page():
+    """Each table rendered from data/ is included by exactly one page."""
+    pages = [p for p in DOCS.rglob("*.md") if not p.is_relative_to(DOCS / "_build")
+             and not p.is_relative_to(DOCS / "_generated")]
+    for name in generate.TABLES:
+        including = [p for p in pages
+                     if f"{{include}} ../_generated/tables/{name}.md\n" in p.read_text()]
+        assert len(including) == 1, (name, including)
+
+
+def test_the_tables_show_the_values_of_their_data_files():
+    """The bands of data/tolerances.toml and a cell of data/learn_table.csv, read here
+    without the renderers, appear in the rendered tables and prose."""
+    shown = generate.table("runup-bands")
+    bands = generate.tolerances()["slow_runup"]
+    assert f"| {100 * bands['amplitude']:g} %, {bands['phase_deg']:g}° |" in shown
+    assert generate.substitutions()["off_bin_band"] == (
+        f"{100 * generate.tolerances()['off_bin_lines']['band']:g} %")
+    import pandas as pd
+
+    table = pd.read_csv(generate.DATA / "learn_table.csv")
+    first = table.iloc[0]
+    assert f"**{first.macro_f1:.2f} [{first.macro_f1_lo:.2f}, {first.macro_f1_hi:.2f}]**" in (
+        generate.table("learn-table"))

@@ -1,20 +1,18 @@
-"""The README "Steps sized by error" table is the step study's (``scripts/step_study.py``,
-``data/step_study.csv``), and the default tolerance meets the goal it was chosen by: every
-stored quantity's change under a quarter of the scatter between start histories (or the
-floor), the labels unchanged."""
+"""The documentation's "Steps sized by error" table is the step study's
+(``scripts/step_study.py``, ``data/step_study.csv``), and the default tolerance meets the
+goal it was chosen by: every stored quantity's change under a quarter of the scatter between
+start histories (or the floor), the labels unchanged."""
 
 from __future__ import annotations
 
-import re
-
 import pandas as pd
 import pytest
+from docs_tables import table as shown
 from scripts_loader import load_script
 
 from rubdiag.dataset.design import DEFAULT_STEP_ERROR
 
 study = load_script("step_study")
-README = study.ROOT / "README.md"
 
 
 @pytest.fixture(scope="module")
@@ -22,11 +20,10 @@ def table():
     return pd.read_csv(study.CSV)
 
 
-def test_readme_holds_the_studys_table(table):
-    text = README.read_text()
-    block = re.search(r"<!-- step-study -->\n(.*?)\n<!-- /step-study -->", text, re.S)
-    assert block is not None, "README has no step-study block"
-    assert block.group(1).strip() == study.markdown(table).strip()
+def test_the_documentation_shows_the_studys_table(table):
+    rendered = shown("step-study")
+    assert rendered.strip() == study.markdown(table).strip()
+    assert len(rendered.strip().splitlines()) == 2 + len(table)     # a row per stored row
 
 
 def test_the_default_tolerance_was_studied(table):

@@ -1,24 +1,20 @@
-"""The README "Model uncertainty" table (scripts/uncertainty.py): its stored rows are what
-the rig gives, and the README shows exactly what they say; the factors move the rig the
-way their physics says."""
-
-import re
-from pathlib import Path
+"""The "Model uncertainty" table (scripts/uncertainty.py): its stored rows are what the rig
+gives, and the documentation shows exactly what they say; the factors move the rig the way
+their physics says."""
 
 import pandas as pd
 import pytest
+from docs_tables import table
 from scripts_loader import load_script
 
-ROOT = Path(__file__).resolve().parents[2]
 script = load_script("uncertainty")
 ROWS = pd.read_csv(script.CSV)
-_BLOCK = re.search(r"<!-- uncertainty-table -->\n(?P<body>.*?)\n<!-- /uncertainty-table -->",
-                   (ROOT / "README.md").read_text(encoding="utf-8"), re.DOTALL)
 
 
-def test_readme_table_is_what_the_stored_rows_say():
-    assert _BLOCK is not None, "README.md has no <!-- uncertainty-table --> block"
-    assert _BLOCK["body"] == script.table(ROWS)
+def test_the_documented_table_is_what_the_stored_rows_say():
+    shown = table("uncertainty")
+    assert shown == script.table(ROWS) + "\n"
+    assert len(shown.strip().splitlines()) == 2 + len(ROWS)         # a row per stored row
 
 
 def test_every_rig_factor_level_of_the_design_is_stored():

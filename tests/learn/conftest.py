@@ -42,7 +42,7 @@ def small_rows(small_dataset):
 
 
 #: A smaller, quicker dataset of the reduced model (one replicate, 0.5-s windows): the
-#: README's commands run on it (test_readme_predict.py). About 6 s on one core.
+#: documentation's commands run on it (test_predict_examples.py). About 6 s on one core.
 TINY_DESIGN = """
 [base]
 rig = "paper"

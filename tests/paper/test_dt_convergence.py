@@ -1,5 +1,5 @@
-"""The dt-convergence study (scripts/dt_convergence.py): its stored results, the README table
-printed from them, and the verdicts the stated rule gives.
+"""The dt-convergence study (scripts/dt_convergence.py): its stored results, the table the
+documentation renders from them, and the verdicts the stated rule gives.
 
 The fast tests read ``data/dt_convergence_runs.csv`` and ``data/dt_convergence.csv``; the
 ``slow`` one simulates a run again and compares it with its stored row.
@@ -8,15 +8,12 @@ The fast tests read ``data/dt_convergence_runs.csv`` and ``data/dt_convergence.c
 from __future__ import annotations
 
 import math
-import re
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
+from docs_tables import table
 from scripts_loader import load_script
-
-ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.fixture(scope="module")
@@ -34,18 +31,12 @@ def summary(script):
     return script.read_summary(script.SUMMARY_CSV)
 
 
-def _readme_block() -> str:
-    text = (ROOT / "README.md").read_text(encoding="utf-8")
-    found = re.search(r"<!-- dt-convergence: begin -->\n(.*?)<!-- dt-convergence: end -->",
-                      text, re.DOTALL)
-    assert found, "README.md has no dt-convergence block"
-    return found.group(1)
-
-
-def test_readme_table_is_what_the_script_prints_from_the_stored_summary(script, summary):
-    assert _readme_block() == script.to_markdown(summary), (
-        "README's dt-convergence table drifted: paste `python scripts/dt_convergence.py "
-        "--table` between its markers")
+def test_the_documented_table_is_what_the_script_prints_from_the_stored_summary(script,
+                                                                             summary):
+    assert table("dt-convergence") == script.to_markdown(summary).rstrip("\n") + "\n"
+    for r in summary.itertuples():       # a row per quantity and cell, with its verdict
+        assert f"| {r.verdict if r.verdict == 'converged' else '**' + r.verdict + '**'} |" \
+            in table("dt-convergence")
 
 
 def test_every_run_is_stored_finished_and_with_the_table2_settings(script, rows):
@@ -88,14 +79,14 @@ def test_verdicts_follow_from_the_stored_numbers(summary):
 
 
 def test_the_variable_step_never_engages_on_the_paper_rig(rows):
-    """README: every run takes exactly duration/dt steps, none rejected, none shorter."""
+    """Every run takes exactly duration/dt steps, none rejected, none shorter."""
     assert (rows["n_rejected"] == 0).all()
     assert (rows["n_steps_below_dt"] == 0).all()
     assert (rows["n_steps"] == np.round(2.3 / rows["dt_s"])).all()
 
 
 def test_the_10us_ramp_01_run_of_each_cell_is_the_table2_run(rows):
-    """The Table 2 runs (gap ramp 0.1 s, dt 10 µs) reappear here: README's Table 2 numbers."""
+    """The Table 2 runs (gap ramp 0.1 s, dt 10 µs) reappear here: Table 2's numbers."""
     table = rows[(rows["gap_ramp_s"] == 0.1) & (rows["dt_s"] == 1e-5)].set_index(
         ["case", "intensity"])
     assert table.loc[(1, "light"), "contact1_min_force_n"] == pytest.approx(64.7, abs=0.05)

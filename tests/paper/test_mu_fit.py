@@ -1,6 +1,6 @@
-"""The μ fit (scripts/fit_mu.py): the stored scan is complete, the summary and the README's
-"How μ was chosen" follow from the stored runs by the script's stated rule, and the preset μ
-is the one the README names.
+"""The μ fit (scripts/fit_mu.py): the stored scan is complete, the summary and the tables of
+the documentation's "How μ was chosen" follow from the stored runs by the script's stated
+rule, and the preset μ is the one they name.
 
 The fast tests read data/mu_fit.csv only; the slow one re-runs one stored simulation.
 """
@@ -8,33 +8,24 @@ The fast tests read data/mu_fit.csv only; the slow one re-runs one stored simula
 import dataclasses
 import math
 import re
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
+from docs_tables import table
 from scripts_loader import load_script
 
 from rubdiag.model import paper_rig
 from rubdiag.paper import paper_values
 from rubdiag.paper.ensemble import GAP_RAMPS_S
 
-ROOT = Path(__file__).resolve().parents[2]
 script = load_script("fit_mu")
 
 RUNS = script.load_runs(script.DATA)
 SUMMARY = pd.read_csv(script.DATA / script.SUMMARY_FILE)
-_BLOCK = re.search(r"<!-- mu-fit -->\n(?P<body>.*?)<!-- /mu-fit -->",
-                   (ROOT / "README.md").read_text(encoding="utf-8"), re.DOTALL)
-
-
-_VALIDATED = re.search(r"<!-- mu-validated -->\n(?P<body>.*?)<!-- /mu-validated -->",
-                       (ROOT / "README.md").read_text(encoding="utf-8"), re.DOTALL)
-
-
-def readme_block() -> str:
-    assert _BLOCK is not None, "README.md has no <!-- mu-fit --> block (How μ was chosen)"
-    return _BLOCK["body"]
+#: what the documentation shows, rendered from the stored files when it is built
+SHOWN = table("mu-fit")
+VALIDATED = table("mu-validated")
 
 
 def test_the_scan_is_complete():
@@ -52,14 +43,10 @@ def test_summary_is_the_stored_runs_summary():
     pd.testing.assert_frame_equal(script.summary(RUNS), SUMMARY, check_dtype=False, rtol=1e-5)
 
 
-def test_readme_block_is_what_the_stored_data_say():
+def test_the_documented_tables_are_what_the_stored_data_say():
     # the table, μ*, the held-out scores and the preset μ, as `fit_mu.py --table` prints them
-    assert readme_block() == script.render(RUNS, SUMMARY, script.preset_mu())
-
-
-def test_readme_validated_items_are_what_the_stored_data_say():
-    assert _VALIDATED is not None, "README.md has no <!-- mu-validated --> block (Validated)"
-    assert _VALIDATED["body"] == script.validated(RUNS, SUMMARY, script.preset_mu())
+    assert SHOWN == script.render(RUNS, SUMMARY, script.preset_mu()).rstrip("\n") + "\n"
+    assert VALIDATED == script.validated(RUNS, SUMMARY, script.preset_mu()).rstrip("\n") + "\n"
 
 
 def test_validated_ratios_recomputed_by_hand():
@@ -78,7 +65,7 @@ def test_validated_ratios_recomputed_by_hand():
         tol = float(claims.loc[claim, "tolerance"].strip("±% ")) / 100
         verdict = "holds" if abs(ours / theirs - 1) <= tol else "does not hold"
         assert f"{ours:.1f} against {theirs:.1f} ± {100 * tol:.0f} % ({claim}: {verdict};" \
-            in _VALIDATED["body"]
+            in VALIDATED
 
 
 def test_split_a_recomputed_by_hand():
@@ -102,7 +89,7 @@ def test_split_a_recomputed_by_hand():
     held = {mu: r(mu, 2) for mu in mus}
     stated = re.search(r"Split A .*?μ\* = (?P<star>[\d.]+) \(r = (?P<fit>\d+) %\); held out "
                        r"r = (?P<held>\d+) % at μ\*, (?P<preset>\d+) % at the preset",
-                       readme_block())
+                       SHOWN)
     assert stated is not None
     assert float(stated["star"]) == pytest.approx(star)
     assert int(stated["fit"]) == round(100 * min(fit))
@@ -110,8 +97,8 @@ def test_split_a_recomputed_by_hand():
     assert int(stated["preset"]) == round(100 * held[script.preset_mu()])
 
 
-def test_preset_mu_is_the_one_the_readme_names():
-    stated = re.search(r"Preset μ = (?P<mu>[\d.]+)\.", readme_block())
+def test_preset_mu_is_the_one_the_documentation_names():
+    stated = re.search(r"Preset μ = (?P<mu>[\d.]+)\.", SHOWN)
     assert stated is not None
     assert float(stated["mu"]) == paper_rig().contact.friction_coefficient
 

@@ -5,7 +5,7 @@ the tolerance fixed from the study's wording before measuring, and whether it ho
 :func:`test_claim` measures each one (with ``scripts/claims.py``'s :func:`measure`, the same
 measurement that wrote the table) on the shared fixtures and checks it against the table's
 tolerance; a claim the table marks as not reproduced is a strict xfail with the table's
-reason, so a change that reproduces it fails until the table and README say so (rerun
+reason, so a change that reproduces it fails until the table says so (rerun
 ``python scripts/claims.py``).
 
 Settings: the paper rig preset, dt = 1e-5 s, 2.3 s with 0.3 s discarded. Claims about
@@ -125,7 +125,8 @@ def test_claim(claim, request):
 
 
 def test_stored_measurements_are_current(table, case1_ensemble):
-    """README prints the table's measured values: they are this reproduction's (4 digits)."""
+    """The documentation prints the table's measured values: they are this reproduction's
+    (4 digits)."""
     drifted = []
     for claim in CLAIMS:
         value, detail = claims.measure(claim, table, case1_ensemble)

@@ -101,9 +101,11 @@ def test_written_table_says_which_model(tmp_path, simulated):
         assert list(pd.read_csv(folder / "features.csv")["model"]) == [model] * 4
     full_md = (tmp_path / "full" / "table2.md").read_text(encoding="utf-8")
     reduced_md = (tmp_path / "reduced" / "table2.md").read_text(encoding="utf-8")
-    # the full model's Markdown is as it was (README's sample), the reduced one adds a line
+    # the full model's Markdown is as it was (the documentation's sample), the reduced one
+    # adds a line
     assert "Model:" not in full_md and "reduced" not in full_md
-    assert full_md.endswith("(not converged in dt: see README, Time-step convergence).\n")
+    assert full_md.endswith("(not converged in dt: see the documentation, Time-step "
+                            "convergence).\n")
     last = reduced_md.rstrip("\n").splitlines()[-1]
     assert last == ("Model: reduced (Craig-Bampton, fixed-interface modes below 1824 Hz); "
                     "the study's values are from its full model.")

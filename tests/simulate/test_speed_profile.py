@@ -1,4 +1,4 @@
-"""Runs along a speed profile (issue 14, part 1): the profile's angle, the run description,
+"""Runs along a speed profile: the profile's angle, the run description,
 and a slow run-up without contact against the steady-state unbalance response."""
 
 from __future__ import annotations
@@ -6,11 +6,10 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
-import re
-from pathlib import Path
 
 import numpy as np
 import pytest
+from data_tolerances import TOLERANCES
 from scipy.integrate import quad
 
 from rubdiag.dataset.ids import run_id
@@ -19,11 +18,10 @@ from rubdiag.simulate.simulation import run_from_dict, run_to_dict
 from rubdiag.simulate.speed_profile import SpeedProfile
 
 RPM = math.pi / 30
-#: The issue's bands for a slow run-up against the steady state, as README "Run-up and
-#: coast-down" states them: amplitude (relative) and phase (degrees).
-_BANDS = re.search(r"outside ±10 % of the critical \| ([0-9.]+) %, ([0-9.]+)° \|",
-                   (Path(__file__).resolve().parents[2] / "README.md").read_text("utf-8"))
-AMPLITUDE_BAND, PHASE_BAND_DEG = float(_BANDS.group(1)) / 100, float(_BANDS.group(2))
+#: The bands for a slow run-up against the steady state (data/tolerances.toml, which the
+#: documentation shows): amplitude (relative) and phase (degrees).
+AMPLITUDE_BAND = TOLERANCES["slow_runup"]["amplitude"]
+PHASE_BAND_DEG = TOLERANCES["slow_runup"]["phase_deg"]
 
 
 def test_ramp_knots_and_exact_angle():

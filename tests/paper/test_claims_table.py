@@ -1,8 +1,9 @@
-"""README's claims table follows from ``data/claims.csv``, and the table from its own numbers.
+"""The documentation's claims table is rendered from ``data/claims.csv``, and the statuses
+follow from the file's own numbers.
 
 No simulation: the measurements are ``tests/paper/test_table2.py``'s. On drift run
-``python scripts/claims.py --no-measure`` (README and statuses from the stored measurements)
-or ``python scripts/claims.py`` (measure again) and review the diff.
+``python scripts/claims.py --no-measure`` (statuses from the stored measurements) or
+``python scripts/claims.py`` (measure again) and review the diff.
 """
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ import re
 from pathlib import Path
 
 import pytest
+from docs_tables import table as shown
 from scripts_loader import load_script
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -27,13 +29,20 @@ def table(claims):
 
 
 @pytest.fixture(scope="module")
-def readme():
-    return (ROOT / "README.md").read_text(encoding="utf-8")
+def prose():
+    """The shipped prose: the README and the documentation's pages."""
+    pages = [ROOT / "README.md", *sorted((ROOT / "docs").glob("[!_]*/**/*.md")),
+             *sorted((ROOT / "docs").glob("*.md"))]
+    return "\n".join(p.read_text(encoding="utf-8") for p in pages)
 
 
-def test_readme_block_is_rendered_from_the_table(claims, table, readme):
-    assert claims.readme_block(readme) == claims.render(table), (
-        "README's claims block drifted; run `python scripts/claims.py --no-measure`")
+def test_the_documented_table_is_rendered_from_the_claims_file(claims, table):
+    rendered = shown("claims")
+    assert rendered == claims.render(table)
+    for c in table:                  # one row per claim, with its verdict
+        verdict = "holds" if c["status"] == claims.HOLDS else "**xfail**"
+        assert any(line.startswith(f"| {c['id']} |") and f"| {verdict}" in line
+                   for line in rendered.splitlines()), c["id"]
 
 
 def test_every_claim_is_measured_and_its_status_follows(claims, table):
@@ -77,8 +86,8 @@ def test_tolerances_mean_what_they_say(claims, spec, study, inside, outside):
     assert all(x in t for x in inside) and not any(x in t for x in outside)
 
 
-def test_every_claim_holds_only_if_it_does(table, readme):
+def test_every_claim_holds_only_if_it_does(table, prose):
     everything = all(c["status"] == "holds" for c in table)
     sayings = [r"every\s+claim[^.]*\bholds?\b", r"none\s+is\s+an\s+xfail", r"all\s+claims\s+hold"]
-    said = [p for p in sayings if re.search(p, readme, re.IGNORECASE)]
-    assert everything or not said, f"README says {said} but not every claim holds"
+    said = [p for p in sayings if re.search(p, prose, re.IGNORECASE)]
+    assert everything or not said, f"the documentation says {said} but not every claim holds"

@@ -1,4 +1,5 @@
-"""README "Classifiers": its `rubdiag predict` examples run as written, on a small dataset
+"""The how-to "Train a rub detector and predict": its `rubdiag predict` examples run as
+written, on a small dataset
 (DATA), the models its `rubdiag train` lines make, and measurement files made here as the
 lines describe them (columns, units, tacho); the slow test runs every command of the block
 and its Python block as written, full evaluations included."""
@@ -28,14 +29,15 @@ ROOT = Path(__file__).resolve().parents[2]
 CHANNEL_SETS = ("auto", "shaft", "all")
 
 
+PAGE = ROOT / "docs" / "how-to" / "train-and-predict.md"
+
+
 def section() -> str:
-    text = (ROOT / "README.md").read_text(encoding="utf-8")
-    start = text.index("\n## Classifiers\n")
-    return text[start:text.index("\n## ", start + 5)]
+    return PAGE.read_text(encoding="utf-8")
 
 
 def console_commands() -> list[list[str]]:
-    """The commands of the section's first console block, as argv after ``rubdiag``."""
+    """The commands of the page's first console block, as argv after ``rubdiag``."""
     block = re.search(r"```console\n(.*?)```", section(), re.DOTALL).group(1)
     out = []
     for line in block.splitlines():
@@ -65,7 +67,7 @@ def pairs(values) -> dict:
     return dict(v.split("=", 1) for v in values)
 
 
-def test_the_block_has_what_the_issue_asks():
+def test_the_block_trains_and_predicts_for_one_probe_and_many():
     kinds = [argv[0] for argv in COMMANDS]
     assert kinds.count("predict") >= 3 and "train" in kinds
     # a plant with a single probe is served: a one-channel model and a file with one column
@@ -78,13 +80,13 @@ def rubbing_run(data: pd.DataFrame) -> pd.Series:
     the rows (which follows the run ids, a hash): at 0.9 of the critical speed. At the
     critical speed of case 1 (25 Hz) the 0.5-s window puts 1× between two 2-Hz bins, and
     the one-probe file's speed vote can miss it (the tiny design's case-1 runs at 1.0 with
-    long steps: README, 'Steps sized by error')."""
+    long steps: the documentation's 'Steps sized by error')."""
     rubbing = data[data["rub"].astype(bool)]
     return rubbing.sort_values(["case", "speed_ratio", "gap_mm"]).iloc[0]
 
 
 def write_input(path: Path, args, model, dataset: Path, run: pd.Series) -> None:
-    """The file a README predict line reads: the run's analysis window of the model's
+    """The file a predict line of the page reads: the run's analysis window of the model's
     channels, in the columns (``--column``) and units (``--unit``) the line gives, with a
     time column (CSV) or ``fs`` (NPZ), and the ``--tacho`` column as a once-per-revolution
     pulse at the run's speed."""
@@ -111,14 +113,14 @@ def write_input(path: Path, args, model, dataset: Path, run: pd.Series) -> None:
 
 @pytest.fixture(scope="module")
 def workdir(tiny_dataset, tmp_path_factory):
-    """DATA, the models the predict lines use — trained as their README line says, the
+    """DATA, the models the predict lines use — trained as their line of the page says, the
     evaluation kept short (the fitted model does not depend on it) — and their files."""
-    root = tmp_path_factory.mktemp("readme")
+    root = tmp_path_factory.mktemp("examples")
     (root / "DATA").symlink_to(tiny_dataset, target_is_directory=True)
     trains = {str(parsed(a).out): parsed(a) for a in COMMANDS if a[0] == "train"}
     predicts = [parsed(a) for a in COMMANDS if a[0] == "predict"]
     for name in {str(p.model) for p in predicts}:
-        assert name in trains, f"no train line of the README makes {name}"
+        assert name in trains, f"no train line of the page makes {name}"
         a = trains[name]
         train(root / a.dataset, root / a.out, target=a.target, estimator=a.estimator,
               split=a.split, channels=channels_option(a.channels), seed=a.seed,
@@ -160,9 +162,9 @@ def test_a_predict_example_runs_as_written(argv, workdir, monkeypatch, capsys):
 
 def test_a_file_without_a_model_channel_says_how_to_train_without_it(workdir, monkeypatch,
                                                                     capsys):
-    """Every README file against every README model whose channels it lacks: one line
-    (exit 2) naming the missing channels and the `--channels` of a model without them —
-    for the one-probe file and the default model, the README's own one-probe train line."""
+    """Every file of the page against every model of the page whose channels it lacks: one
+    line (exit 2) naming the missing channels and the `--channels` of a model without them —
+    for the one-probe file and the default model, the page's own one-probe train line."""
     root, _, _, models = workdir
     monkeypatch.chdir(root)
     trains = {str(parsed(a).out): parsed(a) for a in COMMANDS if a[0] == "train"}
@@ -216,10 +218,16 @@ def test_the_whole_block_and_the_python_block_as_written(workdir, tiny_design, t
     assert result.returncode == 0, result.stderr
 
 
-def test_the_readme_states_the_constants():
+def test_the_documentation_states_the_constants():
+    """The explanation's prose takes the constants from the library when it is built."""
+    from docs_tables import generate
+
     from rubdiag.learn.caveats import MIN_RUNS_PER_CLASS
     from rubdiag.learn.channel_choice import NOISE_MARGIN_DB
 
-    text = " ".join(section().split())
-    assert f"lies within {NOISE_MARGIN_DB:g} dB of its noise floor" in text
-    assert f"when a class has fewer than {MIN_RUNS_PER_CLASS} runs (`MIN_RUNS_PER_CLASS`" in text
+    values = generate.substitutions()
+    assert values["noise_margin_db"] == f"{NOISE_MARGIN_DB:g}"
+    assert values["min_runs_per_class"] == str(MIN_RUNS_PER_CLASS)
+    page = " ".join((ROOT / "docs" / "explanation" / "classifiers.md").read_text().split())
+    assert "lies within {{ noise_margin_db }} dB of its noise floor" in page
+    assert "when a class has fewer than {{ min_runs_per_class }} runs" in page

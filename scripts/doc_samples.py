@@ -1,7 +1,9 @@
 #!/usr/bin/env python
-"""Regenerate the sample outputs in README.md, or check that they are still what the tool prints.
+"""Regenerate the sample outputs of the documentation's pages, or check that they are still
+what the tool prints.
 
-A sample block in README.md is a named pair of HTML comments around generated text::
+A sample block in a page (:attr:`Sample.page`) is a named pair of HTML comments around
+generated text::
 
     <!-- sample: simulate -->
     ```console
@@ -18,10 +20,10 @@ only a change in what the tool computes or says counts as drift.
 
 Usage::
 
-    python scripts/readme_samples.py                 # rewrite every block of README.md
-    python scripts/readme_samples.py --check         # exit 1 with a diff if README drifted
-    python scripts/readme_samples.py --skip-slow     # leave out table2 (a ≈ 30-s run)
-    python scripts/readme_samples.py --only modal    # some samples only
+    python scripts/doc_samples.py                 # rewrite every block of the pages
+    python scripts/doc_samples.py --check         # exit 1 with a diff if a page drifted
+    python scripts/doc_samples.py --skip-slow     # leave out table2 (a ≈ 30-s run)
+    python scripts/doc_samples.py --only modal    # some samples only
 """
 
 from __future__ import annotations
@@ -37,7 +39,7 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
-README = Path(__file__).resolve().parents[1] / "README.md"
+ROOT = Path(__file__).resolve().parents[1]
 
 
 @dataclass(frozen=True)
@@ -48,21 +50,23 @@ class Command:
 
 @dataclass(frozen=True)
 class Sample:
+    page: str                      # the page that shows it, from the repository's root
     commands: tuple[Command, ...]
     fence: str | None = "console"  # None: the output is Markdown, shown as is, no commands
     slow: bool = False             # left out by --skip-slow (and by the default test suite)
 
 
 SAMPLES = {
-    "modal": Sample((Command(("modal",)),)),
-    "simulate": Sample((
+    "modal": Sample("docs/explanation/model.md", (Command(("modal",)),)),
+    "simulate": Sample("docs/explanation/contact-and-integrator.md", (
         Command(("simulate", "--case", "2", "--gap-mm", "1.9", "--out", "c2.npz"),
                 "# --speed-rpm, --duration-s, --discard-s, --dt-s, --output-rate-hz, --mu, "
                 "--rig, --json"),
         Command(("features", "c2.npz", "--summary"),
                 "# in words; without --summary every feature follows"),
     )),
-    "table2": Sample((Command(("table2", "--out", "out")),), fence=None, slow=True),
+    "table2": Sample("docs/validation/table2.md", (Command(("table2", "--out", "out")),),
+                     fence=None, slow=True),
 }
 
 #: (pattern, replacement) applied to both sides before comparing: what varies between runs.
@@ -76,11 +80,11 @@ _COMMENT_COLUMN = 60
 
 
 def blocks(text: str) -> dict[str, str]:
-    """The sample blocks of a README text: name -> the text between the markers."""
+    """The sample blocks of a page's text: name -> the text between the markers."""
     found = {}
     for m in _BLOCK.finditer(text):
         if m["name"] in found:
-            raise ValueError(f"sample {m['name']!r} appears twice in the README")
+            raise ValueError(f"sample {m['name']!r} appears twice in the page")
         found[m["name"]] = m["body"]
     return found
 
@@ -99,7 +103,7 @@ def run(argv, cwd: Path) -> str:
 def render(sample: Sample) -> str:
     """The block text of a sample: its commands run now, in a fresh temporary folder."""
     lines = []
-    with tempfile.TemporaryDirectory(prefix="rubdiag-readme-") as tmp:
+    with tempfile.TemporaryDirectory(prefix="rubdiag-sample-") as tmp:
         for command in sample.commands:
             if sample.fence is not None:
                 shown = "$ rubdiag " + shlex.join(command.argv)
@@ -117,35 +121,35 @@ def mask(text: str) -> str:
     return text
 
 
-def compare(readme: str, generated: dict[str, str]) -> list[str]:
-    """Differences between the README's blocks and freshly ``generated`` ones (masked), one
-    unified diff per drifted sample; also a sample with no block in the README."""
-    present = blocks(readme)
+def compare(text: str, generated: dict[str, str], where: str = "the page") -> list[str]:
+    """Differences between a page's blocks (its ``text``) and freshly ``generated`` ones
+    (masked), one unified diff per drifted sample; also a sample with no block in it."""
+    present = blocks(text)
     problems = []
     for name, new in generated.items():
         if name not in present:
-            problems.append(f"README.md has no block <!-- sample: {name} -->")
+            problems.append(f"{where} has no block <!-- sample: {name} -->")
             continue
         old = mask(present[name])
         if old != mask(new):
             diff = difflib.unified_diff(old.splitlines(), mask(new).splitlines(),
-                                        f"README.md ({name})", f"generated ({name})",
+                                        f"{where} ({name})", f"generated ({name})",
                                         lineterm="")
             problems.append("\n".join(diff))
     return problems
 
 
-def update(readme: str, generated: dict[str, str]) -> str:
-    """The README with the ``generated`` blocks put in."""
-    missing = set(generated) - set(blocks(readme))
+def update(text: str, generated: dict[str, str]) -> str:
+    """A page's ``text`` with the ``generated`` blocks put in."""
+    missing = set(generated) - set(blocks(text))
     if missing:
-        raise ValueError(f"README.md has no block for: {', '.join(sorted(missing))}")
+        raise ValueError(f"the page has no block for: {', '.join(sorted(missing))}")
 
     def put(m: re.Match) -> str:
         body = generated.get(m["name"], m["body"])
         return m.group(1) + body + m.group(4)
 
-    return _BLOCK.sub(put, readme)
+    return _BLOCK.sub(put, text)
 
 
 def generate(names) -> dict[str, str]:
@@ -164,24 +168,28 @@ def selected(only=None, skip_slow: bool = False) -> list[str]:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--check", action="store_true",
-                        help="compare instead of writing; exit 1 if README.md drifted")
+                        help="compare instead of writing; exit 1 if a page drifted")
     parser.add_argument("--only", nargs="+", metavar="NAME", help="these samples only")
     parser.add_argument("--skip-slow", action="store_true", help="leave out slow samples")
-    parser.add_argument("--readme", type=Path, default=README, help="default: README.md")
     args = parser.parse_args(argv)
     names = selected(args.only, args.skip_slow)
-    text = args.readme.read_text(encoding="utf-8")
     generated = generate(names)
+    problems = []
+    for page in dict.fromkeys(SAMPLES[n].page for n in names):
+        path = ROOT / page
+        text = path.read_text(encoding="utf-8")
+        mine = {n: generated[n] for n in names if SAMPLES[n].page == page}
+        if args.check:
+            problems += compare(text, mine, page)
+        else:
+            path.write_text(update(text, mine), encoding="utf-8")
+            print(f"wrote {', '.join(mine)} to {page}", file=sys.stderr)
     if args.check:
-        problems = compare(text, generated)
         for problem in problems:
             print(problem)
         print(f"{len(names) - len(problems)} of {len(names)} sample(s) current "
               f"({', '.join(names)})", file=sys.stderr)
-        return 1 if problems else 0
-    args.readme.write_text(update(text, generated), encoding="utf-8")
-    print(f"wrote {len(names)} sample(s) to {args.readme}: {', '.join(names)}", file=sys.stderr)
-    return 0
+    return 1 if problems else 0
 
 
 if __name__ == "__main__":
