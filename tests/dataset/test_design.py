@@ -58,7 +58,7 @@ def issue_design():
 
 
 # --- the issue's design ----------------------------------------------------------------------
-def test_issue_toml_gives_200_runs_inside_the_ranges(issue_design, paper_rig):
+def test_rub_lhs200_toml_gives_200_runs_inside_the_ranges(issue_design, paper_rig):
     runs = issue_design.runs()
     assert issue_design.n_runs == len(runs) == 200
     assert issue_design.rig == paper_rig
@@ -71,7 +71,7 @@ def test_issue_toml_gives_200_runs_inside_the_ranges(issue_design, paper_rig):
     assert sorted(np.unique([r.point["case"] for r in runs], return_counts=True)[1]) == [100, 100]
 
 
-def test_issue_toml_runs_follow_their_points(issue_design):
+def test_rub_lhs200_toml_runs_follow_their_points(issue_design):
     speeds = issue_design.critical_speeds_rad_s
     for r in issue_design.runs()[:20]:
         p, run = r.point, r.run
@@ -85,7 +85,7 @@ def test_issue_toml_runs_follow_their_points(issue_design):
         assert (run.duration_s, run.discard_s, run.gap_ramp_s) == (2.3, 0.3, 0.1)
 
 
-def test_issue_toml_with_replicates(issue_design):
+def test_rub_lhs200_toml_with_replicates(issue_design):
     design = dataclasses.replace(issue_design, replicates=3)
     runs = design.runs()
     assert len(runs) == design.n_runs == 600

@@ -287,7 +287,7 @@ class TestGuessedSpeed:
                                              r"times above the noise floor \(allowed: >= 10\)"):
             features(x, FS)
 
-    def test_uniform_noise_of_the_issue_is_refused(self):
+    def test_uniform_noise_is_refused(self):
         with pytest.raises(ValueError, match="speed_confidence"):
             features(np.random.default_rng(3).random((2, 5000)), fs=5000)
 

@@ -1,4 +1,4 @@
-"""The shipped design of issue 11 (data/designs/rub_lhs200.toml, 200 runs of 2.3 s) runs as
+"""The shipped design data/designs/rub_lhs200.toml (200 runs of 2.3 s) runs as
 written: one row per run with the labels, the measures and the sensor features (slow:
 about 15 min on 2 cores). The fast test checks what can be checked without simulating."""
 
@@ -15,7 +15,7 @@ from rubdiag.dataset.labels import LABELS, MEASURES
 DESIGN = Path(__file__).resolve().parents[2] / "data" / "designs" / "rub_lhs200.toml"
 
 
-def test_the_issue_design_is_valid_and_covers_both_cases():
+def test_the_rub_lhs200_design_is_valid_and_covers_both_cases():
     design = Design.from_toml(DESIGN)
     runs = design.runs()
     assert len(runs) == 200 == len({r.run_id for r in runs})
@@ -27,7 +27,7 @@ def test_the_issue_design_is_valid_and_covers_both_cases():
 
 
 @pytest.mark.slow
-def test_the_issue_design_runs_as_written(tmp_path):
+def test_the_rub_lhs200_design_runs_as_written(tmp_path):
     design = Design.from_toml(DESIGN)
     generate(design, tmp_path / "ds", jobs=2, progress=False)
     rows = load(tmp_path / "ds")
