@@ -136,9 +136,12 @@ def substitutions() -> dict[str, str]:
     page): the bands of ``data/tolerances.toml`` and the library's constants."""
     from rubdiag.learn.caveats import MIN_RUNS_PER_CLASS
     from rubdiag.learn.channel_choice import NOISE_MARGIN_DB
-
+    check = importlib.import_module("rubdiag.reduce.check")    # the module, not the function
     t = tolerances()
-    return {"noise_margin_db": f"{NOISE_MARGIN_DB:g}",
+    return {"reduce_frequency_tolerance": _percent(check.FREQUENCY_TOLERANCE),
+            "reduce_response_tolerance": _percent(check.RESPONSE_TOLERANCE),
+            "reduce_static_tolerance": f"{check.STATIC_TOLERANCE:.0e}".replace("e-0", "e-"),
+            "noise_margin_db": f"{NOISE_MARGIN_DB:g}",
             "min_runs_per_class": f"{MIN_RUNS_PER_CLASS}",
             "off_bin_band": _percent(t["off_bin_lines"]["band"]),
             "off_bin_line": _percent(t["off_bin_lines"]["line"]),

@@ -196,3 +196,12 @@ def test_the_tables_show_the_values_of_their_data_files():
     first = table.iloc[0]
     assert f"**{first.macro_f1:.2f} [{first.macro_f1_lo:.2f}, {first.macro_f1_hi:.2f}]**" in (
         generate.table("learn-table"))
+
+
+def test_prose_states_the_library_constants():
+    """The reduced model's tolerances, as its page states them, are rubdiag.reduce.check's."""
+    check = importlib.import_module("rubdiag.reduce.check")    # the module, not the function
+    values = generate.substitutions()
+    assert values["reduce_frequency_tolerance"] == f"{100 * check.FREQUENCY_TOLERANCE:g} %"
+    assert values["reduce_response_tolerance"] == f"{100 * check.RESPONSE_TOLERANCE:g} %"
+    assert float(values["reduce_static_tolerance"]) == check.STATIC_TOLERANCE
