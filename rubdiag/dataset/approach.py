@@ -22,10 +22,18 @@ import warnings
 
 import numpy as np
 
-__all__ = ["N_GRID", "damped_model", "sweep_linear_approach_m", "window_speed_range"]
+__all__ = ["N_GRID", "approach_of", "damped_model", "sweep_linear_approach_m",
+           "window_speed_range"]
 
 #: Speeds of the first, coarse search over the window's range (both ends included).
 N_GRID = 65
+
+
+def approach_of(run) -> str:
+    """The contacts whose linear approach sets a design run's clearance from its
+    ``interference_ratio`` and labels it: ``"seals"`` when the run sets its seal's
+    clearance (``Run.seal_clearance_m``), else ``"blades"``."""
+    return "seals" if run.seal_clearance_m is not None else "blades"
 
 
 def window_speed_range(run) -> tuple[float, float]:
@@ -48,15 +56,16 @@ def damped_model(rig):
     return with_rayleigh(assemble(rig))
 
 
-def sweep_linear_approach_m(run, model=None) -> float:
+def sweep_linear_approach_m(run, model=None, of: str | None = None) -> float:
     """The largest linear approach (m) of ``run``'s contacts over the speeds of its analysis
     window (module docstring); at constant speed, the approach at that speed. ``model``:
-    :func:`damped_model` of the run's rig, when the caller has it."""
+    :func:`damped_model` of the run's rig, when the caller has it; ``of``: "blades" or
+    "seals" for those contacts only (None: all of them)."""
     from scipy.optimize import minimize_scalar
 
     if model is None:
         model = damped_model(run.rig)
-    approach = functools.partial(_approach, run, model)
+    approach = functools.partial(_approach, run, model, of)
     lo, hi = window_speed_range(run)
     if hi == lo:
         return approach(lo)
@@ -69,7 +78,7 @@ def sweep_linear_approach_m(run, model=None) -> float:
     return max(float(values[k]), -float(best.fun))
 
 
-def _approach(run, model, speed_rad_s: float) -> float:
+def _approach(run, model, of, speed_rad_s: float) -> float:
     """The linear approach of ``run``'s contacts at constant speed (full model)."""
     from rubdiag.simulate import GapRampInWindow
     from rubdiag.simulate.rig_system import linear_approach
@@ -78,4 +87,4 @@ def _approach(run, model, speed_rad_s: float) -> float:
         warnings.simplefilter("ignore", GapRampInWindow)
         steady = dataclasses.replace(run, speed_rad_s=float(speed_rad_s), speed_profile=None,
                                      reduction=None, sensors=())
-    return linear_approach(steady, model)
+    return linear_approach(steady, model, of)

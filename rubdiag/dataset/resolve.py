@@ -74,16 +74,20 @@ def resolve_rotors(critical: Sequence, thresholds: Sequence,
     return wait
 
 
-def start_approaches(runs: Sequence, workers: Workers) -> Callable[[], list]:
+def start_approaches(runs: Sequence, workers: Workers,
+                     of: Sequence | None = None) -> Callable[[], list]:
     """Start computing the largest linear approach (m) of each run of ``runs`` over its
-    analysis window (:func:`rubdiag.dataset.approach.sweep_linear_approach_m`) on
+    analysis window (:func:`rubdiag.dataset.approach.sweep_linear_approach_m`; ``of``: for
+    each run, the contacts it is taken at — None, "blades" or "seals" — default all) on
     ``workers``, one task per rig; the returned function waits for them: a list, each the
     approach or the ValueError computing it raised, in the runs' order."""
+    of = [None] * len(runs) if of is None else list(of)
     by_rig: dict = {}
     for k, run in enumerate(runs):
         by_rig.setdefault(run.rig, []).append(k)
     groups = list(by_rig.values())
-    found = workers.start(_approaches, [[runs[k] for k in group] for group in groups])
+    found = workers.start(_approaches, [[(runs[k], of[k]) for k in group]
+                                        for group in groups])
 
     def result() -> list:
         out = [0.0] * len(runs)
@@ -107,12 +111,12 @@ def _threshold(task) -> float | ValueError:
     return _outcome(threshold_for, *task)
 
 
-def _approaches(runs) -> list[float | ValueError]:
-    """The approaches of runs that share one rig (one model)."""
+def _approaches(tasks) -> list[float | ValueError]:
+    """The approaches of runs that share one rig (one model): ``tasks`` (run, of) pairs."""
     from rubdiag.dataset.approach import damped_model, sweep_linear_approach_m
 
-    model = damped_model(runs[0].rig)
-    return [_outcome(sweep_linear_approach_m, run, model) for run in runs]
+    model = damped_model(tasks[0][0].rig)
+    return [_outcome(sweep_linear_approach_m, run, model, of) for run, of in tasks]
 
 
 def _outcome(function: Callable, *args):

@@ -1,7 +1,9 @@
 """Shaft–stator annular clearance (kind 2): a shaft node inside a circular stator.
 
 Local coordinates (2): the Cartesian relative displacement of the shaft node (body a) and
-the stator (body b, or ground), x0 = y, x1 = z. ``r = |x|``, outward normal ``n = x / r``,
+the stator (body b, or ground), x0 = y, x1 = z, measured from the clearance's centre
+``(centre_y, centre_z)`` (a stator aligned on the loaded rotor is centred on its static
+deflection, not on the bearing line). ``r = |x|``, outward normal ``n = x / r``,
 tangent ``t = (-n_z, n_y)``; gap ``g = c - r`` for the radial clearance c (the gap
 parameter). The normal and tangential laws are the point contact's
 (:mod:`rubdiag.kernels.point_contact`) along the turning normal; the tangential slip of a
@@ -18,7 +20,18 @@ from __future__ import annotations
 import math
 
 from rubdiag._numba import njit
-from rubdiag.kernels.contact_books import K_N, K_T, MU, SPEED, E, books, gap_at, record
+from rubdiag.kernels.contact_books import (
+    CENTRE_Y,
+    CENTRE_Z,
+    K_N,
+    K_T,
+    MU,
+    SPEED,
+    E,
+    books,
+    gap_at,
+    record,
+)
 from rubdiag.kernels.records import D_NEW, OPEN, SLIDING, STICKING, X_N
 
 __all__ = ["KIND", "N_LOCAL", "books", "force", "law"]
@@ -79,10 +92,11 @@ def law(e, el, wc, xs, par, es, track, trial, prog, jac):
     h = prog[0].h
     g1 = gap_at(par, e, prog[0].t_1, h)
     e_n = es[0, e, E]
-    x0 = wc[D_NEW, r]
-    x1 = wc[D_NEW, r + 1]
-    out = force(x0, x1, xs[X_N, r], xs[X_N, r + 1], g1, par[e, K_N], par[e, K_T],
-                par[e, MU], trial[e].lam, e_n, par[e, SPEED] * h)
+    c0 = par[e, CENTRE_Y]
+    c1 = par[e, CENTRE_Z]
+    out = force(wc[D_NEW, r] - c0, wc[D_NEW, r + 1] - c1, xs[X_N, r] - c0,
+                xs[X_N, r + 1] - c1, g1, par[e, K_N], par[e, K_T], par[e, MU], trial[e].lam,
+                e_n, par[e, SPEED] * h)
     slip = track[e].slip
     if out[6] != OPEN:
         slip += out[10] - e_n

@@ -4,7 +4,8 @@ A contact element (:mod:`~rubdiag.kernels.point_contact`,
 :mod:`~rubdiag.kernels.annular_contact`) has the parameters :data:`PARAMS` — its gap (or
 radial clearance) g0 (m), the gap at t = 0 of a gap ramp and the ramp's end (s; 0: no ramp),
 the normal and tangential stiffness (N/m), the Coulomb coefficient and the surface speed Ω R
-(m/s; 0 for a point contact) — and one state variable, the elastic tangential displacement
+(m/s; 0 for a point contact), and the centre of an annular clearance (m, y and z; 0 for a
+point contact) — and one state variable, the elastic tangential displacement
 ``e`` (m). Its law (the kind's module) gives the forces and :func:`record` keeps them as the
 trial record (status, forces, gap, z, slip) and state; when the step is accepted,
 :func:`books` gives the step's energy terms, which the ledger adds:
@@ -26,8 +27,8 @@ from rubdiag.kernels.records import OPEN, P_NEW, SLIDING
 __all__ = ["E_TRIAL", "PARAMS", "STATE", "E", "books", "gap_at", "parameters", "record"]
 
 #: a contact element's parameter row, by name (the law reads these columns)
-PARAMS = ("gap", "gap_start", "t_ramp", "k_n", "k_t", "mu", "speed")
-GAP, GAP_START, T_RAMP, K_N, K_T, MU, SPEED = range(len(PARAMS))
+PARAMS = ("gap", "gap_start", "t_ramp", "k_n", "k_t", "mu", "speed", "centre_y", "centre_z")
+GAP, GAP_START, T_RAMP, K_N, K_T, MU, SPEED, CENTRE_Y, CENTRE_Z = range(len(PARAMS))
 #: its state: the elastic tangential displacement (m) and, for the books, its trial value
 STATE = ("e", "e_trial")
 E, E_TRIAL = range(len(STATE))

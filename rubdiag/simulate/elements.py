@@ -98,10 +98,11 @@ class _Contact:
             _check.number(f"{name}.eps", self.eps, lo=0.0, lo_open=True,
                           allowed="finite and > 0 m when augmentation is on")
 
-    def _parameters(self, gap: float, speed: float, ramp) -> np.ndarray:
+    def _parameters(self, gap: float, speed: float, ramp, centre=(0.0, 0.0)) -> np.ndarray:
         t_ramp, gap_start = (0.0, gap) if ramp is None else ramp
         return contact_books.parameters(gap=gap, gap_start=gap_start, t_ramp=t_ramp,
-                                        k_n=self.k_n, k_t=self.k_t, mu=self.mu, speed=speed)
+                                        k_n=self.k_n, k_t=self.k_t, mu=self.mu, speed=speed,
+                                        centre_y=centre[0], centre_z=centre[1])
 
     def multiplier_stiffness(self, w: np.ndarray, boost: float) -> float:
         """Eq. (2)'s k_N plus ``boost / W_ee`` (``W_ee`` the larger diagonal of ``w``): the
@@ -165,13 +166,15 @@ class PointContact(_Contact):
 class AnnularContact(_Contact):
     """A shaft–stator annular clearance (:mod:`rubdiag.kernels.annular_contact`): the shaft
     node's DOFs ``dof_a`` (y, z), the stator's ``dof_b`` (-1: ground), the radial clearance
-    (m, >= 0), the shaft's surface radius R (m, >= 0: the slip includes Ω R), the
-    stiffnesses, the Coulomb coefficient and the augmented Lagrangian."""
+    (m, >= 0) about ``centre`` (m, the (y, z) of the relative displacement at the clearance's
+    centre; default the bearing line), the shaft's surface radius R (m, >= 0: the slip
+    includes Ω R), the stiffnesses, the Coulomb coefficient and the augmented Lagrangian."""
 
     dof_a: tuple
     dof_b: tuple = (-1, -1)
     clearance: float
     radius: float = 0.0
+    centre: tuple = (0.0, 0.0)
 
     kernel: ClassVar = annular_contact
 
@@ -181,6 +184,11 @@ class AnnularContact(_Contact):
                                                 ground=True))
         _check.number("AnnularContact.clearance", self.clearance, lo=0.0, allowed=">= 0 m")
         _check.number("AnnularContact.radius", self.radius, lo=0.0, allowed=">= 0 m")
+        centre = np.asarray(self.centre, dtype=np.float64).reshape(-1)
+        if centre.size != 2 or not np.all(np.isfinite(centre)):
+            raise _check.out_of_range("AnnularContact.centre", self.centre,
+                                      "two finite numbers (y, z) in m")
+        object.__setattr__(self, "centre", (float(centre[0]), float(centre[1])))
         self._check_law()
 
     @property
@@ -189,7 +197,8 @@ class AnnularContact(_Contact):
 
     def pack(self, omega: float, ramp=None) -> Packed:
         return Packed(annular_contact.KIND, self._rows(), np.eye(2),
-                      self._parameters(self.clearance, omega * self.radius, ramp),
+                      self._parameters(self.clearance, omega * self.radius, ramp,
+                                       self.centre),
                       np.zeros(len(contact_books.STATE)), self.augmented, self.eps)
 
     def stiffness_ratio(self, w: np.ndarray) -> float:

@@ -174,11 +174,12 @@ def _rows(contacts: Contacts, rows: slice) -> Contacts:
     return Contacts(*(getattr(contacts, f.name)[rows] for f in dataclasses.fields(Contacts)))
 
 
-def linear_approach(run: Run, model) -> float:
+def linear_approach(run: Run, model, of: str | None = None) -> float:
     """``rig_system(run, model).approach`` of the full model, computing only what it
     depends on: the harmonic response at the run's speed, and the static state only where
     the approach includes it (clearances ``"unloaded"``, stator contacts). The run's start
-    is not checked here (:func:`rig_system` does that)."""
+    is not checked here (:func:`rig_system` does that). ``of``: ``"blades"`` or ``"seals"``
+    for the approach at those contacts only (None: every contact's)."""
     from rubdiag.modal import harmonic_response
 
     speed = run.speed_rad_s
@@ -187,7 +188,7 @@ def linear_approach(run: Run, model) -> float:
     q_static = None
     if load is not None and (load.clearances != "loaded" or run.rig.stator_contacts):
         q_static = _static_state(model, load.vector(model.M, model.dofs), speed)
-    return _contacts(run, model, q_hat, q_static)[1]
+    return _contacts(run, model, q_hat, q_static, of)[1]
 
 
 def _static_state(model, f_static: np.ndarray, speed: float) -> np.ndarray:
@@ -321,13 +322,17 @@ def _with_fault_loads(force: HarmonicForce, run: Run, model, speed: float,
                                                               dtype=np.int64))
 
 
-def _contacts(run: Run, model, linear, static=None) -> tuple[Contacts, float, np.ndarray]:
+def _contacts(run: Run, model, linear, static=None,
+              of: str | None = None) -> tuple[Contacts, float, np.ndarray]:
     """Contact elements of the run (physical DOFs), the largest radial approach of the
-    linear response ``linear`` (complex amplitudes of every DOF) at them (m), and each
-    contact's gap shift (m). With a static deflection ``static`` (real, every DOF; None:
-    none) and clearances "loaded", each blade contact's gap is raised by its static approach
-    (its shift) and the approach is the harmonic's alone; with "unloaded", the approach is
-    an upper bound, |static| + the harmonic's largest excursion."""
+    linear response ``linear`` (complex amplitudes of every DOF) at them (m; ``of``
+    "blades" or "seals": at those only), and each contact's gap shift (m). With a static
+    deflection ``static`` (real, every DOF; None: none) and clearances "loaded", each blade
+    contact's gap is raised by its static approach (its shift), each stator is centred on
+    the static state, and the approach is the harmonic's alone; with "unloaded", the
+    approach is an upper bound, |static| + the harmonic's largest excursion."""
+    if of not in (None, "blades", "seals"):
+        raise ValueError(f"of = {of!r} (allowed: None, 'blades', 'seals')")
     contacts = Contacts.empty()
     start = 0.0
     shifts = []
@@ -354,26 +359,26 @@ def _contacts(run: Run, model, linear, static=None) -> tuple[Contacts, float, np
                 contacts = dataclasses.replace(contacts, gap=contacts.gap + shift)
             else:
                 approach = approach + np.abs(sag)
-        start = float(approach.max())
+        start = float(approach.max()) if of != "seals" else 0.0
         shifts.append(shift)
-    if loaded and run.rig.stator_contacts:
-        raise ValueError("static_load.clearances = 'loaded' with the rig's stator contacts "
-                         "(allowed: 'unloaded': an annular clearance stays about the bearing "
-                         "line)")
     for sc in run.rig.stator_contacts:
         shifts.append(np.zeros(1))
-        dofs = [[model.dofs.index(sc.node, "y"), model.dofs.index(sc.node, "z")]]
+        dofs = [model.dofs.index(sc.node, "y"), model.dofs.index(sc.node, "z")]
         radius = sc.shaft_radius_m
         if radius is None:
             shaft = run.rig.shaft
             i = min(sc.node - shaft.first_node, shaft.n_elements - 1)
             radius = 0.5 * shaft.outer_diameters_m[i]
+        # "loaded": the stator is aligned on the loaded rotor, centred on its static state
+        centre = static[dofs] if loaded else np.zeros(2)
+        clearance = sc.clearance_m if run.seal_clearance_m is None else run.seal_clearance_m
         contacts = contacts + Contacts.annular(
-            np.array(dofs), np.array([sc.clearance_m]), np.array([radius]), sc.stiffness_n_m,
-            mu=sc.friction_coefficient)
-        a, b = linear[dofs[0][0]], linear[dofs[0][1]]
+            np.array([dofs]), np.array([clearance]), np.array([radius]),
+            sc.stiffness_n_m, mu=sc.friction_coefficient, centre=centre)
+        a, b = linear[dofs[0]], linear[dofs[1]]
         orbit = np.sqrt(0.5 * (abs(a) ** 2 + abs(b) ** 2 + abs(a * a + b * b)))
-        if static is not None:
-            orbit = orbit + np.hypot(static[dofs[0][0]], static[dofs[0][1]])
-        start = max(start, float(orbit))
+        if static is not None and not loaded:
+            orbit = orbit + np.hypot(static[dofs[0]], static[dofs[1]])
+        if of != "blades":
+            start = max(start, float(orbit))
     return contacts, start, np.concatenate(shifts) if shifts else np.zeros(0)

@@ -61,6 +61,11 @@ class Run:
     gap_m : float, optional
         Initial blade-tip/casing gap g0 (m) of every contact element; default the rig's
         nominal gap. The casing geometry is the rig's; g0 enters the contact law only.
+    seal_clearance_m : float, optional
+        The radial clearance (m) of every stator contact (seal) of the rig; default each
+        its own ``StatorContact.clearance_m``. Like ``gap_m`` it enters the contact law
+        only, so runs that differ in it share one model (and one reduced model). Part of
+        the run's description only when set.
     duration_s : float
         Total simulated time (s), default 2.3.
     discard_s : float
@@ -148,6 +153,7 @@ class Run:
     faults: Faults | None = None
     step_error: float | None = None
     dt_max_s: float | None = None
+    seal_clearance_m: float | None = None
 
     def __post_init__(self):
         if not isinstance(self.rig, Rig):
@@ -176,6 +182,12 @@ class Run:
             object.__setattr__(self, "gap_m", self.rig.nominal_gap_m())
         if self.gap_m is not None:
             _check.number("gap_m", self.gap_m, lo=0.0, hi=0.1)
+        if self.seal_clearance_m is not None:
+            if not self.rig.stator_contacts:
+                raise ValueError("seal_clearance_m is given but the rig has no stator contact "
+                                 "(allowed: None, or a rig with stator_contacts)")
+            _check.number("seal_clearance_m", self.seal_clearance_m, lo=0.0, hi=0.1,
+                          lo_open=True)
         _check.positive("dt_s", self.dt_s)
         if self.dt_min_s is None:
             object.__setattr__(self, "dt_min_s", self.dt_s / 64)

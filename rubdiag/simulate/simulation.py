@@ -445,7 +445,7 @@ def run_to_dict(run: Run) -> dict:
                 out[f.name] = {"times_s": list(value.times_s),
                                "speeds_rad_s": list(value.speeds_rad_s)}
             continue
-        if f.name in ("step_error", "dt_max_s"):  # written only when set, like the reduction
+        if f.name in ("step_error", "dt_max_s", "seal_clearance_m"):  # only when set
             if value is not None:
                 out[f.name] = value
             continue

@@ -26,8 +26,9 @@ plus its static approach ``n·(u_tip - u_casing)`` of ``K⁻¹ f``, so every bla
 the static state and rubs only by its dynamic motion. ``"unloaded"``: g0 is the clearance
 of the unloaded rig, so the load itself moves the rotor towards the casing (a side load
 that closes a gap; gravity that sags the paper rig's discs by 0.41 mm closes a 0.3 mm gap
-at the bottom blades). A rig's annular stator contacts keep their clearance about the
-bearing line: they need ``"unloaded"``.
+at the bottom blades). A rig's annular stator contacts (seals) follow the same rule:
+``"loaded"`` centres each on the rotor's static state at its node (a seal aligned on the
+loaded rotor), ``"unloaded"`` on the bearing line.
 
 Units SI: m/s², N.
 """

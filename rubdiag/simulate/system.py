@@ -84,6 +84,8 @@ class Contacts:
     * ``radius`` (n_c,) m: kind 2 shaft surface radius R (slip includes Ω R); 0 for kind 1.
     * ``augmented`` (n_c,) bool and ``eps`` (n_c,) m: augmented Lagrangian on, and its
       penetration tolerance ε (eq. 2 of the paper).
+    * ``centre`` (n_c, 2) m: kind 2 the clearance's centre (y, z) in the relative
+      displacement (default 0: the bearing line); 0 for kind 1.
     """
 
     kind: np.ndarray
@@ -98,18 +100,22 @@ class Contacts:
     radius: np.ndarray
     augmented: np.ndarray
     eps: np.ndarray
+    centre: np.ndarray | None = None
 
     def __post_init__(self):
+        if self.centre is None:
+            object.__setattr__(self, "centre", np.zeros((np.size(self.kind), 2)))
         conv = {
             "kind": np.int64, "dof_a": np.int64, "dof_b": np.int64, "normal": np.float64,
             "tangent": np.float64, "gap": np.float64, "k_n": np.float64, "k_t": np.float64,
             "mu": np.float64, "radius": np.float64, "augmented": bool, "eps": np.float64,
+            "centre": np.float64,
         }
         for name, dtype in conv.items():
             if dtype is np.int64:   # refuse float indices rather than truncate them
                 _check.indices(f"contacts.{name}", getattr(self, name))
             arr = np.array(getattr(self, name), dtype=dtype)
-            if name in ("dof_a", "dof_b", "normal", "tangent"):
+            if name in ("dof_a", "dof_b", "normal", "tangent", "centre"):
                 arr = arr.reshape(-1, 2)
             else:
                 arr = arr.reshape(-1)
@@ -136,7 +142,7 @@ class Contacts:
 
     @classmethod
     def _broadcast(cls, kind, dof_a, dof_b, normal, tangent, gap, k_n, k_t, mu, radius,
-                   augmented, eps) -> Contacts:
+                   augmented, eps, centre=(0.0, 0.0)) -> Contacts:
         """Elements of one kind, every per-element argument broadcast over ``dof_a``'s rows."""
         dof_a = _check.indices("dof_a", dof_a).reshape(-1, 2)
         nc = dof_a.shape[0]
@@ -152,7 +158,7 @@ class Contacts:
             np.full(nc, kind), dof_a, rows(_check.indices("dof_b", dof_b), np.int64),
             rows(normal, np.float64), rows(tangent, np.float64), each(gap), k_n,
             k_n.copy() if k_t is None else each(k_t), each(mu), each(radius),
-            each(augmented, bool), each(eps),
+            each(augmented, bool), each(eps), rows(centre, np.float64),
         )
 
     @classmethod
@@ -168,18 +174,19 @@ class Contacts:
     @classmethod
     def annular(
         cls, dof_a, clearance, radius, k_n, *, dof_b=(-1, -1), k_t=None, mu=0.3,
-        augmented=False, eps=20e-6,
+        augmented=False, eps=20e-6, centre=(0.0, 0.0),
     ) -> Contacts:
-        """Shaft–stator annular clearances (kind 2) at shaft nodes ``dof_a`` (y, z)."""
+        """Shaft–stator annular clearances (kind 2) at shaft nodes ``dof_a`` (y, z), about
+        ``centre`` (m, y and z of the relative displacement; default the bearing line)."""
         # the basis of kind 2 follows the displacement; the fixed one is a placeholder
         return cls._broadcast(KIND_ANNULAR, dof_a, dof_b, (1.0, 0.0), (0.0, 1.0), clearance,
-                              k_n, k_t, mu, radius, augmented, eps)
+                              k_n, k_t, mu, radius, augmented, eps, centre)
 
     def __add__(self, other: Contacts) -> Contacts:
         return Contacts(
             *(np.concatenate([getattr(self, f), getattr(other, f)]) for f in (
                 "kind", "dof_a", "dof_b", "normal", "tangent", "gap", "k_n", "k_t", "mu",
-                "radius", "augmented", "eps",
+                "radius", "augmented", "eps", "centre",
             ))
         )
 
@@ -199,7 +206,8 @@ class Contacts:
                                         gap=float(self.gap[e]), **law))
             else:
                 out.append(AnnularContact(clearance=float(self.gap[e]),
-                                          radius=float(self.radius[e]), **law))
+                                          radius=float(self.radius[e]),
+                                          centre=tuple(self.centre[e].tolist()), **law))
         return tuple(out)
 
     def b_matrix(self, n: int) -> np.ndarray:

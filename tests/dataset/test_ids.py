@@ -16,6 +16,7 @@ from rubdiag.model import Unbalance
 from rubdiag.reduce import Reduction
 from rubdiag.simulate import Run, Sensor
 from rubdiag.simulate.faults import Crack, Faults
+from rubdiag.simulate.simulation import run_to_dict
 from rubdiag.simulate.speed_profile import SpeedProfile
 from rubdiag.simulate.static_load import StaticLoad
 
@@ -103,7 +104,9 @@ def _changes(run):
 def test_changing_any_field_changes_the_run_id(run):
     changes = _changes(run)
     # dt_max_s needs a step_error: test_step_settings_change_the_run_id_not_the_noise
-    fields = {f.name for f in dataclasses.fields(Run)} - {"label", "dt_max_s"}
+    # seal_clearance_m needs a rig with a seal: test_seal_clearance_changes_the_run_id
+    fields = {f.name for f in dataclasses.fields(Run)} - {"label", "dt_max_s",
+                                                          "seal_clearance_m"}
     assert set(changes) == fields, "a new Run field: add it here"
     ids = {run_id(run)}
     for name, value in changes.items():
@@ -111,6 +114,22 @@ def test_changing_any_field_changes_the_run_id(run):
         assert getattr(other, name) != getattr(run, name)
         ids.add(run_id(other))
     assert len(ids) == len(changes) + 1
+
+
+def test_seal_clearance_changes_the_run_id(run):
+    """A run's seal clearance is part of its description when set, and only then: the same
+    rig's runs without it keep the ids they had."""
+    from rubdiag.model import StatorContact
+
+    sealed = dataclasses.replace(run, rig=dataclasses.replace(run.rig, stator_contacts=(
+        StatorContact(node=15, clearance_m=0.05, stiffness_n_m=8e7),)))
+    ids = {run_id(sealed)}
+    for clearance in (0.05, 1e-4, 1.0001e-4):
+        ids.add(run_id(dataclasses.replace(sealed, seal_clearance_m=clearance)))
+    assert len(ids) == 4
+    assert "seal_clearance_m" not in run_to_dict(sealed)
+    with pytest.raises(ValueError, match="seal_clearance_m is given but the rig has no stator"):
+        dataclasses.replace(run, seal_clearance_m=1e-4)
 
 
 def test_step_settings_change_the_run_id_not_the_noise(run):
