@@ -118,7 +118,7 @@ def _dry_run(args, path: Path) -> int:
     expands the design, and scales its CPU time to the whole run."""
     from collections import Counter
 
-    from rubdiag.dataset.design import Design
+    from rubdiag.dataset.design import Design, describe_point
 
     design = Design.from_toml(path)
     if args.out is not None:
@@ -147,8 +147,7 @@ def _dry_run(args, path: Path) -> int:
             counts = Counter(item.point["fault"] for item in runs)
             print("runs per fault level: " + ", ".join(f"{k} {counts[k]}"
                                                        for k in FAULT_LEVELS if k in counts))
-        point = ", ".join(f"{k} = {v}" if isinstance(v, str) else f"{k} = {v:.6g}"
-                          for k, v in example.point.items())
+        point = describe_point(example.point)
         run = example.run
         law = run.contact_law
         contact = ("no contact" if law is None else f"g0 = {run.gap_m * 1e3:.4g} mm, mu = "

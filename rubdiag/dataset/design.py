@@ -124,6 +124,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from rubdiag import _check
+from rubdiag.dataset.approach import approach_of
 from rubdiag.dataset.factors import EXCLUSIVE, FACTORS, Factor
 from rubdiag.dataset.faults import KEYS as FAULT_KEYS
 from rubdiag.dataset.faults import (
@@ -149,8 +150,10 @@ from rubdiag.dataset.resolve import (
 from rubdiag.dataset.rig_factors import (
     CRITICAL_FACTORS,
     THRESHOLD_FACTORS,
+    blade_set_of,
     check_rig_factors,
     varied_rig,
+    with_rubbing_blades,
 )
 from rubdiag.dataset.sampling import (
     MAX_REPLICATES,
@@ -159,12 +162,12 @@ from rubdiag.dataset.sampling import (
     gap_ramps_s,
     unit_samples,
 )
-from rubdiag.model.rig import Rig, Unbalance
+from rubdiag.model.rig import Rig, StatorContact, Unbalance
 from rubdiag.reduce import Reduction
 from rubdiag.simulate import Run, Sensor, default_sensors
 from rubdiag.simulate.sensors import check_sensors
 
-__all__ = ["DEFAULT_STEP_ERROR", "MIN_REVOLUTIONS", "Design", "DesignRun"]
+__all__ = ["DEFAULT_STEP_ERROR", "MIN_REVOLUTIONS", "Design", "DesignRun", "describe_point"]
 
 #: Revolutions the analysis window must hold (the spectral features' default minimum).
 MIN_REVOLUTIONS = 10.0
@@ -290,6 +293,7 @@ class Design:
         levels = next((f.levels for f in self.factors if f.name == "fault"), None)
         check_factors(names, levels)
         check_rig_factors(self.rig, names)
+        self._check_rub_kinds(names)
         if any("whirl" in faults_in(level) for level in levels or ()):
             check_whirl_rig(self.rig)   # its variants' thresholds are sought with the runs
         set_("method", _check.choice("sampling.method", self.method, METHODS))
@@ -322,6 +326,44 @@ class Design:
         set_("n", self._n())
         set_("critical_speeds_rad_s", self._critical_speeds())
         self._check_window()
+
+    def _check_rub_kinds(self, names: set[str]) -> None:
+        """The blade sets need a rig whose contact blades follow one; a seal rub needs a rig
+        without stator contacts of its own, and takes the rig's contact law."""
+        if names & {"blade_count", "rubbing_blades"}:
+            blade_set_of(self.rig)
+        kinds = next((f.levels for f in self.factors if f.name == "rub_kind"), ())
+        if "seal" not in kinds:
+            return
+        if self.rig.stator_contacts:
+            raise ValueError(f"factors.rub_kind 'seal' with base.rig = {self.rig.name!r}, which "
+                             "has stator contacts (allowed: a rig without: the design adds "
+                             "its seal at base.seal_node)")
+        law = sorted(names & {"mu", "normal_stiffness_n_m", "contact_stiffness_scale"})
+        if law:
+            raise ValueError(f"factors.{law[0]} with factors.rub_kind 'seal' (allowed: no "
+                             "contact-law factor: the seal takes the rig's contact law)")
+        self._seal()
+
+    def _seal(self) -> StatorContact | None:
+        """The annular seal every run of a design with seal rubs has (its clearance out of
+        reach, :data:`NO_RUB_GAP_M`, unless the run's ``seal_clearance_m`` sets it), or
+        None. Its contact law is the rig's blade contact's (k_N, μ)."""
+        kinds = next((f.levels for f in self.factors if f.name == "rub_kind"), ())
+        if "seal" not in kinds:
+            return None
+        node = self.fault_settings.seal_node
+        if node is None:
+            discs = sorted(d.node for d in self.rig.discs)
+            node = (discs[0] + discs[-1]) // 2
+        if node not in self.rig.shaft.nodes:
+            nodes = self.rig.shaft.nodes
+            raise ValueError(f"base.seal_node = {node} is not a shaft node (allowed: "
+                             f"{nodes.start}..{nodes.stop - 1})")
+        law = self.rig.contact
+        return StatorContact(node=node, clearance_m=NO_RUB_GAP_M,
+                             stiffness_n_m=law.normal_stiffness_n_m,
+                             friction_coefficient=law.friction_coefficient)
 
     def _check_window(self) -> None:
         """The analysis window must hold MIN_REVOLUTIONS at the slowest speed of the design
@@ -517,13 +559,13 @@ class Design:
                         point, replicate, _gap_from_interference(run, ratio, found[index])))
                     if item.run_id in seen:
                         raise _Repeated(f"the design repeats a run: point {index} is point "
-                                        f"{seen[item.run_id]} ({_describe(point)})")
+                                        f"{seen[item.run_id]} ({describe_point(point)})")
                     seen[item.run_id] = index
                     out.append(item)
             except _Repeated as exc:
                 raise ValueError(str(exc)) from None
             except ValueError as exc:
-                raise ValueError(f"point {index} ({_describe(point)}): {exc}") from None
+                raise ValueError(f"point {index} ({describe_point(point)}): {exc}") from None
         return out
 
     def _build(self, points: list, indices, built: dict) -> None:
@@ -542,7 +584,8 @@ class Design:
         -> approach (m) or the ValueError computing it raised."""
         wanted = {k: runs[0][1] for k, runs in built.items()
                   if not isinstance(runs, ValueError) and runs[0][2] is not None}
-        found = start_approaches(list(wanted.values()), workers)
+        found = start_approaches(list(wanted.values()), workers,
+                                 [approach_of(run) for run in wanted.values()])
         return lambda: dict(zip(wanted, found(), strict=True))
 
     def design_run(self, index: int, replicate: int = 0) -> DesignRun:
@@ -554,7 +597,7 @@ class Design:
         try:
             run = self.run_for(point, replicate)
         except ValueError as exc:
-            raise ValueError(f"point {index} ({_describe(point)}): {exc}") from None
+            raise ValueError(f"point {index} ({describe_point(point)}): {exc}") from None
         return self._item(point, replicate, run)
 
     def _item(self, point: Mapping, replicate: int, run: Run) -> DesignRun:
@@ -625,7 +668,8 @@ class Design:
             return run
         from rubdiag.dataset.approach import sweep_linear_approach_m
 
-        return _gap_from_interference(run, ratio, sweep_linear_approach_m(run))
+        return _gap_from_interference(run, ratio,
+                                      sweep_linear_approach_m(run, of=approach_of(run)))
 
     def _run(self, point: Mapping, replicate: int) -> tuple[Run, float | None]:
         """The run of :meth:`run_for` and its ``interference_ratio``, or None: then it is
@@ -645,7 +689,18 @@ class Design:
         speed = self._speed_rad_s(point)
         rig = varied_rig(rig, point)
         rub = "rub" in faults_in(point.get("fault", "rub"))
-        gap = point.get("gap_mm") if rub else NO_RUB_GAP_M * 1e3   # the casing out of reach
+        seal_rub = rub and point.get("rub_kind") == "seal"
+        blade_rub = rub and not seal_rub
+        if blade_rub and "rubbing_blades" in point:
+            rig = with_rubbing_blades(rig, point["rubbing_blades"])
+        seal = self._seal()
+        seal_clearance = None
+        if seal is not None:
+            rig = dataclasses.replace(rig, stator_contacts=(seal,))
+        if seal_rub:    # its clearance, or out of reach until its approach sets it
+            seal_clearance = (point["gap_mm"] * 1e-3 if "gap_mm" in point
+                              else NO_RUB_GAP_M)
+        gap = point.get("gap_mm") if blade_rub else NO_RUB_GAP_M * 1e3  # out of reach
         options = {}
         faults = self.fault_settings.faults(point)
         if faults is not None:
@@ -661,11 +716,12 @@ class Design:
             options["speed_profile"] = profile
         run = Run(rig=rig, speed_rad_s=speed, unbalance=Unbalance(magnitudes, phases),
                   gap_m=None if gap is None else gap * 1e-3, duration_s=duration,
-                  discard_s=self.discard_s, contact=_contact(rig, point) if rub else None,
-                  gap_ramp_s=ramp_s,
+                  discard_s=self.discard_s,
+                  contact=_contact(rig, point) if blade_rub else None,
+                  gap_ramp_s=ramp_s, seal_clearance_m=seal_clearance,
                   sensors=self.sensors, reduction=self.reduction,
                   step_error=self.step_error or None,
-                  label=f"{_describe(shown_point(point))}, replicate {replicate}", **options)
+                  label=f"{describe_point(shown_point(point))}, replicate {replicate}", **options)
         if self.ramp is not None:
             _check_top_speed(run)
         return run, point.get("interference_ratio") if rub else None
@@ -827,20 +883,26 @@ def _rotor_rig(rig: Rig, point: Mapping, names) -> Rig:
 
 
 def _gap_from_interference(run: Run, ratio: float, approach: float | ValueError) -> Run:
-    """``run`` with g0 = its linear ``approach`` (m; or the ValueError computing it raised)
-    / ``ratio``, rounded to 1 nm so that the run's id is the same on every machine."""
+    """``run`` with g0 (or, when it rubs on its seal, the seal's clearance) = its linear
+    ``approach`` (m, at those contacts: :func:`approach_of`; or the ValueError computing it
+    raised) / ``ratio``, rounded to 1 nm so that the run's id is the same on every
+    machine."""
     if isinstance(approach, ValueError):
         raise approach
     gap = round(approach / ratio, 9)
     if gap <= 0.0:
         raise ValueError(f"factors.interference_ratio = {ratio:g}: the run's linear approach "
                          "is 0 (no unbalance response reaches the blades)")
+    if approach_of(run) == "seals":
+        return dataclasses.replace(run, seal_clearance_m=gap)
     return dataclasses.replace(run, gap_m=gap)
 
 
-def _describe(point: Mapping) -> str:
+def describe_point(point: Mapping) -> str:
+    """``name = value, …`` of a design point, leaving out what its run ignores."""
     return ", ".join(f"{k} = {v}" if isinstance(v, str) else f"{k} = {v:.6g}"
-                     for k, v in point.items() if not (isinstance(v, float) and math.isnan(v)))
+                     for k, v in point.items()
+                     if v is not None and not (isinstance(v, float) and math.isnan(v)))
 
 
 def _toml_value(value) -> str:

@@ -35,6 +35,8 @@ Factors (``FACTORS``, in their canonical order) and their physical ranges:
   viscosity and radial clearance (rigs with journal bearings). > 0 … 10.
 
   These five are the model-uncertainty factors (:mod:`rubdiag.dataset.rig_factors`).
+- ``blade_count``: the number of blades on the bladed disc, 1 … 360; levels only
+  (:mod:`rubdiag.dataset.rig_factors`: the casing mesh follows).
 - ``fault``: the faults a run carries (:data:`rubdiag.dataset.faults.FAULT_LEVELS`: ``none``,
   ``rub``, ``misalignment``, ``crack``, ``looseness``, ``whirl`` and ``rub+`` each of the
   other four);
@@ -46,6 +48,12 @@ Factors (``FACTORS``, in their canonical order) and their physical ranges:
   0 … 1e6 (smaller: looser); only in runs with a looseness.
 - ``whirl_speed_ratio``: the speed over the rig's threshold of instability on its journal
   bearings, > 0 … 10; only in runs with whirl, whose speed it sets.
+- ``rub_kind``: what rubs, ``blade`` (blade tips on the casing) or ``seal`` (the shaft on
+  an annular seal, :data:`rubdiag.dataset.fault_levels.RUB_KINDS`); levels only; only in
+  runs with rub (:mod:`rubdiag.dataset.faults`).
+- ``rubbing_blades``: which blades rub, ``alternate`` (every other blade), ``all`` or
+  ``one`` (:data:`rubdiag.dataset.rig_factors.BLADE_SETS`); levels only; only in runs
+  with blade rub.
 
 Exclusive pairs (``EXCLUSIVE``): ``case``/``phase_diff_deg``, ``speed_ratio``/``speed_rpm``,
 ``gap_mm``/``interference_ratio``, ``normal_stiffness_n_m``/``contact_stiffness_scale``.
@@ -59,13 +67,23 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 from rubdiag import _check
-from rubdiag.dataset.fault_levels import fault_level
+from rubdiag.dataset.fault_levels import BLADE_SETS, RUB_KINDS, fault_level
 
 __all__ = ["EXCLUSIVE", "FACTORS", "Factor"]
 
 
 def _case(name: str, value) -> int:
     return _check.integer(name, value, lo=1, hi=2)
+
+
+def _one_of(choices: tuple[str, ...]):
+    def check(name: str, value) -> str:
+        if not isinstance(value, str) or value not in choices:
+            raise ValueError(f"{name} = {value!r} is out of range (allowed: "
+                             f"{', '.join(choices)})")
+        return value
+
+    return check
 
 
 def _range(lo: float, hi: float | None, *, lo_open: bool, unit: str = ""):
@@ -93,11 +111,14 @@ FACTORS: dict[str, Callable] = {
     "disc_mass_scale": _range(0.0, 10.0, lo_open=True),
     "oil_viscosity_scale": _range(0.0, 10.0, lo_open=True),
     "bearing_clearance_scale": _range(0.0, 10.0, lo_open=True),
+    "blade_count": functools.partial(_check.integer, lo=1, hi=360),
     "fault": fault_level,
     "crack_depth_ratio": _range(0.0, 0.5, lo_open=True),
     "misalignment_angle_mrad": _range(0.0, 200.0, lo_open=False, unit="mrad"),
     "looseness_preload_n": _range(0.0, 1e6, lo_open=False, unit="N"),
     "whirl_speed_ratio": _range(0.0, 10.0, lo_open=True),
+    "rub_kind": _one_of(RUB_KINDS),
+    "rubbing_blades": _one_of(BLADE_SETS),
 }
 
 #: Factors that say the same thing two ways: a design gives at most one of each pair.
@@ -106,7 +127,7 @@ EXCLUSIVE = (("case", "phase_diff_deg"), ("speed_ratio", "speed_rpm"),
              ("normal_stiffness_n_m", "contact_stiffness_scale"))
 
 #: Factors that take levels only (a range of them means nothing).
-_LEVELS_ONLY = ("case", "fault")
+_LEVELS_ONLY = ("case", "blade_count", "fault", "rub_kind", "rubbing_blades")
 _RANGE_KEYS = ("low", "high", "n", "bands")
 
 

@@ -7,10 +7,10 @@ import the names without reaching the simulator (the import contract in pyprojec
 
 from __future__ import annotations
 
-__all__ = ["CONTACT_FACTORS", "CRACK_OPEN_THRESHOLD", "FAULT_KINDS", "FAULT_LABELS",
-           "FAULT_LEVELS", "FAULT_MEASURES", "LIFT_OFF_THRESHOLD", "MISALIGNMENT_2X_THRESHOLD_N",
-           "NO_RUB_GAP_M", "SEVERITY_FACTORS", "WHIRL_SHARE_THRESHOLD", "fault_level",
-           "faults_in"]
+__all__ = ["BLADE_RUB_FACTORS", "BLADE_SETS", "CONTACT_FACTORS", "CRACK_OPEN_THRESHOLD",
+           "FAULT_KINDS", "FAULT_LABELS", "FAULT_LEVELS", "FAULT_MEASURES",
+           "LIFT_OFF_THRESHOLD", "MISALIGNMENT_2X_THRESHOLD_N", "NO_RUB_GAP_M", "RUB_KINDS",
+           "SEVERITY_FACTORS", "WHIRL_SHARE_THRESHOLD", "fault_level", "faults_in"]
 
 #: the faults beside rub a level may name
 FAULT_KINDS = ("misalignment", "crack", "looseness", "whirl")
@@ -26,9 +26,16 @@ FAULT_LABELS = ("fault_crack", "fault_misalignment", "fault_looseness", "fault_w
                 "faults")
 #: the gap of the runs without rub (m): far beyond any orbit of the rig (module docstring)
 NO_RUB_GAP_M = 0.05
+#: what may rub (the ``rub_kind`` factor): blade tips on the casing, the shaft on a seal
+RUB_KINDS = ("blade", "seal")
+#: which blades may rub (the ``rubbing_blades`` factor): every other blade from blade 1,
+#: every blade, or blade 1 alone (:func:`rubdiag.dataset.rig_factors.blade_set`)
+BLADE_SETS = ("alternate", "all", "one")
 #: the factors a run without rub ignores
 CONTACT_FACTORS = ("gap_mm", "interference_ratio", "mu", "normal_stiffness_n_m",
-                   "contact_stiffness_scale")
+                   "contact_stiffness_scale", "rub_kind", "rubbing_blades")
+#: the factors a run whose shaft rubs on its seal ignores
+BLADE_RUB_FACTORS = ("rubbing_blades",)
 CRACK_OPEN_THRESHOLD = 0.05
 MISALIGNMENT_2X_THRESHOLD_N = 0.5
 LIFT_OFF_THRESHOLD = 0.05

@@ -88,6 +88,7 @@ import numpy as np
 
 from rubdiag import _check
 from rubdiag.dataset.fault_levels import (
+    BLADE_RUB_FACTORS,
     CONTACT_FACTORS,
     CRACK_OPEN_THRESHOLD,
     FAULT_KINDS,
@@ -124,7 +125,9 @@ class FaultSettings:
     ``spacer_length_m`` (default 0.05 m) and ``misalignment_offset_m`` (default 0 m) of the
     misaligned coupling; ``loose_bearing`` (default 0: the drive end), ``loose_direction``
     ("z", default: across gravity; or "y") and ``loose_stiffness_n_m`` (default 0 N/m: no
-    retaining spring once lifted) of the loose pedestal.
+    retaining spring once lifted) of the loose pedestal; ``seal_node``, the shaft node of
+    the annular seal that a design with a ``rub_kind`` factor gives every run (default: the
+    shaft node midway between the first and the last disc, 15 on the paper rig).
     """
 
     gravity_m_s2: float = 0.0
@@ -137,6 +140,7 @@ class FaultSettings:
     loose_bearing: int = 0
     loose_direction: str = "z"
     loose_stiffness_n_m: float = 0.0
+    seal_node: int | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "gravity_m_s2", _check.number(
@@ -160,6 +164,9 @@ class FaultSettings:
         object.__setattr__(self, "loose_stiffness_n_m", _check.number(
             "base.loose_stiffness_n_m", self.loose_stiffness_n_m, lo=0.0, hi=1e12,
             unit="N/m"))
+        if self.seal_node is not None:
+            object.__setattr__(self, "seal_node", _check.integer(
+                "base.seal_node", self.seal_node, lo=0))
 
     def to_dict(self) -> dict:
         """The non-default settings (a design that sets none writes none)."""
@@ -197,7 +204,7 @@ class FaultSettings:
 
 KEYS = ("gravity_m_s2", "crack_element", "crack_law", "coupling_node", "drive_torque_n_m",
         "spacer_length_m", "misalignment_offset_m", "loose_bearing", "loose_direction",
-        "loose_stiffness_n_m")
+        "loose_stiffness_n_m", "seal_node")
 
 
 def check_factors(names: set[str], levels: tuple[str, ...] | None) -> None:
@@ -219,8 +226,9 @@ SPEED_FACTORS = ("speed_ratio", "speed_rpm")
 
 
 def shown_point(point: dict) -> dict:
-    """The point as its row shows it: what its run ignores NaN (the severities of absent
-    faults; without rub, the contact factors; with whirl, the speed factors)."""
+    """The point as its row shows it: what its run ignores blank — NaN, or None for a text
+    factor (the severities of absent faults; without rub, the contact factors; with a seal
+    rub, the blade factors; with whirl, the speed factors)."""
     if "fault" not in point:
         return dict(point)
     present = faults_in(point["fault"])
@@ -230,9 +238,13 @@ def shown_point(point: dict) -> dict:
             return SEVERITY_FACTORS[name] not in present
         if name in SPEED_FACTORS:               # whirl's speed is its severity's
             return "whirl" in present
+        if name in BLADE_RUB_FACTORS and point.get("rub_kind") == "seal":
+            return True
         return name in CONTACT_FACTORS and "rub" not in present
 
-    return {k: math.nan if ignored(k) else v for k, v in point.items()}
+    # a text factor shows as empty (None: a null in the stored column), a number as NaN
+    return {k: (None if isinstance(v, str) else math.nan) if ignored(k) else v
+            for k, v in point.items()}
 
 
 def fault_labels(result, rub: bool) -> dict:

@@ -95,14 +95,16 @@ class LabelRules:
 
 
 def label_run(result, rules: LabelRules | None = None,
-              linear_approach_m: float | None = None) -> dict:
+              linear_approach_m: float | None = None, clearance_m: float | None = None) -> dict:
     """The measures and labels of a :class:`~rubdiag.simulate.SimulationResult`: one dict,
     measures first (:data:`MEASURES`, then :data:`LABELS`).
 
     ``linear_approach_m``: the approach behind ``interference_ratio``; default the run's
     (``result.linear_approach_m``, at its constant speed). A run along a speed profile needs
-    it given: :func:`rubdiag.dataset.approach.sweep_linear_approach_m` of its run."""
-    measures = run_measures(result, linear_approach_m)
+    it given: :func:`rubdiag.dataset.approach.sweep_linear_approach_m` of its run.
+    ``clearance_m``: the clearance it is over (m; default the run's blade gap g0; a shaft
+    rubbing on its seal: the seal's clearance)."""
+    measures = run_measures(result, linear_approach_m, clearance_m)
     return {**measures, **labels_from_measures(measures, rules)}
 
 
@@ -119,9 +121,10 @@ def labels_from_measures(measures: dict, rules: LabelRules | None = None) -> dic
             "severity": "serious" if serious else "light"}
 
 
-def run_measures(result, linear_approach_m: float | None = None) -> dict:
-    """The raw measures of the module docstring (``linear_approach_m``: as for
-    :func:`label_run`)."""
+def run_measures(result, linear_approach_m: float | None = None,
+                 clearance_m: float | None = None) -> dict:
+    """The raw measures of the module docstring (``linear_approach_m``, ``clearance_m``: as
+    for :func:`label_run`)."""
     run, system = result.run, result.system
     varying = getattr(run, "speed_profile", None) is not None
     if linear_approach_m is None:
@@ -152,7 +155,7 @@ def run_measures(result, linear_approach_m: float | None = None) -> dict:
     else:
         revolutions = float(run.angle_at(end) - run.angle_at(start)) / (2 * math.pi)
     friction = _ledger_in_window(system.t, system.dissipated_friction, start)
-    gap = run.gap_m if run.gap_m else float("nan")
+    gap = clearance_m if clearance_m else (run.gap_m if run.gap_m else float("nan"))
     return {
         "interference_ratio": linear_approach_m / gap,
         "contact_time_fraction": float(per_element.max() / window) if window > 0 else 0.0,

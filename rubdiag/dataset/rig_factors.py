@@ -22,6 +22,16 @@ never saw (train on the rest of the factor's range, test on a band of it):
     clearance moves the film's stiffness, the critical speeds and the threshold of
     instability the most.
 
+``blade_count``
+    the number of blades on the bladed disc (the rig's blade dimensions; the disc's
+    rotating mass changes with it, and on journal bearings each film's static load
+    follows, as for ``disc_mass_scale``). Each blade set that rubs keeps its pattern
+    (:data:`BLADE_SETS`: every other blade, every blade, or one) at the new count. Whenever
+    a design varies ``blade_count`` or ``rubbing_blades``, every run's casing ring has the
+    smallest multiple of its blade count at least the rig's element count, so that a
+    casing node faces every blade, whichever rubs (the paper rig's 16 blades: 48 elements
+    instead of 40); the ring's mesh does not tell a rubbing run from another.
+
 Which of them matter on the multi-fault rig is measured by ``scripts/uncertainty.py``
 (documentation: "Model uncertainty"). A design's ``speed_ratio`` is relative to the critical
 speed of each run's own rig, and a run with whirl turns at ``whirl_speed_ratio`` times its
@@ -34,18 +44,25 @@ import dataclasses
 import functools
 from collections.abc import Mapping
 
-__all__ = ["CRITICAL_FACTORS", "JOURNAL_FACTORS", "RIG_FACTORS", "THRESHOLD_FACTORS",
-           "bearing_loads_n", "check_rig_factors", "varied_rig"]
+from rubdiag import _check
+from rubdiag.dataset import fault_levels
+
+__all__ = ["BLADE_SETS", "CRITICAL_FACTORS", "JOURNAL_FACTORS", "RIG_FACTORS",
+           "THRESHOLD_FACTORS", "bearing_loads_n", "blade_set", "blade_set_of",
+           "check_rig_factors", "varied_rig", "with_rubbing_blades"]
 
 #: the factors that change the rig, in the order they are applied
-RIG_FACTORS = ("casing_stiffness_scale", "damping_ratio", "disc_mass_scale",
+RIG_FACTORS = ("blade_count", "casing_stiffness_scale", "damping_ratio", "disc_mass_scale",
                "oil_viscosity_scale", "bearing_clearance_scale")
 #: the factors that need journal bearings
 JOURNAL_FACTORS = ("oil_viscosity_scale", "bearing_clearance_scale")
 #: the factors that move the critical speeds (the casing meets the rotor only through
 #: contact, and the critical speed map is undamped: neither casing_stiffness_scale nor
 #: damping_ratio moves them)
-CRITICAL_FACTORS = ("disc_mass_scale", *JOURNAL_FACTORS)
+CRITICAL_FACTORS = ("blade_count", "disc_mass_scale", *JOURNAL_FACTORS)
+# the sets of blades that may rub (``rubbing_blades``): the study's is every other blade
+# (8 of 16); blade 1 alone is one long blade
+BLADE_SETS = fault_levels.BLADE_SETS
 #: the factors that move the threshold of instability: those and the damping
 THRESHOLD_FACTORS = ("damping_ratio", *CRITICAL_FACTORS)
 
@@ -61,9 +78,42 @@ def check_rig_factors(rig, names) -> None:
 
 
 def varied_rig(rig, point: Mapping):
-    """``rig`` with the rig factors of ``point`` applied (``rig`` itself when it has none)."""
+    """``rig`` with the rig factors of ``point`` applied (``rig`` itself when it has none).
+    A point with ``rubbing_blades`` (whether its run rubs or not) gets the casing mesh
+    that ``blade_count`` gives (module docstring)."""
+    point = dict(point)
+    if "rubbing_blades" in point and "blade_count" not in point:
+        point["blade_count"] = rig.blades.count
     levels = tuple((name, point[name]) for name in RIG_FACTORS if name in point)
     return _varied(rig, levels) if levels else rig
+
+
+def blade_set(count: int, pattern: str) -> tuple[int, ...]:
+    """The blades (numbered from 1) of ``pattern`` (:data:`BLADE_SETS`) among ``count``."""
+    _check.choice("rubbing_blades", pattern, BLADE_SETS)
+    if pattern == "one":
+        return (1,)
+    return tuple(range(1, count + 1, 2 if pattern == "alternate" else 1))
+
+
+def blade_set_of(rig) -> str:
+    """The pattern of ``rig``'s contact blades (:data:`BLADE_SETS`), or a ValueError when
+    they follow none."""
+    for pattern in BLADE_SETS:
+        if rig.contact.blades == blade_set(rig.blades.count, pattern):
+            return pattern
+    raise ValueError(f"factors.blade_count: the rig's contact blades {list(rig.contact.blades)}"
+                     f" are none of the sets {', '.join(BLADE_SETS)} (allowed: a rig whose "
+                     "contact blades are every other blade, every blade or blade 1)")
+
+
+def with_rubbing_blades(rig, pattern: str):
+    """``rig`` whose contact elements sit at the blades of ``pattern`` (its casing must
+    have a node facing each: :func:`varied_rig` of a point with ``rubbing_blades``)."""
+    blades = blade_set(rig.blades.count, pattern)
+    if blades == rig.contact.blades:
+        return rig
+    return dataclasses.replace(rig, contact=dataclasses.replace(rig.contact, blades=blades))
 
 
 @functools.lru_cache(maxsize=256)
@@ -71,6 +121,9 @@ def _varied(rig, levels: tuple):
     """:func:`varied_rig` of the rig factors ``levels`` ((name, value) pairs), kept: a
     design's points share a few levels of each."""
     point = dict(levels)
+    if "blade_count" in point:
+        rig = _with_blade_count(rig, point["blade_count"],
+                                reload_films="disc_mass_scale" not in point)
     if "casing_stiffness_scale" in point:
         rig = _scaled_casing(rig, point["casing_stiffness_scale"])
     if "damping_ratio" in point:
@@ -90,6 +143,35 @@ def _varied(rig, levels: tuple):
     return rig
 
 
+def _with_blade_count(rig, count: int, reload_films: bool):
+    """``rig`` with ``count`` blades, its contact blades in their pattern at that count and
+    its casing ring meshed at the smallest multiple of ``count`` at least its own (on
+    journal bearings the films carry the new weight unless the disc masses are scaled
+    next, which reloads them)."""
+    pattern = blade_set_of(rig)
+    casing = rig.casing
+    n = -(-casing.n_elements // count) * count
+    default_support = casing.n_elements // 2 + 1
+    casing = dataclasses.replace(
+        casing, n_elements=n,
+        support_node=None if casing.support_node == default_support else casing.support_node)
+    varied = dataclasses.replace(
+        rig, blades=dataclasses.replace(rig.blades, count=count), casing=casing,
+        contact=dataclasses.replace(rig.contact, blades=blade_set(count, pattern)))
+    return _reloaded_films(varied) if reload_films else varied
+
+
+def _reloaded_films(rig):
+    """``rig`` whose journal films carry its rotor's weight (:func:`bearing_loads_n`)."""
+    if not any(b.journal is not None for b in rig.bearings):
+        return rig
+    loads = bearing_loads_n(rig)
+    return dataclasses.replace(rig, bearings=tuple(
+        b if b.journal is None else dataclasses.replace(
+            b, journal=dataclasses.replace(b.journal, load_n=load))
+        for b, load in zip(rig.bearings, loads, strict=True)))
+
+
 def _scaled_casing(rig, s: float):
     casing = rig.casing
     k_rx = casing.support_k_rx_nm_rad
@@ -107,14 +189,7 @@ def _scaled_discs(rig, s: float):
         discs.append(dataclasses.replace(
             disc, outer_radius_m=None, thickness_m=None, inner_radius_m=0.0, mass_kg=mass * s,
             polar_inertia_kg_m2=polar * s, diametral_inertia_kg_m2=diametral * s))
-    scaled = dataclasses.replace(rig, discs=tuple(discs))
-    if not any(b.journal is not None for b in rig.bearings):
-        return scaled
-    loads = bearing_loads_n(scaled)
-    return dataclasses.replace(scaled, bearings=tuple(
-        b if b.journal is None else dataclasses.replace(
-            b, journal=dataclasses.replace(b.journal, load_n=load))
-        for b, load in zip(scaled.bearings, loads, strict=True)))
+    return _reloaded_films(dataclasses.replace(rig, discs=tuple(discs)))
 
 
 @functools.lru_cache(maxsize=64)

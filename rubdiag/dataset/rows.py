@@ -182,12 +182,15 @@ def _simulate_and_describe(item, rules, noise, run_timeout_s,
 
 def _labels(item, result, rules) -> dict:
     """The run's measures and labels (and each fault's, with a design's fault factor)."""
-    from rubdiag.dataset.approach import sweep_linear_approach_m
+    from rubdiag.dataset.approach import approach_of, sweep_linear_approach_m
     from rubdiag.dataset.faults import fault_labels
 
     run = item.run
-    labelled = label_run(result, rules, sweep_linear_approach_m(run)
-                         if run.speed_profile is not None else None)
+    of = approach_of(run)
+    # the approach at the contacts that rub: the result's own covers every contact
+    swept = run.speed_profile is not None or run.rig.stator_contacts
+    labelled = label_run(result, rules, sweep_linear_approach_m(run, of=of) if swept else None,
+                         clearance_m=run.seal_clearance_m if of == "seals" else None)
     if "fault" in item.point:           # a design with a fault factor: each fault's labels
         labelled.update(fault_labels(result, labelled["rub"]))
     return labelled

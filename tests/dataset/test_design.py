@@ -354,15 +354,16 @@ BAD = [
      r"unknown factor 'factors.speed' \(allowed: case, phase_diff_deg, speed_ratio, speed_rpm, "
      r"gap_mm, interference_ratio, mu, unbalance_scale, normal_stiffness_n_m, "
      r"contact_stiffness_scale, casing_stiffness_scale, damping_ratio, disc_mass_scale, "
-     r"oil_viscosity_scale, bearing_clearance_scale, fault, crack_depth_ratio, "
-     r"misalignment_angle_mrad, looseness_preload_n, whirl_speed_ratio\)"),
+     r"oil_viscosity_scale, bearing_clearance_scale, blade_count, fault, crack_depth_ratio, "
+     r"misalignment_angle_mrad, looseness_preload_n, whirl_speed_ratio, rub_kind, "
+     r"rubbing_blades\)"),
     (edit("sampling", replicate=2),
      r"unknown key 'sampling.replicate' \(allowed: method, n, seed, replicates\)"),
     (edit("base", duration=2.3),
      r"unknown key 'base.duration' \(allowed: rig, duration_s, discard_s, reduced, "
      r"reduction_cutoff_hz, step_error, critical_speeds_rad_s, gravity_m_s2, crack_element, "
      r"crack_law, coupling_node, drive_torque_n_m, spacer_length_m, misalignment_offset_m, "
-     r"loose_bearing, loose_direction, loose_stiffness_n_m\)"),
+     r"loose_bearing, loose_direction, loose_stiffness_n_m, seal_node\)"),
     ({**GOOD, "noises": {}},
      r"unknown table \[noises\] \(allowed: base, ramp, sampling, factors, labels, noise, "
      r"sensors\)"),
