@@ -514,8 +514,9 @@ def _scores_of(model, data, y, table, n_bootstrap: int, seed: int) -> ModelScore
 def record_kinds(data: pd.DataFrame, target: str) -> tuple[np.ndarray, np.ndarray] | None:
     """Each row's kind and whether it rubs, for the per-kind scores of a ``rub`` or
     ``fault`` model (None for other targets): the kind is the ``kind`` column (a record
-    list's), else the ``faults`` label, else rub / none; rubbing follows ``faults``, else
-    the ``rub`` column."""
+    list's), else the ``faults`` label, else rub / none, with what rubbed where a design
+    says (its ``rub_kind`` factor: ``rub (seal)``); rubbing follows ``faults``, else the
+    ``rub`` column."""
     if target not in ("rub", "fault"):
         return None
     if "faults" in data.columns:
@@ -524,5 +525,10 @@ def record_kinds(data: pd.DataFrame, target: str) -> tuple[np.ndarray, np.ndarra
         rubbing = data["rub"].astype(str).str.lower().eq("true").to_numpy()
     kinds = (data["kind"] if "kind" in data.columns
              else data["faults"] if "faults" in data.columns
-             else pd.Series(np.where(rubbing, "rub", "none")))
-    return kinds.astype(str).to_numpy(), rubbing
+             else pd.Series(np.where(rubbing, "rub", "none"), index=data.index))
+    kinds = kinds.astype(str)
+    if "kind" not in data.columns and "rub_kind" in data.columns:
+        what = data["rub_kind"]
+        kinds = kinds.where(~(rubbing & what.notna().to_numpy()),
+                            kinds + " (" + what.astype(str) + ")")
+    return kinds.to_numpy(), rubbing
