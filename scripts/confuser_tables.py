@@ -10,9 +10,16 @@ design (fixed seeds: the same rows on any machine).
     python scripts/confuser_tables.py bands-slice --design faults_bands
                                       # -> data/bands_confuser_*.csv, data/bands_one_vs_one.csv
 
+    rubdiag dataset data/designs/rub_kinds.toml --out rub-kinds --jobs 2
+    python scripts/confuser_tables.py rub-kinds --design rub_kinds
+                                      # -> data/rub_kinds_*.csv
+
 ``--design`` names the design whose tables are made (:data:`OUTPUTS`): ``faults_journal``
-(the default, whose tables the README shows) or ``faults_bands`` (every level in the same
-speed bands; ``tests/learn/test_bands_confuser_tables.py`` checks its goals).
+(the default, whose tables the README shows), ``faults_bands`` (every level in the same
+speed bands; ``tests/learn/test_bands_confuser_tables.py`` checks its goals) or
+``rub_kinds`` (blade and seal rubs, blade counts 8-20, beside the same confusers; its
+extra cell holds out one blade count at a time, :data:`EXTRA_CELLS`, and its rates give
+the rub recall of each kind; ``tests/learn/test_rub_kinds_tables.py``).
 
 **Goals** (:data:`CELLS`): :func:`rubdiag.learn.evaluate` with the forest on the shaft
 probes only (``channels="shaft"``: every probe but the casing's) and the order families
@@ -59,6 +66,9 @@ OUTPUTS = {
     "faults_bands": (ROOT / "data" / "bands_confuser_cells.csv",
                      ROOT / "data" / "bands_confuser_rates.csv",
                      ROOT / "data" / "bands_one_vs_one.csv", ("group", "speed_ratio")),
+    "rub_kinds": (ROOT / "data" / "rub_kinds_confuser_cells.csv",
+                  ROOT / "data" / "rub_kinds_confuser_rates.csv",
+                  ROOT / "data" / "rub_kinds_one_vs_one.csv", ("group", "speed_ratio")),
 }
 FAMILIES = ("orders", "sidebands", "combinations", "full_spectrum", "orbit")
 UNCERTAINTY = ("casing_stiffness_scale", "damping_ratio", "disc_mass_scale",
@@ -72,6 +82,8 @@ CELLS = ([("rub", "group"), ("rub", "speed_ratio"), ("fault", "group"),
 GOALS = {"rub_macro_f1": 0.95, "false_alarm": 0.05, "min_runs": 60, "fault_macro_f1": 0.90,
          "band_drop": 0.05}
 CONFUSER_KINDS = ("misalignment", "crack", "looseness", "whirl")
+#: design -> the cells it adds: rub kinds held out one blade count at a time
+EXTRA_CELLS = {"rub_kinds": [("rub", "blade_count")]}
 
 
 def _channels_and_features(data):
@@ -276,7 +288,7 @@ def main(argv=None) -> int:
         one.to_csv(one_csv, index=False, float_format="%.6g")
         print(one_vs_one_table(one[one.split == "group"]), flush=True)
         cells, rates = [], []
-        for target, split in CELLS:
+        for target, split in CELLS + EXTRA_CELLS.get(args.design, []):
             row, r = goals_cell(data, target, split)
             cells.append(row)
             rates.append(r)

@@ -56,7 +56,7 @@ def has_confusers(faults) -> bool:
 
 
 def confuser_table(true_faults, predicted, groups, scored=None, n_bootstrap: int = 1000,
-                   seed: int = 0) -> pd.DataFrame:
+                   seed: int = 0, rub_kinds=None) -> pd.DataFrame:
     """False rub alarms per confuser and rub recall beside each (module docstring).
 
     Parameters
@@ -72,12 +72,16 @@ def confuser_table(true_faults, predicted, groups, scored=None, n_bootstrap: int
         The runs to count (held out and scored); default all.
     n_bootstrap, seed : int
         Bootstrap draws of the intervals and their seed.
+    rub_kinds : array of str, optional
+        What rubbed in each run (a design's ``rub_kind`` factor: ``"blade"``, ``"seal"``;
+        empty where nothing did): the rub recall of each kind is added.
 
     Returns
     -------
     pandas.DataFrame
         One row per ``CONFUSERS`` entry (``measure`` "false rub alarm", ``faults`` the
-        confuser) then per ``rub`` and ``rub+<fault>`` (``measure`` "rub recall"), with
+        confuser) then per ``rub`` and ``rub+<fault>`` (``measure`` "rub recall"; with
+        ``rub_kinds``, then per ``rub (<kind>)``: every run in which that kind rubbed), with
         :data:`CONFUSER_COLUMNS`: ``n`` runs, ``n_called_rub`` of them called rubbing,
         ``rate`` = n_called_rub / n, ``lo``, ``hi`` its 95 % interval (NaN when n = 0).
     """
@@ -100,6 +104,10 @@ def confuser_table(true_faults, predicted, groups, scored=None, n_bootstrap: int
     for kind in FAULT_KINDS:
         rows.append((_RECALL, f"rub+{kind}",
                      rubbed & np.array([kind in p for p in parts], dtype=bool)))
+    if rub_kinds is not None:
+        rub_kinds = pd.Series(rub_kinds, dtype=object).fillna("").astype(str).to_numpy()
+        for kind in sorted(set(rub_kinds[rubbed]) - {""}):
+            rows.append((_RECALL, f"rub ({kind})", rubbed & (rub_kinds == kind)))
     out = []
     for measure, faults, members in rows:
         members = members & scored
@@ -120,7 +128,8 @@ def rub_confusers(data: pd.DataFrame, target: str, predicted, scored=None,
         return None
     key = "point_id" if "point_id" in data.columns else "run_id"
     return confuser_table(data["faults"].astype(str).to_numpy(), predicted,
-                          data[key].to_numpy(), scored, n_bootstrap, seed)
+                          data[key].to_numpy(), scored, n_bootstrap, seed,
+                          data["rub_kind"] if "rub_kind" in data.columns else None)
 
 
 def confuser_lines(table: pd.DataFrame) -> list[str]:

@@ -75,6 +75,18 @@ def test_rates_counted_by_hand():
     assert (t.loc[("rub recall", "rub+crack"), ["lo", "hi"]] == 1.0).all()
 
 
+def test_rub_recall_of_each_kind_counted_by_hand():
+    """With what rubbed in each run (a design's rub_kind), the recall of each kind follows
+    the table's rows: rub and rub+<fault> runs alike, an unscored run never counted."""
+    kinds = [None, None, None, None, None, None, None, None, None,
+             "seal", "blade", "blade", "seal", "seal"]
+    t = table_of(RUNS, n_bootstrap=200, rub_kinds=kinds)
+    assert list(t.index[-2:]) == [("rub recall", "rub (blade)"), ("rub recall", "rub (seal)")]
+    assert tuple(t.loc[("rub recall", "rub (blade)"), ["n", "n_called_rub"]]) == (2, 1)
+    assert tuple(t.loc[("rub recall", "rub (seal)"), ["n", "n_called_rub"]]) == (3, 2)
+    assert list(t.index[:-2]) == list(table_of(RUNS, n_bootstrap=200).index)
+
+
 def test_a_fault_model_s_classes_are_read_for_rub():
     assert calls_rub(["rub", "rub+crack", "crack", "none", "looseness+whirl", "True",
                       "False", True, False]).tolist() == [True, True, False, False, False,
