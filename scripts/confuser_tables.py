@@ -4,7 +4,7 @@ design (fixed seeds: the same rows on any machine).
 
     rubdiag dataset data/designs/faults_journal.toml --out faults-data --jobs 2
     python scripts/confuser_tables.py faults-data   # -> data/confuser_*.csv, data/one_vs_one.csv
-    python scripts/confuser_tables.py --table       # the README blocks, from the CSVs
+    python scripts/confuser_tables.py --table       # the documentation's tables, from the CSVs
 
     rubdiag dataset data/designs/faults_bands_slice.toml --out bands-slice --jobs 2
     python scripts/confuser_tables.py bands-slice --design faults_bands
@@ -15,7 +15,7 @@ design (fixed seeds: the same rows on any machine).
                                       # -> data/rub_kinds_*.csv
 
 ``--design`` names the design whose tables are made (:data:`OUTPUTS`): ``faults_journal``
-(the default, whose tables the README shows), ``faults_bands`` (every level in the same
+(the default, whose tables the documentation shows first), ``faults_bands`` (every level in the same
 speed bands; ``tests/learn/test_bands_confuser_tables.py`` checks its goals) or
 ``rub_kinds`` (blade and seal rubs, blade counts 8-20, beside the same confusers; its
 extra cell holds out one blade count at a time, :data:`EXTRA_CELLS`, and its rates give
@@ -40,7 +40,7 @@ grouped folds) and, for ``faults_bands``, by speed band (5 quantile bands of
 (``data/bands_one_vs_one.csv``). A pair with fewer than 5 runs of either class is stored
 with NaN scores.
 
-``tests/learn/test_confuser_tables.py`` checks the README blocks against the CSVs and the
+``tests/learn/test_confuser_tables.py`` checks the documentation's tables against the CSVs and the
 goals against the stored numbers (those not met as strict xfails with their numbers).
 """
 
@@ -192,7 +192,7 @@ def alarms(rates: pd.DataFrame, target: str, split: str) -> pd.DataFrame:
     return r[r.faults.isin(CONFUSER_KINDS)].set_index("faults")
 
 
-# --- the README blocks ---------------------------------------------------------------------
+# --- the documentation's tables -------------------------------------------------------------------
 def _f(v, lo=None, hi=None) -> str:
     if v != v:
         return "–"
@@ -273,7 +273,7 @@ def main(argv=None) -> int:
     parser.add_argument("dataset", nargs="?", help="the dataset folder of the design")
     parser.add_argument("--design", choices=sorted(OUTPUTS), default="faults_journal",
                         help="whose tables to write (default faults_journal)")
-    parser.add_argument("--table", action="store_true", help="print the README blocks")
+    parser.add_argument("--table", action="store_true", help="print the documentation's tables")
     args = parser.parse_args(argv)
     cells_csv, rates_csv, one_csv, splits = OUTPUTS[args.design]
     if not args.table:

@@ -34,7 +34,7 @@ the number at Table 2's own dt (10 µs) is converged.
 Usage::
 
     python scripts/dt_convergence.py [--jobs 1]   # simulate what data/ lacks, then summarise
-    python scripts/dt_convergence.py --table      # print README's table from data/
+    python scripts/dt_convergence.py --table      # print the documentation's table from data/
 
 ≈ 10 min on one core (60 runs, ≈ 4, 7 and 17 s each at 10, 5 and 2.5 µs, measured
 2026-11-23 with the second core busy); rows recomputed from ``--cache`` in ≈ 2 min.
@@ -352,7 +352,7 @@ _GROUP_TITLE = {"table2": "Table 2 columns", "spectrum": "Numbers behind the spe
 
 
 def to_markdown(summary: pd.DataFrame) -> str:
-    """README's table, from the stored summary alone."""
+    """The documentation's table, from the stored summary alone."""
     tags = [_dt_tag(dt) for dt in DTS_S]
     coarse = f"{DTS_S[0] * 1e6:g} µs"
     fine, finest = (f"{dt * 1e6:g}" for dt in DTS_S[-2:])
@@ -408,7 +408,7 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--jobs", type=int, default=1, help="processes (default 1)")
     parser.add_argument("--table", action="store_true",
-                        help="print README's table from the stored summary and stop")
+                        help="print the documentation's table from the stored summary and stop")
     parser.add_argument("--cache", default=str(CACHE),
                         help="folder of the simulated runs ('' keeps none)")
     args = parser.parse_args(argv)

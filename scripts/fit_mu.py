@@ -73,7 +73,7 @@ scan resumes.
 Usage::
 
     python scripts/fit_mu.py [--jobs 2] [--mu 0.3 0.4] [--out-dir data]
-    python scripts/fit_mu.py --table     # the README block, from the stored files
+    python scripts/fit_mu.py --table     # the documentation's table, from the stored files
 
 A run takes about 4–9 s of one core (case 2 the longer); the whole scan about 15–30 min on
 2 cores.
@@ -360,7 +360,7 @@ def jackknife(runs: pd.DataFrame, items) -> list[float]:
 
 
 def results(runs: pd.DataFrame, summ: pd.DataFrame, preset_mu: float) -> dict:
-    """μ* and the held-out scores of each split (what the README states)."""
+    """μ* and the held-out scores of each split (what the documentation states)."""
     at = summ.set_index("mu")
     out = {"preset_mu": preset_mu, "mu_all": _argmin(summ, "r_all"),
            "mu_claims": float(summ.sort_values("mu").loc[summ["claims"].idxmax(), "mu"])}
@@ -380,7 +380,7 @@ def results(runs: pd.DataFrame, summ: pd.DataFrame, preset_mu: float) -> dict:
 
 
 # ------------------------------------------------------------------------------------------
-# the README block
+# the documentation's table
 # ------------------------------------------------------------------------------------------
 def _pct(r: float) -> str:
     return "–" if not math.isfinite(r) else f"{100 * r:.0f}"
@@ -395,7 +395,7 @@ def _mus(values) -> str:
 
 
 def render(runs: pd.DataFrame, summ: pd.DataFrame, preset_mu: float) -> str:
-    """The README block (Markdown): the scores and the claims per μ, and the results, from
+    """The documentation's table (Markdown): the scores and the claims per μ, and the results, from
     the stored files."""
     res = results(runs, summ, preset_mu)
     bold = {res[name]["mu_star"] for name in SPLITS} | {preset_mu}
@@ -456,7 +456,7 @@ def _relative_tolerance(claim_id: str) -> float:
 
 
 def validated(runs: pd.DataFrame, summ: pd.DataFrame, preset: float) -> str:
-    """The README's *Validated* items: the claims held out of split A (fitted on case 1
+    """The documentation's *Validated* items: the claims held out of split A (fitted on case 1
     alone) scored at its μ*, and at the preset μ for comparison."""
     star = results(runs, summ, preset)["A"]["mu_star"]
     at = summ.set_index("mu")
@@ -498,9 +498,9 @@ def main(argv=None) -> int:
     parser.add_argument("--mu", type=float, nargs="+", default=None,
                         help="scan only these μ (default: 0.1 … 0.6 in steps of 0.05)")
     parser.add_argument("--table", action="store_true",
-                        help="print the README block from the stored files; run nothing")
+                        help="print the documentation's table from the stored files; run nothing")
     parser.add_argument("--validated", action="store_true",
-                        help="print the README's Validated items from the stored files; "
+                        help="print the documentation's Validated items from the stored files; "
                              "run nothing")
     args = parser.parse_args(argv)
     if not (args.table or args.validated):

@@ -1,10 +1,10 @@
-"""The README "Classifiers" table: target × split × estimator → held-out macro-F1 with its 95 %
-interval, beside the baselines on the same folds, on the dataset of
+"""The classifier table of the documentation: target × split × estimator → held-out
+macro-F1 with its 95 % interval, beside the baselines on the same folds, on the dataset of
 ``data/designs/rub_classifier_lhs300.toml``.
 
     rubdiag dataset data/designs/rub_classifier_lhs300.toml --out classifier-data --waveforms
     python scripts/learn_table.py classifier-data    # -> data/learn_table.csv (resumes per cell)
-    python scripts/learn_table.py --table            # the README block, from the CSV
+    python scripts/learn_table.py --table            # the documentation's table, from the CSV
 
 Every cell uses the estimator of the cell on all six shaft probes (``channels="shaft"``, as
 when the table was made: the default channel set of ``rubdiag train`` now leaves out the
@@ -91,7 +91,7 @@ def _ci(row, prefix: str) -> str:
 
 
 def table(frame: pd.DataFrame) -> str:
-    """The README block."""
+    """The documentation's table (Markdown)."""
     out = io.StringIO()
     out.write("| target | split | estimator | macro-F1 [95 % CI] | balanced acc. | 1× level only "
               "| speed only | design factors only | margin | with casing "
@@ -111,7 +111,8 @@ def table(frame: pd.DataFrame) -> str:
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("dataset", nargs="?", type=Path, help="the classifier dataset folder")
-    p.add_argument("--table", action="store_true", help="print the README block from the CSV")
+    p.add_argument("--table", action="store_true",
+                   help="print the documentation's table from the CSV")
     p.add_argument("--csv", type=Path, default=CSV,
                    help="the table's CSV (default data/learn_table.csv; another draw's elsewhere)")
     args = p.parse_args(argv)

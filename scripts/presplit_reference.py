@@ -58,8 +58,8 @@ def short_run():
                           fixed_step=True, dt_s=1e-5, sensors=default_sensors(rig))
 
 
-#: Rayleigh coefficients of the paper rig (README "Model and physics choices"), as numbers:
-#: not computed here
+#: Rayleigh coefficients of the paper rig (documentation: "The model and its physics
+#: choices"), as numbers: not computed here
 PORTABLE_RAYLEIGH = (9.948, 1.061e-4)
 PORTABLE_SPEED_RAD_S = 1500.0 * np.pi / 30.0
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python
-"""The README "Steps sized by error" table: what long steps change in a dataset's rows,
+"""The documentation's "Steps sized by error" table: what long steps change in a dataset's rows,
 against the scatter between start histories.
 
 Two small ensembles, each made twice — at 10 µs (``step_error = 0``) and with long steps
@@ -25,10 +25,10 @@ quarter of max(scatter, floor), the 95th percentile and the largest ratio, and t
 agreement.
 
     python scripts/step_study.py --out step-study         # both ensembles, both settings
-    python scripts/step_study.py --out step-study --table # the README block, from the CSV
+    python scripts/step_study.py --out step-study --table # the documentation's table, from the CSV
 
 ``data/step_study.csv`` holds the table (one row per ensemble, tolerance and family);
-``tests/dataset/test_step_study.py`` checks it against the README block and the goal.
+``tests/dataset/test_step_study.py`` checks the goal against it.
 """
 
 from __future__ import annotations
@@ -229,7 +229,7 @@ def _steps(base: pd.DataFrame, long: pd.DataFrame) -> float:
 
 
 def markdown(frame: pd.DataFrame) -> str:
-    """The README block."""
+    """The documentation's table (Markdown)."""
     lines = ["| ensemble | step_error | family | quantities | change < ¼ scatter | "
              "95th pct. change / scatter | largest (quantity) | same labels | simulate time |",
              "|---|---:|---|---:|---:|---:|---|---:|---:|"]
@@ -250,7 +250,8 @@ def main(argv=None) -> int:
     p.add_argument("--ensembles", nargs="+", choices=ENSEMBLES, default=list(ENSEMBLES),
                    help="make these ensembles again and replace their rows of the CSV "
                    "(default: all)")
-    p.add_argument("--table", action="store_true", help="print the README block from the CSV")
+    p.add_argument("--table", action="store_true",
+                   help="print the documentation's table from the CSV")
     args = p.parse_args(argv)
     if args.table:
         print(markdown(pd.read_csv(CSV)))

@@ -1,5 +1,5 @@
 #!/usr/bin/env python
-"""The README "Model uncertainty" table: what each model-uncertainty factor of the shipped
+"""The documentation's "Model uncertainty" table: what each model-uncertainty factor of the shipped
 multi-fault design does to the rig, one factor at a time.
 
 For the design ``data/designs/faults_journal.toml`` (rig ``paper-journal``), each factor of
@@ -12,10 +12,10 @@ sets a rub run's gap through ``interference_ratio``). Linear answers only — a 
 in all, no simulation.
 
     python scripts/uncertainty.py            # -> data/uncertainty.csv
-    python scripts/uncertainty.py --table    # the README block, from the CSV
+    python scripts/uncertainty.py --table    # the documentation's table, from the CSV
 
 ``tests/dataset/test_uncertainty_table.py`` recomputes two rows and compares them with
-the CSV, and checks that the README holds the block the CSV gives.
+the CSV, and that the documentation shows the table the CSV gives.
 """
 
 from __future__ import annotations
@@ -69,7 +69,7 @@ def measure(d, factor: str, value: float) -> dict:
 
 
 def table(rows: pd.DataFrame) -> str:
-    """The README block: each variant's values and its change from the nominal rig (%)."""
+    """The documentation's table: each variant's values and its change from the nominal rig (%)."""
     nominal = rows[rows.factor == "nominal"].iloc[0]
     heads = ["1st critical (rpm)", "2nd critical (rpm)", "threshold (rpm)",
              "approach case 1 (µm)", "approach case 2 (µm)"]
@@ -90,7 +90,7 @@ def table(rows: pd.DataFrame) -> str:
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--table", action="store_true", help="print the README block")
+    parser.add_argument("--table", action="store_true", help="print the documentation's table")
     args = parser.parse_args(argv)
     if args.table:
         print(table(pd.read_csv(CSV)))
