@@ -50,7 +50,7 @@ from rubdiag.learn.columns import channels_of, read_dataset
 from rubdiag.learn.confusers import calls_rub
 from rubdiag.learn.inputs import Speeds, expand_inputs, speeds_per_file
 from rubdiag.learn.persist import Model, load_model
-from rubdiag.learn.train import required_fs
+from rubdiag.learn.sample_rate import required_fs
 from rubdiag.signal.io import read_signals
 from rubdiag.signal.options import Options
 from rubdiag.signal.records import check_signals

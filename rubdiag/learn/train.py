@@ -56,6 +56,7 @@ from rubdiag.learn.persist import Model, is_model_dir, load_meta, load_model, sa
 from rubdiag.learn.pipelines import make_pipeline
 from rubdiag.learn.records import is_record_list, predict_records, read_records
 from rubdiag.learn.report import confuser_records
+from rubdiag.learn.sample_rate import required_fs
 from rubdiag.learn.splits import in_band
 from rubdiag.signal.combinations import SUM_ORDERS
 from rubdiag.signal.options import Options
@@ -65,11 +66,6 @@ from rubdiag.signal.sidebands import HALF_WIDTH_ORDERS
 __all__ = ["ModelScores", "band_rows", "check_out", "evaluate_model", "model_meta",
            "order_reach", "record_kinds", "required_fs", "runs_digest", "train",
            "training_runs"]
-
-#: Bins between the top of a feature's search band and the Nyquist frequency that the
-#: feature table needs (the spectrum's last bins are never searched).
-EDGE_BINS = 3
-
 
 def train(dataset, out, target: str = "rub", estimator: str = "rf", split: str = "group",
           channels="auto", seed: int = 0, *, families=DEFAULT_FAMILIES,
@@ -300,13 +296,6 @@ def order_reach(column: str, band: float = Options.band) -> tuple[float, float]:
         return _reaches(band)[name]
     except KeyError:
         raise ValueError(f"{column!r} is not a feature column") from None
-
-
-def required_fs(reach: float, speed_rpm: float, window_s: float) -> float:
-    """Least sampling rate (Hz) at which features reaching ``reach`` orders are measured at
-    ``speed_rpm`` in a window of ``window_s``: the band's top plus :data:`EDGE_BINS`
-    frequency bins below the Nyquist frequency."""
-    return 2.0 * (reach * float(speed_rpm) / 60.0 + EDGE_BINS / float(window_s))
 
 
 # --- a saved model on another dataset ------------------------------------------------
