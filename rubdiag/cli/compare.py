@@ -9,13 +9,13 @@ labelled with the files' unit (``--unit``; m for simulation results).
 ``--pair Y,Z`` (``--rotation -1`` when the shaft turns from Z towards Y) adds the probe
 pair as one more channel ``Y+iZ``: its full spectrum (forward and reverse amplitude at each
 order) and orbit measures in A and in B, each file at its own speed, and B - A
-(:func:`rubdiag.cli.signal.pair_row`). Both files must hold both channels; a simulation
+(:func:`rubdiag.cli._signal_files.pair_row`). Both files must hold both channels; a simulation
 result, whose channels are y only, is refused.
 """
 
 from __future__ import annotations
 
-from rubdiag.cli.signal import (
+from rubdiag.cli._signal_files import (
     ACROSS_SPEED_ORDERS,
     check_across_speed,
     load,
