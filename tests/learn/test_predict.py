@@ -30,7 +30,7 @@ def model_dir(small_dataset, tmp_path_factory):
     vote must ignore."""
     out = tmp_path_factory.mktemp("predict") / "model"
     train(small_dataset, out, target="severity", channels="shaft", importances=False,
-          baselines=False, audit=False)
+          baselines=False, audit=False, n_shuffles=1, n_bootstrap=0)
     return out
 
 
