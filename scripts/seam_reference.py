@@ -7,7 +7,7 @@ kernels they were made with (see ``scripts/presplit_reference.py`` for why the b
 those and not on the CPU):
 
 * ``annular`` — a shaft–stator annular clearance with friction and the shaft's surface speed
-  on the lumped disc of :func:`~rubdiag.simulate.testsystems.tip_casing_system`, variable
+  on the lumped disc of ``tip_casing_system`` (``tests/testsystems.py``), variable
   step, the clearance ramped down;
 * ``mixed`` — point contacts at two blade tips and an annular clearance at the disc in one
   run (both kinds side by side), variable step;
@@ -43,12 +43,13 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "data" / "seam"
 sys.path.insert(0, str(ROOT / "scripts"))
+sys.path.insert(0, str(ROOT / "tests"))     # testsystems: the tests' synthetic systems
 
 from presplit_reference import arrays, digest, made_on, versions  # noqa: E402
 
 
 def _lumped(**options):
-    from rubdiag.simulate.testsystems import linear_response, tip_casing_system
+    from testsystems import linear_response, tip_casing_system
 
     ts = tip_casing_system(**options)
     u = linear_response(ts.M, ts.C, ts.K, ts.force)

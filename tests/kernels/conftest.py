@@ -2,10 +2,10 @@
 
 import numpy as np
 import pytest
+from testsystems import linear_response, tip_casing_system
 
 from rubdiag.kernels import ensure_fresh_cache
 from rubdiag.simulate import simulate_system
-from rubdiag.simulate.testsystems import linear_response, tip_casing_system
 
 
 def rub_run(mu=0.5, k_n=1e7, duration=0.04, dt=1e-5, **kw):

@@ -2,9 +2,9 @@
 
 import numpy as np
 import pytest
+from testsystems import bladed_rotor_casing, linear_response
 
 from rubdiag.simulate import simulate_system
-from rubdiag.simulate.testsystems import bladed_rotor_casing, linear_response
 
 
 @pytest.mark.slow

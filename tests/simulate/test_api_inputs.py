@@ -4,11 +4,11 @@ import warnings
 
 import numpy as np
 import pytest
+from testsystems import tip_casing_system
 
 from rubdiag import _check
 from rubdiag.model import paper_rig
 from rubdiag.simulate import Contacts, GapRampInWindow, HarmonicForce, Run, simulate
-from rubdiag.simulate.testsystems import tip_casing_system
 
 
 @pytest.mark.parametrize("run", ["x", None, 3.0])

@@ -11,13 +11,13 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 from ground_spring_kind import GroundSpring
+from testsystems import linear_response, tip_casing_system
 
 from rubdiag.kernels import extend
 from rubdiag.simulate import Contacts, HarmonicForce, simulate_system
 from rubdiag.simulate import system as system_module
 from rubdiag.simulate.descriptions import LinearSystem, Recording, Solver, TimeGrid
 from rubdiag.simulate.elements import AnnularContact, PointContact
-from rubdiag.simulate.testsystems import linear_response, tip_casing_system
 
 #: the seam and K give the same discrete equations: they differ by round-off only
 SEAM_RTOL = 1e-12

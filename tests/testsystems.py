@@ -1,4 +1,5 @@
-"""Small synthetic systems for tests and benchmarks of the contact time integrator.
+"""Small synthetic systems for the tests and benchmarks of the contact time integrator (a test
+fixture: not part of the package; scripts and benchmarks put tests/ on their path).
 
 They *resemble* the blade–rotor–casing rig (a rotor carrying blades inside a flexible casing,
 point contacts between blade tips and casing nodes, a rotating unbalance), but are not the rig
