@@ -224,6 +224,9 @@ def summary_lines(table) -> list[str]:
 
     lines = []
     for row in table.to_dict(orient="records"):
+        if _is_pair(row):                             # --pair Y,Z
+            lines.extend(pair_summary_lines(row))
+            continue
         if "source" not in row:                       # a measured channel
             one = _amplitude(row, "")
             if one != "absent":
@@ -258,6 +261,38 @@ def summary_lines(table) -> list[str]:
             lines.append(f"  all contacts: max force {row['contacts_max_force_n']:.1f} N, "
                          f"{row['contacts_n_episodes']:.0f} episodes")
     return lines
+
+
+#: A probe pair's line is named in its summary when it stands this many times above the
+#: median of the pair's forward and reverse amplitudes (most orders hold no line: their
+#: median is the record's floor).
+PAIR_LINE_OVER_FLOOR = 10.0
+
+
+def _is_pair(row) -> bool:
+    value = row.get("forward_1x")
+    return value is not None and not math.isnan(value)
+
+
+def pair_summary_lines(row) -> list[str]:
+    """The summary in words of a probe pair's row (``--pair Y,Z``): its 1× forward and
+    reverse amplitudes and precession, then the other lines standing
+    :data:`PAIR_LINE_OVER_FLOOR` times above the pair's floor, strongest first."""
+    amplitudes = {key: row[key] for key in row
+                  if key.startswith(("fwd_", "rev_")) and math.isfinite(row[key])}
+    floor = sorted(amplitudes.values())[len(amplitudes) // 2] if amplitudes else 0.0
+    others = sorted(((value, key) for key, value in amplitudes.items()
+                     if value > PAIR_LINE_OVER_FLOOR * floor and key[4:] != "1x"), reverse=True)
+    turning = "forward" if row["precession_1x"] > 0 else "reverse"
+    named = [f"{'forward' if key.startswith('fwd') else 'reverse'} "
+             f"{key[4:].replace('p', '.').replace('x', '×')} {value:.4g}"
+             for value, key in others]
+    detail = "; ".join(named) if named else "no other significant line"
+    if named and math.isfinite(row.get("reverse_share", math.nan)):
+        detail += f"; reverse share of the other lines {row['reverse_share']:.2f}"
+    return [f"{row['channel']}: {row['speed_rpm']:.0f} rpm, 1× forward "
+            f"{row['forward_1x']:.4g}, reverse {row['reverse_1x']:.4g} ({turning} precession)",
+            f"  {detail}"]
 
 
 def _amplitude(row, prefix: str, scale: float = 1.0, unit: str = "") -> str:
