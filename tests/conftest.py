@@ -29,3 +29,20 @@ def paper_model(paper_rig):
     from rubdiag.assembly import assemble
 
     return assemble(paper_rig)
+
+
+@pytest.hookimpl(optionalhook=True)     # a hook of pytest-xdist's
+def pytest_xdist_make_scheduler(config, log):
+    """``--dist loadfile`` (make test) with the classifier tests' folder as one unit: its
+    session fixtures simulate datasets (tests/learn/conftest.py, half a minute each), which
+    one worker then makes once instead of each worker making them."""
+    if config.getvalue("dist") != "loadfile":
+        return None
+    from xdist.scheduler import LoadFileScheduling
+
+    class Scheduler(LoadFileScheduling):
+        def _split_scope(self, nodeid: str) -> str:
+            scope = super()._split_scope(nodeid)
+            return "tests/learn" if scope.startswith("tests/learn/") else scope
+
+    return Scheduler(config, log)
