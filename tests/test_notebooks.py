@@ -11,6 +11,12 @@ import numpy as np
 import pytest
 
 NOTEBOOKS = sorted((Path(__file__).resolve().parents[1] / "notebooks").glob("*.ipynb"))
+#: the classifier notebook takes a minute and a half (the default evaluation with its
+#: shuffles, baselines and audit, two noise curves): slow, as make docs executes it too. Its
+#: calls run by default on the same small design in tests/learn (small_dataset): evaluate
+#: in test_evaluate.py, train in test_train.py, noise_curve in test_robustness.py,
+#: noise_curve_figure in test_figures.py, predict on a resampled CSV in µm in test_predict.py
+SLOW = {"06_classifiers"}
 
 
 def _execute(path, tmp_path, monkeypatch):
@@ -36,7 +42,9 @@ def _text(outputs) -> str:
     return "\n".join(parts)
 
 
-@pytest.mark.parametrize("path", NOTEBOOKS, ids=[p.stem for p in NOTEBOOKS])
+@pytest.mark.parametrize("path", [
+    pytest.param(p, marks=[pytest.mark.slow] if p.stem in SLOW else []) for p in NOTEBOOKS],
+    ids=[p.stem for p in NOTEBOOKS])
 def test_notebook_runs_and_draws(path, tmp_path, monkeypatch):
     import matplotlib.image as mpimg
 
