@@ -11,12 +11,15 @@ import numpy as np
 import pytest
 
 NOTEBOOKS = sorted((Path(__file__).resolve().parents[1] / "notebooks").glob("*.ipynb"))
-#: the classifier notebook takes a minute and a half (the default evaluation with its
-#: shuffles, baselines and audit, two noise curves): slow, as make docs executes it too. Its
-#: calls run by default on the same small design in tests/learn (small_dataset): evaluate
-#: in test_evaluate.py, train in test_train.py, noise_curve in test_robustness.py,
-#: noise_curve_figure in test_figures.py, predict on a resampled CSV in µm in test_predict.py
-SLOW = {"06_classifiers"}
+#: Slow, as make docs executes them too, and what they run is run by default elsewhere:
+#: the classifier notebook (a minute and a half: the default evaluation with its shuffles,
+#: baselines and audit, two noise curves) calls on the same small design what tests/learn
+#: calls on small_dataset: evaluate (test_evaluate.py), train (test_train.py), noise_curve
+#: (test_robustness.py), noise_curve_figure (test_figures.py), predict on a resampled CSV in
+#: µm (test_predict.py); the faults notebook simulates the runs of fault_runs(duration_s=1.0)
+#: and draws their faults_figure, which `rubdiag faults --duration-s 1.0` does in
+#: tests/cli/test_fault_options.py, asserting the lines checked below by wider margins
+SLOW = {"06_classifiers", "10_faults"}
 
 
 def _execute(path, tmp_path, monkeypatch):
