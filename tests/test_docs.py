@@ -205,3 +205,54 @@ def test_prose_states_the_library_constants():
     assert values["reduce_frequency_tolerance"] == f"{100 * check.FREQUENCY_TOLERANCE:g} %"
     assert values["reduce_response_tolerance"] == f"{100 * check.RESPONSE_TOLERANCE:g} %"
     assert float(values["reduce_static_tolerance"]) == check.STATIC_TOLERANCE
+
+
+check_site = importlib.import_module("check_site")       # docs/check_site.py
+needs_chromium = pytest.mark.skipif(not check_site.CHROMIUM.is_file(),
+                                    reason=f"no Chromium at {check_site.CHROMIUM} "
+                                           "(apt-get install chromium)")
+
+
+@pytest.mark.slow
+@needs_chromium
+def test_the_browser_check_finds_a_missing_figure_and_a_dead_link(tmp_path):
+    """A page with one good figure, one missing figure, a link to a missing anchor and a
+    link to a missing page: exactly the last three are reported."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(2, 1))
+    ax.plot([0, 1], [0, 1])
+    fig.savefig(tmp_path / "good.png")
+    plt.close(fig)
+    (tmp_path / "other.html").write_text('<html><body><h1 id="there">x</h1></body></html>')
+    (tmp_path / "index.html").write_text(
+        '<html><head><title>t</title></head><body><img src="good.png"><img src="gone.png">'
+        '<a href="other.html#there">ok</a><a href="other.html#nowhere">anchor</a>'
+        '<a href="missing.html">page</a><a href="https://example.org/x">outside</a>'
+        '</body></html>')
+    (seen,) = check_site.check_site(tmp_path, ["index.html"], tmp_path / "shots")
+    assert seen["images"] == 2
+    problems = seen["problems"]
+    assert len(problems) == 3, problems
+    assert "gone.png" in problems[0]
+    assert any("#nowhere" in p for p in problems) and any("missing.html" in p for p in problems)
+    assert (tmp_path / "shots" / "index.png").stat().st_size > 1000
+
+
+@pytest.mark.slow       # builds the site first when there is no build (make docs: minutes)
+@needs_chromium
+def test_the_built_pages_show_their_figures_and_no_link_is_dead():
+    """The home page, a tutorial, an API page and the command-line page, opened in headless
+    Chromium: every image loaded, every internal link resolves, the tutorial has figures."""
+    if not (check_site.BUILD / "index.html").is_file():
+        done = subprocess.run([sys.executable, "-m", "sphinx", "-b", "html", "-W",
+                               "--keep-going", str(DOCS), str(check_site.BUILD)],
+                              capture_output=True, text=True)
+        assert done.returncode == 0, done.stderr[-3000:]
+    seen = {page["page"]: page for page in check_site.check_site()}
+    assert list(seen) == list(check_site.PAGES)
+    for page in seen.values():
+        assert page["problems"] == [], page
+        assert page["title"] and page["links"] > 20, page
+        assert page["screenshot"].stat().st_size > 20_000, page
+    assert seen["_generated/tutorials/02_rub_simulation.html"]["images"] >= 3
