@@ -59,6 +59,15 @@ class BladeContactGeometry:
     ``tip_dofs[k]`` and ``casing_dofs[k]`` are the (y, z) DOFs of contact element k+1;
     ``normal`` points radially outwards and ``tangent`` along +θ. The gap is
     g = g0 − (u_tip − u_casing)·normal.
+
+    Parameters
+    ----------
+    tip_dofs, casing_dofs : numpy.ndarray
+        (n_contacts, 2) int: the blade tip's and the casing node's (y, z) DOF numbers.
+    normal, tangent : numpy.ndarray
+        (n_contacts, 2): unit radial and circumferential vectors in (y, z).
+    angle_rad : numpy.ndarray
+        (n_contacts,): angle of each contact from +y towards +z (rad).
     """
 
     tip_dofs: np.ndarray
@@ -72,8 +81,12 @@ class BladeContactGeometry:
 class Model:
     """The assembled rig: sparse matrices, DOF map and what is needed to load it.
 
-    Attributes
+    Parameters
     ----------
+    rig : Rig
+        The rig assembled.
+    dofs : DofMap
+        The names of the DOFs, in matrix order.
     M, K, G : scipy.sparse.csr_matrix
         Mass (kg, kg·m²), stiffness (N/m, N·m/rad) and unit-speed gyroscopic matrix
         (multiply by Ω in rad/s).
@@ -187,7 +200,18 @@ class Model:
 
 
 def dof_map(rig: Rig) -> DofMap:
-    """The DOF names of ``rig``'s model, without assembling it."""
+    """The DOF names of ``rig``'s model, without assembling it.
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig.
+
+    Returns
+    -------
+    DofMap
+        The map ``assemble(rig).dofs`` would hold (shared by rigs of the same layout).
+    """
     blades, casing = rig.blades, rig.casing
     return _dof_map(tuple(rig.shaft.nodes), blades.count if blades else 0,
                     blades.n_elements if blades else 0, casing.n_elements if casing else 0,
@@ -206,6 +230,16 @@ def assemble(rig: Rig) -> Model:
 
     Rayleigh damping is set when the rig gives its reference speeds; otherwise
     ``Model.rayleigh`` is None until :func:`rubdiag.modal.with_rayleigh` computes it.
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig.
+
+    Returns
+    -------
+    Model
+        Its sparse M, K, G, C_discrete and DOF map.
     """
     blades, casing = rig.blades, rig.casing
     dofs = dof_map(rig)

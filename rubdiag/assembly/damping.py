@@ -21,7 +21,34 @@ __all__ = ["rayleigh_coefficients"]
 
 def rayleigh_coefficients(omega_1: float, omega_2: float, xi_1: float,
                           xi_2: float) -> tuple[float, float]:
-    """(α in 1/s, β in s) giving damping ratio ξ1 at ω1 and ξ2 at ω2 (rad/s, ω1 < ω2)."""
+    """(α in 1/s, β in s) giving damping ratio ξ1 at ω1 and ξ2 at ω2 (rad/s, ω1 < ω2).
+
+    Parameters
+    ----------
+    omega_1, omega_2 : float
+        The two reference angular frequencies (rad/s, 0 < ω1 < ω2).
+    xi_1, xi_2 : float
+        The damping ratios wanted there (0-1).
+
+    Returns
+    -------
+    alpha : float
+        Mass-proportional coefficient α (1/s).
+    beta : float
+        Stiffness-proportional coefficient β (s).
+
+    Examples
+    --------
+    The paper rig's ξ = 0.04 at its critical speeds, 1500 and 5700 rpm:
+
+    >>> import math
+    >>> alpha, beta = rayleigh_coefficients(1500 * math.pi / 30, 5700 * math.pi / 30, 0.04, 0.04)
+    >>> print(f"{alpha:.3f} 1/s, {beta:.4g} s")
+    9.948 1/s, 0.0001061 s
+    >>> w = 1500 * math.pi / 30
+    >>> print(f"{alpha / (2 * w) + beta * w / 2:.4f}")
+    0.0400
+    """
     _check.positive("omega_1", omega_1)
     _check.number("omega_2", omega_2, lo=omega_1, lo_open=True)
     _check.number("xi_1", xi_1, lo=0.0, hi=1.0)

@@ -26,7 +26,13 @@ PEDESTAL_DIRECTIONS = ("y", "z")
 
 @dataclass(frozen=True)
 class DofMap:
-    """Ordered DOF names; ``index(node, direction)`` gives the global DOF number."""
+    """Ordered DOF names; ``index(node, direction)`` gives the global DOF number.
+
+    Parameters
+    ----------
+    nodes : tuple of (str, tuple of str)
+        Every node's label (``"shaft 11"``) and its directions, in DOF order.
+    """
 
     nodes: tuple[tuple[str, tuple[str, ...]], ...]
     _index: dict = field(init=False, repr=False, compare=False)

@@ -85,7 +85,23 @@ KNOBS = {
 
 @dataclass(frozen=True)
 class Calibration:
-    """The calibrated rig, the scale of each knob, and the speeds reached (rad/s)."""
+    """The calibrated rig, the scale of each knob, and the speeds reached (rad/s).
+
+    Parameters
+    ----------
+    rig : Rig
+        The calibrated rig.
+    knobs : tuple of str
+        The knobs scaled (:data:`KNOBS`).
+    scales : tuple of float
+        The factor applied to each knob (1: unchanged).
+    targets : tuple of float
+        The target forward critical speeds (rad/s).
+    speeds : tuple of float
+        The forward critical speeds of the calibrated rig (rad/s).
+    n_evaluations : int
+        How many rigs the search assembled and solved.
+    """
 
     rig: Rig
     knobs: tuple[str, ...]
@@ -105,12 +121,19 @@ def calibrate(rig: Rig, targets, knobs=("outer_spans", "inner_span"),
 
     Parameters
     ----------
+    rig : Rig
+        The rig to calibrate.
     targets : sequence of float
         Target forward critical speeds (rad/s), ascending.
     knobs : sequence of str
         Names from :data:`KNOBS`; as many as targets for an exact match.
     rtol : float
         Relative tolerance on the speeds.
+
+    Returns
+    -------
+    Calibration
+        The calibrated rig, the knobs' scales and the speeds reached.
     """
     from scipy.optimize import least_squares
 

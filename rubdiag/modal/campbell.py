@@ -20,6 +20,21 @@ class Campbell:
     ``frequencies[i, j]`` is the damped natural frequency of mode j (sorted by frequency)
     at ``speeds[i]``; ``whirl_ratio`` has the same shape (+1 forward … −1 backward);
     ``critical_speeds`` are the forward crossings with 1× (rad/s).
+
+    Parameters
+    ----------
+    speeds : numpy.ndarray
+        (n_speeds,) spin speeds (rad/s).
+    frequencies : numpy.ndarray
+        (n_speeds, n_modes) damped natural frequencies (rad/s).
+    damping_ratios : numpy.ndarray
+        (n_speeds, n_modes) damping ratios.
+    whirl_ratio : numpy.ndarray
+        (n_speeds, n_modes) whirl ratios (+1 forward … −1 backward).
+    shaft_share : numpy.ndarray
+        (n_speeds, n_modes) share of each mode's kinetic energy in the shaft and discs.
+    critical_speeds : numpy.ndarray
+        Forward crossings with 1× (rad/s).
     """
 
     speeds: np.ndarray
@@ -47,7 +62,27 @@ class Campbell:
 def campbell(model, speeds, n_modes: int = 8, damped: bool = True,
              progress: bool = False) -> Campbell:
     """Modes of ``model`` at every speed in ``speeds`` (rad/s); ``progress``: a bar over
-    the speeds on stderr when it is a terminal."""
+    the speeds on stderr when it is a terminal.
+
+    Parameters
+    ----------
+    model : Model
+        The assembled rig.
+    speeds : array_like of float
+        Spin speeds (rad/s, >= 0).
+    n_modes : int
+        Modes kept at each speed, the lowest oscillating ones.
+    damped : bool
+        Include the damping matrix (False: undamped natural frequencies; gyroscopic effects
+        stay).
+    progress : bool
+        Show a progress bar on stderr when it is a terminal.
+
+    Returns
+    -------
+    Campbell
+        The modes' frequencies, damping and whirl at every speed.
+    """
     speeds = np.asarray(speeds, dtype=float)
     if speeds.ndim != 1 or speeds.size == 0 or np.any(~np.isfinite(speeds)) or np.any(
             speeds < 0):

@@ -35,7 +35,19 @@ _MIN_SHAFT_SHARE = 0.25
 
 @dataclass(frozen=True)
 class CriticalSpeeds:
-    """All synchronous solutions found: speeds (rad/s, ascending), shapes, whirl, shares."""
+    """All synchronous solutions found: speeds (rad/s, ascending), shapes, whirl, shares.
+
+    Parameters
+    ----------
+    speeds : numpy.ndarray
+        (n,) synchronous speeds (rad/s), ascending.
+    shapes : numpy.ndarray
+        (n_dof, n) complex shape of each solution.
+    whirl_ratio : numpy.ndarray
+        (n,) whirl ratio of each shape (+1 forward … −1 backward).
+    shaft_share : numpy.ndarray
+        (n,) share of each shape's kinetic energy in the shaft and discs.
+    """
 
     speeds: np.ndarray
     shapes: np.ndarray
@@ -60,7 +72,22 @@ def synchronous_modes(model, n_solutions: int = 12, stiffness=None) -> CriticalS
 
     Solved on one BLAS thread: multithreaded BLAS sums in another order, and the critical
     speeds (which define runs through ``speed_ratio`` and the Rayleigh damping) would then
-    differ in their last bit with the machine's thread count."""
+    differ in their last bit with the machine's thread count.
+
+    Parameters
+    ----------
+    model : Model
+        The assembled rig.
+    n_solutions : int
+        How many solutions to seek.
+    stiffness : scipy.sparse matrix or None
+        Stiffness added to ``model.K`` (N/m, N·m/rad).
+
+    Returns
+    -------
+    CriticalSpeeds
+        The solutions found, forward and backward, ascending.
+    """
     from rubdiag._blas import one_thread
 
     with one_thread():
@@ -94,6 +121,41 @@ def critical_speeds(model, n: int = 2, whirl: str = "forward") -> np.ndarray:
 
     Fewer are returned when the model has fewer (e.g. a rigid-disc rotor with strong
     gyroscopic stiffening has no forward conical critical speed).
+
+    Parameters
+    ----------
+    model : Model
+        The assembled rig.
+    n : int
+        How many critical speeds (>= 1).
+    whirl : {"forward", "backward"}
+        The whirl direction.
+
+    Returns
+    -------
+    numpy.ndarray
+        Up to ``n`` critical speeds (rad/s), ascending.
+
+    Examples
+    --------
+    A Jeffcott rotor: a 10 kg disc at the middle of a 1-m, 20-mm steel shaft of negligible mass
+    on stiff bearings, whose first critical speed is sqrt(48 E I / (m L³)):
+
+    >>> import math
+    >>> from rubdiag.assembly import assemble
+    >>> from rubdiag.model import Bearing, Disc, Material, Rig, Shaft
+    >>> rig = Rig(shaft=Shaft(element_lengths_m=(0.125,) * 8, outer_diameters_m=0.02,
+    ...                       first_node=1),
+    ...           bearings=(Bearing(node=1, k_y_n_m=1e12, k_z_n_m=1e12),
+    ...                     Bearing(node=9, k_y_n_m=1e12, k_z_n_m=1e12)),
+    ...           discs=(Disc(node=5, mass_kg=10.0, polar_inertia_kg_m2=0.05,
+    ...                       diametral_inertia_kg_m2=0.025),),
+    ...           material=Material(density_kg_m3=1.0))
+    >>> stiffness = 48 * 210e9 * (math.pi * 0.02**4 / 64) / 1.0**3     # N/m
+    >>> print(f"{math.sqrt(stiffness / 10.0):.2f} rad/s")
+    88.98 rad/s
+    >>> print(f"{critical_speeds(assemble(rig), n=1)[0]:.2f} rad/s")
+    88.94 rad/s
     """
     if whirl not in ("forward", "backward"):
         raise ValueError(f"whirl = {whirl!r} is not allowed (allowed: forward, backward)")
@@ -124,7 +186,20 @@ _RIGID_N_M = 1e13
 
 def direct_film_stiffness(model, speed: float):
     """The journal bearings' direct stiffness at Ω (rad/s): the y–y and z–z terms of
-    :meth:`Model.bearing_matrices` (N/m), what an undamped critical speed map uses."""
+    :meth:`Model.bearing_matrices` (N/m), what an undamped critical speed map uses.
+
+    Parameters
+    ----------
+    model : Model
+        The assembled rig, on journal bearings.
+    speed : float
+        Spin speed Ω (rad/s).
+
+    Returns
+    -------
+    scipy.sparse.csr_matrix
+        (n_dof, n_dof) the films' direct stiffness terms (N/m).
+    """
     import scipy.sparse as sp
 
     Kb, _ = model.bearing_matrices(speed)
@@ -170,7 +245,18 @@ def _with_films(model, n: int, whirl: str) -> np.ndarray:
 def with_rayleigh(model):
     """``model`` with its Rayleigh damping known: unchanged when the rig gives reference
     speeds, else a copy whose reference speeds are its first two forward critical speeds
-    (the study's choice)."""
+    (the study's choice).
+
+    Parameters
+    ----------
+    model : Model
+        The assembled rig.
+
+    Returns
+    -------
+    Model
+        ``model`` or a copy with ``rayleigh`` set (α in 1/s, β in s).
+    """
     if model.rayleigh is not None:
         return model
     found = critical_speeds(model, n=2)

@@ -31,7 +31,7 @@ _WHIRL_TOL = 1e-3
 class Modes:
     """Modes at one spin speed, sorted by natural frequency.
 
-    Attributes
+    Parameters
     ----------
     speed : float
         Spin speed Ω (rad/s).
@@ -95,6 +95,22 @@ def modes(model, speed: float = 0.0, n_modes: int = 10, damped: bool = True) -> 
     films' stiffness and (when damped) damping at Ω (:meth:`Model.bearing_matrices`):
     speed-dependent and cross-coupled, so a mode's damping ratio may be negative (unstable)
     above the threshold of instability (:func:`rubdiag.modal.stability_threshold`).
+
+    Parameters
+    ----------
+    model : Model
+        The assembled rig.
+    speed : float
+        Spin speed Ω (rad/s, >= 0).
+    n_modes : int
+        How many modes (>= 1).
+    damped : bool
+        Include the damping matrix.
+
+    Returns
+    -------
+    Modes
+        The modes, sorted by frequency.
     """
     if not np.isfinite(speed) or speed < 0:
         raise ValueError(f"speed = {speed!r} is out of range (allowed: >= 0 rad/s)")

@@ -35,7 +35,17 @@ def _solve(model, unbalance: Unbalance, speed: float) -> np.ndarray:
 
 @dataclass(frozen=True)
 class HarmonicResponse:
-    """q(t) = Re(q̂ e^{iΩt}) at one speed; ``amplitudes`` is q̂ (m, rad), one per DOF."""
+    """q(t) = Re(q̂ e^{iΩt}) at one speed; ``amplitudes`` is q̂ (m, rad), one per DOF.
+
+    Parameters
+    ----------
+    speed : float
+        Spin speed Ω (rad/s).
+    amplitudes : numpy.ndarray
+        (n_dof,) complex amplitudes q̂ (m, rad).
+    dofs : DofMap
+        The names of the DOFs.
+    """
 
     speed: float
     amplitudes: np.ndarray
@@ -71,7 +81,22 @@ def _semi_major(a, b):
 
 
 def harmonic_response(model, speed: float, unbalance: Unbalance) -> HarmonicResponse:
-    """Steady unbalance response of the linear model at spin speed ``speed`` (rad/s)."""
+    """Steady unbalance response of the linear model at spin speed ``speed`` (rad/s).
+
+    Parameters
+    ----------
+    model : Model
+        The assembled rig.
+    speed : float
+        Spin speed Ω (rad/s).
+    unbalance : Unbalance
+        The unbalance per disc.
+
+    Returns
+    -------
+    HarmonicResponse
+        The complex amplitude of every DOF.
+    """
     speed = _check_speed(speed)
     return HarmonicResponse(speed=speed, amplitudes=_solve(model, unbalance, speed),
                             dofs=model.dofs)
@@ -83,6 +108,15 @@ class UnbalanceResponse:
 
     ``amplitudes[i, j]`` is the complex amplitude (m) at ``speeds[i]`` (rad/s) of point
     ``points[j]`` (a (node, direction) pair).
+
+    Parameters
+    ----------
+    speeds : numpy.ndarray
+        (n_speeds,) spin speeds (rad/s).
+    points : tuple of (str or int, str)
+        The response points, (node, direction) pairs.
+    amplitudes : numpy.ndarray
+        (n_speeds, n_points) complex amplitudes (m).
     """
 
     speeds: np.ndarray
@@ -109,6 +143,22 @@ def unbalance_response(model, speeds, unbalance: Unbalance,
     """Linear unbalance response over ``speeds`` (rad/s) at ``points`` ((node, dir) pairs).
 
     The paper rig's Fig. 5 is ``points=((11, "y"),)`` for cases 1 and 2.
+
+    Parameters
+    ----------
+    model : Model
+        The assembled rig.
+    speeds : array_like of float
+        Spin speeds (rad/s).
+    unbalance : Unbalance
+        The unbalance per disc.
+    points : sequence of (str or int, str)
+        Response points: a shaft node number or node label, and a direction.
+
+    Returns
+    -------
+    UnbalanceResponse
+        The complex amplitudes at every speed and point.
     """
     speeds = np.asarray(speeds, dtype=float)
     if speeds.ndim != 1 or speeds.size == 0:

@@ -26,7 +26,15 @@ __all__ = ["StabilityThreshold", "stability_threshold", "threshold_speed", "whir
 @dataclass(frozen=True)
 class StabilityThreshold:
     """The speed (rad/s) at which the linear model turns unstable, and the frequency of the
-    root that crosses (rad/s); ``whirl_ratio`` is their ratio."""
+    root that crosses (rad/s); ``whirl_ratio`` is their ratio.
+
+    Parameters
+    ----------
+    speed_rad_s : float
+        The threshold speed (rad/s).
+    frequency_rad_s : float
+        Frequency of the root that turns unstable there (rad/s).
+    """
 
     speed_rad_s: float
     frequency_rad_s: float
@@ -46,7 +54,24 @@ def stability_threshold(model, low_rad_s: float, high_rad_s: float, n_grid: int 
     """The lowest speed in [``low_rad_s``, ``high_rad_s``] (rad/s, 0 < low < high) at which
     one of the ``n_modes`` lowest roots turns unstable (module docstring), located to 1e-9
     relative; None when the model is stable over the whole range (or unstable already at
-    ``low_rad_s``: then no threshold lies in it)."""
+    ``low_rad_s``: then no threshold lies in it).
+
+    Parameters
+    ----------
+    model : Model
+        The assembled rig.
+    low_rad_s, high_rad_s : float
+        The speed range searched (rad/s).
+    n_grid : int
+        Grid points over the range before the crossing is located.
+    n_modes : int
+        The lowest roots watched.
+
+    Returns
+    -------
+    StabilityThreshold or None
+        The threshold, or None.
+    """
     speed = threshold_speed(model, low_rad_s, high_rad_s, n_grid, n_modes)
     if speed is None:
         return None
@@ -181,7 +206,18 @@ class _Reduced:
 def whirl_threshold(model) -> StabilityThreshold | None:
     """The threshold of instability of a rig on journal bearings where whirl and whip are
     sought: :func:`stability_threshold` between half its first and twice its second forward
-    critical speed (None when it is stable over that range)."""
+    critical speed (None when it is stable over that range).
+
+    Parameters
+    ----------
+    model : Model
+        The assembled rig.
+
+    Returns
+    -------
+    StabilityThreshold or None
+        The threshold, or None.
+    """
     from rubdiag.modal.critical import critical_speeds
 
     return stability_threshold(model, *whirl_range(critical_speeds(model, n=2)))

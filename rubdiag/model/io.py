@@ -46,7 +46,23 @@ _EDGE_UNITS = {
 
 
 def load_rig(path: str | Path) -> Rig:
-    """Read a rig from a TOML file (see the module docstring for the format)."""
+    """Read a rig from a TOML file (see the module docstring for the format).
+
+    Parameters
+    ----------
+    path : str or Path
+        The TOML file.
+
+    Returns
+    -------
+    Rig
+        The validated rig.
+
+    Raises
+    ------
+    ValueError
+        If the file is not valid TOML, or a key is unknown, of the wrong type or out of range.
+    """
     path = Path(path)
     try:
         with path.open("rb") as fh:
@@ -67,7 +83,20 @@ def paper_rig() -> Rig:
 
 
 def save_rig(rig: Rig, path: str | Path) -> Path:
-    """Write ``rig`` as TOML (SI units); ``load_rig`` reads it back equal."""
+    """Write ``rig`` as TOML (SI units); ``load_rig`` reads it back equal.
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig to write.
+    path : str or Path
+        The TOML file, written atomically.
+
+    Returns
+    -------
+    Path
+        The file written.
+    """
     import tomli_w
 
     from rubdiag._atomic import write_text
@@ -76,12 +105,34 @@ def save_rig(rig: Rig, path: str | Path) -> Path:
 
 
 def rig_to_dict(rig: Rig) -> dict:
-    """The rig as plain TOML-ready data (``None`` fields left out)."""
+    """The rig as plain TOML-ready data (``None`` fields left out).
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig.
+
+    Returns
+    -------
+    dict
+        Nested tables and lists, one key per set field, in SI units.
+    """
     return _to_plain(rig)
 
 
 def rig_from_dict(data: dict) -> Rig:
-    """Build a validated :class:`Rig` from parsed TOML data."""
+    """Build a validated :class:`Rig` from parsed TOML data.
+
+    Parameters
+    ----------
+    data : dict
+        Parsed TOML: the tables of a rig file (module docstring); keys may use the edge units.
+
+    Returns
+    -------
+    Rig
+        The validated rig.
+    """
     return _build(Rig, data, "")
 
 

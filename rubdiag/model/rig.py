@@ -43,7 +43,17 @@ def _set(obj, name: str, value) -> None:
 
 @dataclass(frozen=True)
 class Material:
-    """Isotropic linear-elastic material shared by shaft, discs, blades and casing."""
+    """Isotropic linear-elastic material shared by shaft, discs, blades and casing.
+
+    Parameters
+    ----------
+    youngs_modulus_pa : float
+        Young's modulus E (Pa, > 0).
+    poisson_ratio : float
+        Poisson's ratio ν (-1 < ν < 0.5).
+    density_kg_m3 : float
+        Density ρ (kg/m³, > 0).
+    """
 
     youngs_modulus_pa: float = 210e9
     poisson_ratio: float = 0.3
@@ -66,6 +76,17 @@ class Shaft:
 
     ``outer_diameters_m`` and ``inner_diameters_m`` are per element; a single number applies
     to every element (inner 0 means a solid shaft).
+
+    Parameters
+    ----------
+    element_lengths_m : tuple of float
+        Length of each beam element (m, > 0), in axial order.
+    outer_diameters_m : tuple of float or float
+        Outer diameter of each element (m, > 0), or one for all.
+    inner_diameters_m : tuple of float or float
+        Bore of each element (m, >= 0 and below its outer diameter), or one for all.
+    first_node : int
+        Node number of the shaft's first node (>= 0).
     """
 
     element_lengths_m: tuple[float, ...]
@@ -113,6 +134,23 @@ class Disc:
     Give either ``outer_radius_m`` and ``thickness_m`` (a uniform disc of the rig's material,
     optional bore ``inner_radius_m``) or all three of ``mass_kg``, ``polar_inertia_kg_m2``
     and ``diametral_inertia_kg_m2``.
+
+    Parameters
+    ----------
+    node : int
+        Shaft node the disc sits on.
+    outer_radius_m : float or None
+        Outer radius (m) of a uniform disc.
+    thickness_m : float or None
+        Axial thickness (m) of a uniform disc.
+    inner_radius_m : float
+        Bore radius (m) of a uniform disc, 0 <= bore < outer radius.
+    mass_kg : float or None
+        Mass (kg) of a disc given by its inertia.
+    polar_inertia_kg_m2 : float or None
+        Polar moment of inertia about the shaft axis (kg·m²).
+    diametral_inertia_kg_m2 : float or None
+        Diametral moment of inertia (kg·m²).
     """
 
     node: int
@@ -165,6 +203,15 @@ class Pedestal:
     pedestal free in a direction would leave the linear model singular); a loose pedestal
     (:class:`rubdiag.simulate.faults.Looseness`) replaces one direction's support spring by
     a seat that lifts off.
+
+    Parameters
+    ----------
+    mass_kg : float
+        Pedestal mass (kg, > 0).
+    k_y_n_m, k_z_n_m : float
+        Support stiffness to the ground in y and z (N/m, > 0).
+    c_y_ns_m, c_z_ns_m : float
+        Support damping in y and z (N·s/m, >= 0).
     """
 
     mass_kg: float
@@ -193,7 +240,23 @@ class JournalFilm:
     carries (N, > 0) along ``load_direction`` (default "-y": gravity along -y). The load
     sets the static eccentricity at which the linear analysis linearises the film; a run
     applies its own static load (:class:`rubdiag.simulate.static_load.StaticLoad`), which
-    should give the bearing the same reaction."""
+    should give the bearing the same reaction.
+
+    Parameters
+    ----------
+    viscosity_pa_s : float
+        Dynamic viscosity of the oil (Pa·s).
+    radius_m : float
+        Journal radius (m).
+    length_m : float
+        Bearing length (m).
+    clearance_m : float
+        Radial clearance (m), below ``radius_m``.
+    load_n : float
+        Static load the bearing carries (N).
+    load_direction : {"-y", "+y", "-z", "+z"}
+        Direction of that load on the journal.
+    """
 
     viscosity_pa_s: float
     radius_m: float
@@ -223,7 +286,21 @@ class Bearing:
     one: :class:`Pedestal`); cross terms neglected. A plain journal bearing (``journal``: a
     :class:`JournalFilm`) has no fixed stiffness: its springs and dampers are 0 and its film
     gives speed-dependent, cross-coupled coefficients to the linear analysis
-    (:meth:`rubdiag.assembly.Model.bearing_matrices`) and a nonlinear element to a run."""
+    (:meth:`rubdiag.assembly.Model.bearing_matrices`) and a nonlinear element to a run.
+
+    Parameters
+    ----------
+    node : int
+        Shaft node of the bearing.
+    k_y_n_m, k_z_n_m : float
+        Direct stiffness in y and z (N/m, >= 0; 0 for a journal bearing).
+    c_y_ns_m, c_z_ns_m : float
+        Direct damping in y and z (N·s/m, >= 0; 0 for a journal bearing).
+    pedestal : Pedestal or None
+        The pedestal between bearing and ground; None: the bearing is grounded.
+    journal : JournalFilm or None
+        The oil film of a plain journal bearing; None: a linear bearing.
+    """
 
     node: int
     k_y_n_m: float
@@ -261,6 +338,23 @@ class Blades:
     size of the section and ``thickness_m`` the tangential one (in-plane bending). The root
     (at ``root_radius_m``) is clamped to the disc centre: it follows the shaft node's lateral
     motion and does not rotate about x (torsion is neglected).
+
+    Parameters
+    ----------
+    count : int
+        Number of blades (1-360).
+    length_m : float
+        Blade length, root to tip (m).
+    width_m : float
+        Axial size of the blade section (m).
+    thickness_m : float
+        Tangential size of the blade section (m).
+    root_radius_m : float
+        Radius of the blade roots (m).
+    disc_node : int
+        Shaft node of the disc that carries the blades.
+    n_elements : int
+        Frame elements per blade (1-100).
     """
 
     count: int
@@ -305,6 +399,28 @@ class Casing:
       i.e. opposite contact element 1, so that the casing is not measured where it is
       held), carries the whole spring-damper, plus a rotational spring
       ``support_k_rx_nm_rad`` about x so that the ring cannot spin freely (default k_y·R²).
+
+    Parameters
+    ----------
+    radius_m : float
+        Centreline radius of the ring (m).
+    axial_width_m : float
+        Axial size of the ring's section (m).
+    radial_height_m : float
+        Radial size of the section, its bending thickness (m, below ``radius_m``).
+    n_elements : int
+        Number of frame elements (and nodes) around the ring (3-10000).
+    support : {"distributed", "point"}
+        How the ring is held (above).
+    support_k_y_n_m, support_k_z_n_m : float
+        Total support stiffness in y and z (N/m, >= 0).
+    support_c_y_ns_m, support_c_z_ns_m : float
+        Total support damping in y and z (N·s/m, >= 0).
+    support_node : int or None
+        The supported casing node (1-based) of a ``"point"`` support; None: the node opposite
+        casing node 1.
+    support_k_rx_nm_rad : float or None
+        Rotational support stiffness about x of a ``"point"`` support (N·m/rad); None: k_y·R².
     """
 
     radius_m: float
@@ -354,6 +470,21 @@ class BladeContact:
     multiplier updates until the penetration is below ``penetration_tolerance_m`` (the
     study's eqs. 1-2). Coulomb friction with a stick state of tangential penalty
     ``tangential_stiffness_n_m`` (default: equal to the normal stiffness).
+
+    Parameters
+    ----------
+    blades : tuple of int
+        The blades (1-based) that carry a contact element, each once.
+    normal_stiffness_n_m : float
+        Normal penalty stiffness (N/m).
+    tangential_stiffness_n_m : float or None
+        Tangential (stick) penalty stiffness (N/m); None: the normal stiffness.
+    friction_coefficient : float
+        Coulomb friction coefficient μ (0-10).
+    augmented : bool
+        Augmented Lagrangian iterations on the normal force.
+    penetration_tolerance_m : float
+        Penetration the augmented iterations stop below (m).
     """
 
     blades: tuple[int, ...] = (1, 3, 5, 7, 9, 11, 13, 15)
@@ -385,7 +516,22 @@ class BladeContact:
 
 @dataclass(frozen=True)
 class StatorContact:
-    """Shaft-stator rub at a shaft node with an annular radial clearance (a seal)."""
+    """Shaft-stator rub at a shaft node with an annular radial clearance (a seal).
+
+    Parameters
+    ----------
+    node : int
+        Shaft node at the seal.
+    clearance_m : float
+        Radial clearance between shaft and seal (m).
+    stiffness_n_m : float
+        Contact penalty stiffness (N/m).
+    friction_coefficient : float
+        Coulomb friction coefficient μ (0-10).
+    shaft_radius_m : float or None
+        Shaft radius at the seal (m), the lever arm of the friction force; None: half the outer
+        diameter of the shaft element there.
+    """
 
     node: int
     clearance_m: float
@@ -408,6 +554,13 @@ class Unbalance:
     """Unbalance per disc, in disc order: magnitude u (kg·m) and phase (rad).
 
     The force on disc j is u_j Ω² (cos(Ωt + φ_j), sin(Ωt + φ_j)) in (y, z).
+
+    Parameters
+    ----------
+    magnitudes_kg_m : tuple of float
+        Unbalance u of each disc (kg·m, >= 0).
+    phases_rad : tuple of float
+        Phase φ of each disc's unbalance (rad), one per magnitude.
     """
 
     magnitudes_kg_m: tuple[float, ...]
@@ -428,6 +581,15 @@ class Loading:
 
     Case 1 (API 617, first mode) puts the unbalances in phase; case 2 (second mode) puts
     them out of phase.
+
+    Parameters
+    ----------
+    unbalance_kg_m : tuple of float
+        Unbalance magnitude of each disc (kg·m, >= 0).
+    case1_phases_rad : tuple of float or None
+        Phases of case 1 (rad); None: all 0.
+    case2_phases_rad : tuple of float or None
+        Phases of case 2 (rad); None: 0, π, 0, ... along the shaft.
     """
 
     unbalance_kg_m: tuple[float, ...]
@@ -461,6 +623,14 @@ class Damping:
 
     ``reference_speeds_rad_s = None`` uses the rig's first two forward critical speeds
     (the study's choice). See :func:`rubdiag.assembly.rayleigh_coefficients`.
+
+    Parameters
+    ----------
+    xi_1, xi_2 : float
+        Damping ratios at the first and second reference speed (0-1).
+    reference_speeds_rad_s : tuple of float or None
+        The two reference speeds, increasing (rad/s); None: the first two forward critical
+        speeds.
     """
 
     xi_1: float = 0.04
@@ -484,6 +654,31 @@ class Rig:
     """A single-span rotor with optional blades, casing ring and contacts.
 
     A plain shaft-disc-bearing rotor (no blades, casing or contacts) is a valid rig.
+
+    Parameters
+    ----------
+    shaft : Shaft
+        The shaft.
+    bearings : tuple of Bearing
+        At least one bearing, each on a shaft node.
+    discs : tuple of Disc
+        The discs, at most one per node.
+    material : Material
+        Material of shaft, discs, blades and casing.
+    damping : Damping
+        The Rayleigh damping's reference ratios.
+    blades : Blades or None
+        The blades of one disc.
+    casing : Casing or None
+        The casing ring around the blades.
+    contact : BladeContact or None
+        Blade-tip/casing contact elements (needs blades and a casing).
+    stator_contacts : tuple of StatorContact
+        Shaft/seal contacts.
+    loading : Loading or None
+        The unbalance of the study's two cases; None: runs give their own.
+    name : str
+        A name for tables and logs.
     """
 
     shaft: Shaft

@@ -59,6 +59,17 @@ class ReductionCheck:
     speed_rpm, frequency_hz, error (frequency 0 is the static flexibility); ``responses``:
     speed_rpm, frequency_hz, contact_error, sensor_error. ``n_reduced`` / ``n_full``
     coordinates, ``cutoff_hz`` and ``band_hz``.
+
+    Parameters
+    ----------
+    cutoff_hz : float
+        The reduction's cutoff (Hz).
+    band_hz : float
+        The frequency band compared (Hz).
+    n_full, n_reduced : int
+        Coordinates of the full and the reduced model.
+    frequencies, critical_speeds, compliance, responses : pandas.DataFrame
+        The tables above.
     """
 
     cutoff_hz: float

@@ -30,7 +30,7 @@ __all__ = ["CraigBampton", "craig_bampton"]
 class CraigBampton:
     """A Craig–Bampton basis.
 
-    Attributes
+    Parameters
     ----------
     boundary : (n_b,) int
         The physical DOFs kept, ascending; reduced coordinate k < n_b is DOF ``boundary[k]``.

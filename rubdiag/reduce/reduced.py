@@ -40,6 +40,20 @@ class ReducedModel:
     recovers physical displacements. ``build_seconds`` is what getting it cost this
     process (s): the reduction (assembly and modal analysis of the full model included), or
     reading it from the disk cache (``from_disk``).
+
+    Parameters
+    ----------
+    reduction : Reduction
+        What was kept.
+    basis : CraigBampton
+        The basis.
+    M, K, C, G : numpy.ndarray
+        (n_b + n_m, n_b + n_m) reduced mass, stiffness, damping and unit-speed gyroscopic
+        matrices (SI).
+    build_seconds : float
+        What getting the model cost this process (s).
+    from_disk : bool
+        Read from the disk cache.
     """
 
     reduction: Reduction
@@ -72,7 +86,20 @@ class ReducedModel:
 
 def contact_dofs(model, blade_contacts: bool = True) -> np.ndarray:
     """Every DOF a contact element of ``model``'s rig acts on (ascending; empty without);
-    without ``blade_contacts``, those of its stator contacts only."""
+    without ``blade_contacts``, those of its stator contacts only.
+
+    Parameters
+    ----------
+    model : Model
+        The assembled rig.
+    blade_contacts : bool
+        Include the blade contacts' DOFs.
+
+    Returns
+    -------
+    numpy.ndarray
+        The DOF numbers (int).
+    """
     dofs = [np.zeros(0, np.int64)]
     geo = model.blade_contacts
     if geo is not None and blade_contacts:
@@ -90,7 +117,22 @@ def boundary_dofs(model, reduction: Reduction, blade_contacts: bool = True) -> n
     of every journal bearing's node (its film is a nonlinear element). Without
     ``blade_contacts``, the blade contacts' DOFs are left to the modes (a run whose blades
     cannot reach the casing: :mod:`rubdiag.simulate.idle_contacts`). Empty for a rig
-    without nonlinear elements (which has no reduced model)."""
+    without nonlinear elements (which has no reduced model).
+
+    Parameters
+    ----------
+    model : Model
+        The assembled rig.
+    reduction : Reduction
+        What to keep.
+    blade_contacts : bool
+        Keep the blade contacts' DOFs.
+
+    Returns
+    -------
+    numpy.ndarray
+        The DOF numbers (int).
+    """
     dofs = [contact_dofs(model, blade_contacts), model.dofs.component("pedestal")]
     for k in model.journal_bearings:
         node = model.rig.bearings[k].node
@@ -112,7 +154,22 @@ def reduced_model(rig, reduction: Reduction | None = None, *,
     """The reduced model of ``rig`` (default :class:`Reduction`); cached per process and on
     disk (module docstring): the same rig and reduction are reduced once per environment.
     ``blade_contacts=False``: the blade contacts' DOFs left to the modes
-    (:func:`boundary_dofs`)."""
+    (:func:`boundary_dofs`).
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig, with at least one nonlinear element.
+    reduction : Reduction or None
+        What to keep; None: ``Reduction()``.
+    blade_contacts : bool
+        Keep the blade contacts' DOFs physical.
+
+    Returns
+    -------
+    ReducedModel
+        The reduced matrices and their basis.
+    """
     return _reduced_model(rig, Reduction() if reduction is None else reduction,
                           bool(blade_contacts))
 

@@ -54,6 +54,17 @@ class Reduction:
     ``keep_idle_contacts`` keeps them physical all the same (the comparison of the two).
 
     Use :meth:`for_features` to derive the cutoff from a speed range.
+
+    Parameters
+    ----------
+    cutoff_hz : float
+        Fixed-interface modes below this frequency are kept (Hz).
+    tip_rotations : bool
+        Keep each contact blade tip's in-plane rotation physical.
+    shaft_nodes : tuple of int
+        Shaft nodes whose every DOF stays physical.
+    keep_idle_contacts : bool
+        Keep the DOFs of blade contacts that cannot close physical.
     """
 
     cutoff_hz: float = DEFAULT_CUTOFF_HZ

@@ -27,7 +27,17 @@ SUM_ORDERS = (1, 2, 3)
 
 
 class CombinationPair(NamedTuple):
-    """One combination pair: frequencies in Hz, amplitudes in the signal's unit."""
+    """One combination pair: frequencies in Hz, amplitudes in the signal's unit.
+
+    Parameters
+    ----------
+    fa_hz, fb_hz : float
+        The lower and the upper line's frequency (Hz).
+    order : int
+        m of f_a + f_b = m×.
+    amp_a, amp_b : float
+        The two lines' amplitudes (the signal's unit).
+    """
 
     fa_hz: float
     fb_hz: float
@@ -51,14 +61,36 @@ def combination_pairs(
 ) -> list[CombinationPair]:
     """All combination pairs of a signal, strongest first.
 
-    Parameters are those of :func:`rubdiag.signal.features` (``x`` is one 1-D signal in
-    any unit, ``fs`` in Hz, ``speed_rpm`` in rpm or None for the dominant line).
+    Parameters
+    ----------
+    x : array_like
+        One signal (1-D), in any unit.
+    fs : float
+        Sampling frequency (Hz).
+    speed_rpm : float or None
+        Running speed (rpm); None: the dominant line is 1×.
+    band, threshold, window, nperseg, detrend, min_revolutions, combo_tol_hz
+        The analysis settings, as for :func:`rubdiag.signal.features`.
 
     Returns
     -------
     list of CombinationPair
         ``(fa_hz, fb_hz, order, amp_a, amp_b)``, sorted by the weaker amplitude, descending;
         empty when the signal holds no pair (a still signal holds no line at all).
+
+    Examples
+    --------
+    The study's case 2: lines at 43 and 147 Hz beside 1× = 95 Hz sum to 2×:
+
+    >>> import numpy as np
+    >>> fs = 2000.0
+    >>> t = np.arange(8000) / fs
+    >>> x = (np.cos(2 * np.pi * 95 * t) + 0.2 * np.cos(2 * np.pi * 43 * t)
+    ...      + 0.1 * np.cos(2 * np.pi * 147 * t))
+    >>> (pair,) = combination_pairs(x, fs, speed_rpm=95 * 60)
+    >>> print(f"{pair.fa_hz:g} + {pair.fb_hz:g} Hz = {pair.order}x, "
+    ...       f"amplitudes {pair.amp_a:.2f} and {pair.amp_b:.2f}")
+    43 + 147 Hz = 2x, amplitudes 0.20 and 0.10
     """
     opts = Options(band=band, threshold=threshold, window=window, nperseg=nperseg,
                    detrend=detrend, min_revolutions=min_revolutions, combo_tol_hz=combo_tol_hz)

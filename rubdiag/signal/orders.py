@@ -26,6 +26,21 @@ def order_label(k: float) -> str:
     """Column label of order ``k``: ``1x``, ``1p5x``, ``0p33x`` (``p`` is the decimal point).
 
     Half orders are written exactly, other orders with two decimals (``0p33x`` is 1/3×).
+
+    Parameters
+    ----------
+    k : float
+        The order (multiple of the running speed).
+
+    Returns
+    -------
+    str
+        The label.
+
+    Examples
+    --------
+    >>> [order_label(k) for k in (1, 1.5, 1 / 3, 7)]
+    ['1x', '1p5x', '0p33x', '7x']
     """
     if abs(2.0 * k - round(2.0 * k)) < 1e-9:
         text = f"{k:g}"

@@ -131,7 +131,13 @@ _RMS = FEATURE_NAMES.index("rms")
 
 
 def feature_names() -> list[str]:
-    """Names of the feature columns, in table order (without ``channel``)."""
+    """Names of the feature columns, in table order (without ``channel``).
+
+    Returns
+    -------
+    list of str
+        A copy of :data:`FEATURE_NAMES`.
+    """
     return list(FEATURE_NAMES)
 
 
@@ -168,6 +174,24 @@ def feature_matrix(
     time to bound memory. Columns follow :data:`FEATURE_NAMES`. ``speed_rpm`` is one
     number, one per row, or None (dominant line of each row); ``labels`` name the rows in
     error messages. Still rows get :func:`still_features` (module docstring).
+
+    Parameters
+    ----------
+    X : array_like
+        (n_signals, n_samples) signals, one per row, in any unit.
+    fs : float
+        Sampling frequency (Hz).
+    speed_rpm : float, array_like or None
+        Running speed (rpm): one for all rows, one per row, or None.
+    options : Options or None
+        The analysis settings; None: the defaults.
+    labels : sequence of str or None
+        Names of the rows, for error messages.
+
+    Returns
+    -------
+    numpy.ndarray
+        (n_signals, len(FEATURE_NAMES)) features.
     """
     return _feature_matrix(X, fs, speed_rpm, options, labels, ("X", "signal"))
 
@@ -274,9 +298,8 @@ def features(
     min_revolutions : float
         Fewest revolutions a record (segment) must hold.
     combo_tol_hz : float, optional
-        Tolerance of f_a + f_b = m× in Hz (None: the resolution ``fs / nperseg``).
-
-    The defaults of these settings are those of :class:`~rubdiag.signal.options.Options`.
+        Tolerance of f_a + f_b = m× in Hz (None: the resolution ``fs / nperseg``). The
+        defaults of these settings are those of :class:`~rubdiag.signal.options.Options`.
 
     Returns
     -------

@@ -68,6 +68,21 @@ class HarmonicForce:
     (speed_rad_s, factor) knots (K, 2) of the ``"table"`` terms, speeds >= 0 increasing,
     one table for all of them or one per term (None for the other laws). Scalars broadcast;
     a DOF may appear several times (the terms add up).
+
+    Parameters
+    ----------
+    dofs : numpy.ndarray
+        (m,) DOF of each term.
+    amplitudes : numpy.ndarray
+        (m,) complex amplitude of each term (N).
+    omega : numpy.ndarray
+        (m,) shaft speed Ω of each term (rad/s).
+    order : numpy.ndarray or float
+        Shaft order k of each term.
+    law : str or tuple of str
+        ``"unbalance"``, ``"constant"`` or ``"table"``, for all terms or one per term.
+    table : tuple or None
+        The (speed_rad_s, factor) knots of the ``"table"`` terms.
     """
 
     dofs: np.ndarray

@@ -36,6 +36,15 @@ class EpisodeLog:
     included), ``slide_time``, ``stick_time`` (s, summed step lengths whose end-of-step
     status is 2 / 3), ``slide_impulse``, ``stick_impulse`` (N s, ∫F_N dt over those steps),
     ``complete`` (bool).
+
+    Parameters
+    ----------
+    element, t_start, t_end, n_steps, peak_normal_force : numpy.ndarray
+        The fields above.
+    n_slide_entries, n_stick_entries, slide_time, stick_time : numpy.ndarray
+        The fields above.
+    slide_impulse, stick_impulse, complete : numpy.ndarray
+        The fields above.
     """
 
     element: np.ndarray
@@ -164,6 +173,55 @@ class SystemResult:
     Outcome: ``status`` (0 success, 1 no convergence at the smallest step, 2 non-finite state),
     ``message``, ``failure_time`` (s, NaN on success), ``failure_element`` (contact element number
     from 1, or 0 when no contact element is to blame).
+
+    Parameters
+    ----------
+    t, record_dofs, q : numpy.ndarray
+        Sample times (s), the recorded DOFs and their displacements (m).
+    contact_fn, contact_ft, contact_status, contact_gap, contact_slip : numpy.ndarray
+        The contact samples (above).
+    work_external, work_drive, dissipated_viscous, dissipated_friction : numpy.ndarray
+        The energy ledger's works and dissipations (J, above).
+    contact_algorithmic, kinetic, strain, contact_elastic : numpy.ndarray
+        The energy ledger's algorithmic term and state energies (J, above).
+    episodes : EpisodeLog
+        Every contact episode.
+    status_segments : StatusLog
+        Every element's stretches of constant status.
+    time_in_status, normal_impulse, tangential_impulse : numpy.ndarray
+        Per element and status (above).
+    max_normal_force, max_tangential_force, max_penetration : numpy.ndarray
+        Per element running maxima (N, N, m).
+    max_cone_excess : float
+        Largest ``|F_T| - mu F_N`` (N).
+    dt, dt_min, output_dt : float
+        The largest and the smallest step, and the output interval (s).
+    dt_levels, steps_per_level, level_change_t, level_change_level : numpy.ndarray
+        Step control (above).
+    n_steps, n_rejected_newton, n_rejected_abrupt, n_abrupt_at_min : int
+        Step counts (above).
+    newton_iterations, newton_iterations_max, augment_iterations, augment_iterations_max : int
+        Iteration counts (above).
+    t_final : float
+        Final time (s).
+    q_final, v_final, a_final : numpy.ndarray
+        Final displacements (m), velocities (m/s) and accelerations (m/s²), every DOF.
+    status : int
+        0 success, 1 no convergence at the smallest step, 2 non-finite state.
+    message : str
+        What happened.
+    failure_time : float
+        When the run failed (s); NaN on success.
+    failure_element : int
+        The contact element to blame (from 1), or 0.
+    sensor_dofs, sensor_q, sensor_v, sensor_a : numpy.ndarray
+        The sensor stream (above).
+    sensor_dt : float
+        Its interval (s).
+    n_rejected_error : int
+        Long steps rejected by the error estimate.
+    extra : dict
+        Diagnostics (above).
     """
 
     t: np.ndarray
@@ -269,7 +327,15 @@ class SystemResult:
 
 
 class SimulationDiverged(RuntimeError):
-    """A run stopped before its end; ``result`` holds everything computed up to then."""
+    """A run stopped before its end; ``result`` holds everything computed up to then.
+
+    Parameters
+    ----------
+    message : str
+        Why the run stopped.
+    result : SystemResult
+        The run up to the failure.
+    """
 
     def __init__(self, message: str, result: SystemResult):
         super().__init__(message)

@@ -309,7 +309,20 @@ class Run:
 
 
 def critical_speed_for_case(rig: Rig, case: int) -> float:
-    """Forward critical speed (rad/s) that the study's case excites: 1st (case 1), 2nd (2)."""
+    """Forward critical speed (rad/s) that the study's case excites: 1st (case 1), 2nd (2).
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig.
+    case : {1, 2}
+        The study's case.
+
+    Returns
+    -------
+    float
+        The critical speed (rad/s).
+    """
     from rubdiag.simulate.rig_cache import forward_critical_speeds
 
     case = _check.integer("case", case, lo=1, hi=2)

@@ -49,7 +49,19 @@ class Sensor:
     """One channel: ``point`` (a node label, ``"shaft 4"``, ``"casing 1"``,
     ``"blade 1.4"``), ``direction`` (``"y"`` or ``"z"``), ``quantity`` (a key of
     :data:`QUANTITIES`) and ``name`` (default e.g. ``shaft4_y_disp``; letters, digits,
-    ``_`` and ``-``, no ``__``, which separates channel and feature in dataset columns)."""
+    ``_`` and ``-``, no ``__``, which separates channel and feature in dataset columns).
+
+    Parameters
+    ----------
+    point : str
+        A node label.
+    direction : {"y", "z"}
+        The direction measured.
+    quantity : str
+        A key of :data:`QUANTITIES`.
+    name : str
+        The channel's name; empty: made from the others.
+    """
 
     point: str
     direction: str
@@ -95,7 +107,18 @@ def _bearing(rig, point: str):
 def default_sensors(rig) -> tuple[Sensor, ...]:
     """Two orthogonal displacement probes (y, z) at both bearings and at the bladed disc,
     and one radial (y) accelerometer on the casing at contact element 1 — the casing
-    moves only through contact in this model, so the accelerometer is silent without rub."""
+    moves only through contact in this model, so the accelerometer is silent without rub.
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig.
+
+    Returns
+    -------
+    tuple of Sensor
+        The probes.
+    """
     disc = rig.blades.disc_node if rig.blades is not None else rig.discs[0].node
     nodes = sorted({b.node for b in rig.bearings} | {disc})
     probes = tuple(Sensor(f"shaft {n}", d) for n in nodes for d in ("y", "z"))

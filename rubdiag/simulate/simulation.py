@@ -59,7 +59,18 @@ def response_points(rig) -> tuple[str, ...]:
     node of contact element 1 and the tip of its blade (the study's nodes 11, 1844, 39), and
     both directions of every bearing pedestal, then of every journal bearing's node (after
     the others: a rig without pedestals or journal bearings records what it did before they
-    existed)."""
+    existed).
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig.
+
+    Returns
+    -------
+    tuple of str
+        DOF names such as ``"shaft 11 y"``.
+    """
     points = [f"shaft {d.node} {x}" for d in rig.discs for x in "yz"]
     if rig.contact is not None:
         casing = rig.contact_casing_node(1)
@@ -91,6 +102,20 @@ def simulate(run: Run, progress: Callable[[float, float], None] | None = None,
     threads spin against other work on busy cores, and their sums would make a reduced
     run's bits depend on the core count); what depends on the rig alone is cached
     (:mod:`rubdiag.simulate.rig_cache`, :func:`rubdiag.reduce.reduced_model`).
+
+    Parameters
+    ----------
+    run : Run
+        What to simulate.
+    progress : callable or None
+        ``progress(t, duration)`` (s, s), called every few thousand steps.
+    raise_on_failure : bool
+        Raise :class:`SimulationDiverged` when the run fails (False: return the partial result).
+
+    Returns
+    -------
+    SimulationResult
+        The run's waveforms, contact forces and status, event log and outcome.
     """
     if not isinstance(run, Run):
         raise _check.wrong_type("run", run, "a Run, e.g. Run.paper_case(1, 2.0)")
@@ -150,7 +175,7 @@ def _simulate(run: Run, progress, raise_on_failure: bool) -> SimulationResult:
 class SimulationResult:
     """A simulated run: its description, waveforms, contact forces/status and event log.
 
-    Attributes
+    Parameters
     ----------
     run : Run
         What was simulated.
@@ -339,7 +364,18 @@ class SimulationResult:
 
 
 def load_result(path: str | Path) -> SimulationResult:
-    """Read a result written by :meth:`SimulationResult.save`."""
+    """Read a result written by :meth:`SimulationResult.save`.
+
+    Parameters
+    ----------
+    path : str or Path
+        The result file.
+
+    Returns
+    -------
+    SimulationResult
+        The result as saved.
+    """
     path = Path(path)
     try:
         archive = np.load(path, allow_pickle=False)

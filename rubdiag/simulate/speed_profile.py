@@ -30,6 +30,13 @@ class SpeedProfile:
 
     Use :meth:`ramp` for a run-up or coast-down at a constant rate, :meth:`table` for a
     measured or designed speed curve in rpm.
+
+    Parameters
+    ----------
+    times_s : tuple of float
+        Knot times (s), from 0, increasing.
+    speeds_rad_s : tuple of float
+        Speed at each knot (rad/s, > 0).
     """
 
     times_s: tuple[float, ...]

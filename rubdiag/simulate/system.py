@@ -86,6 +86,13 @@ class Contacts:
       penetration tolerance ε (eq. 2 of the paper).
     * ``centre`` (n_c, 2) m: kind 2 the clearance's centre (y, z) in the relative
       displacement (default 0: the bearing line); 0 for kind 1.
+
+    Parameters
+    ----------
+    kind, dof_a, dof_b, normal, tangent, gap, k_n, k_t, mu, radius, augmented, eps : numpy.ndarray
+        The arrays above.
+    centre : numpy.ndarray or None
+        The annular clearances' centres (above); None: 0.
     """
 
     kind: np.ndarray
@@ -896,31 +903,34 @@ def simulate_system(system, *args, **options) -> SystemResult:
     """Integrate a linear system with nonlinear elements from its start state.
 
     ``simulate_system(system, elements, grid, outputs=Recording(), *, solver=Solver(),
-    gap_ramp=None)`` (:mod:`rubdiag.simulate.descriptions`):
-
-    system : LinearSystem
-        ``M q'' + C q' + K q = f(t)``, its start state and the shaft's speed.
-    elements : Contacts, sequence of element descriptions, or None
-        The nonlinear elements (:mod:`rubdiag.simulate.elements`).
-    grid : TimeGrid
-        The run's length and steps.
-    outputs : Recording
-        What is recorded and reported.
-    solver : Solver
-        The numerical settings.
-    gap_ramp : (t_ramp, g_start), optional
-        Ramp every element's gap linearly from ``g_start`` (m; scalar or one per element,
-        >= its gap) at t = 0 down to its gap at ``t_ramp`` (s), so that a linear orbit
-        larger than the gap does not start deep inside the casing. Elements without a gap
-        ignore it.
+    gap_ramp=None)`` (:mod:`rubdiag.simulate.descriptions`).
 
     The old call keeps working: ``simulate_system(M, C, K, force, contacts, q0, v0, *,
     duration, dt, ...)`` with every field of the four objects as a keyword of the same name
     (:func:`~rubdiag.simulate.descriptions.legacy_call`).
 
+    Parameters
+    ----------
+    system : LinearSystem
+        ``M q'' + C q' + K q = f(t)``, its start state and the shaft's speed.
+    *args
+        ``elements``, ``grid`` and optionally ``outputs``, in this order:
+
+        * ``elements`` (:class:`Contacts`, a sequence of element descriptions, or None): the
+          nonlinear elements (:mod:`rubdiag.simulate.elements`);
+        * ``grid`` (``TimeGrid``): the run's length and steps;
+        * ``outputs`` (``Recording``): what is recorded and reported.
+    **options
+        ``solver`` (``Solver``): the numerical settings; ``gap_ramp`` ((t_ramp, g_start),
+        optional): ramp every element's gap linearly from ``g_start`` (m; scalar or one per
+        element, >= its gap) at t = 0 down to its gap at ``t_ramp`` (s), so that a linear
+        orbit larger than the gap does not start deep inside the casing (elements without a
+        gap ignore it).
+
     Returns
     -------
     SystemResult
+        The samples, contact statistics, event log and outcome of the run.
     """
     if isinstance(system, LinearSystem):
         return _simulate(system, *args, **options)

@@ -53,7 +53,18 @@ PEDESTAL = {"mass_kg": 20.0, "k_y_n_m": 20e6, "k_z_n_m": 20e6, "c_y_ns_m": 500.0
 
 @functools.cache
 def preset_rig(name: str):
-    """The rig preset ``name`` (:data:`PRESETS`)."""
+    """The rig preset ``name`` (:data:`PRESETS`).
+
+    Parameters
+    ----------
+    name : str
+        A key of :data:`PRESETS`.
+
+    Returns
+    -------
+    Rig
+        The preset (cached: the same object each call).
+    """
     from rubdiag import _check
     from rubdiag.model.io import paper_rig
     from rubdiag.model.rig import Pedestal
