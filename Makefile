@@ -6,7 +6,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 OUT ?= out
 
-.PHONY: run test test-slow lint bench docs clean
+.PHONY: run test test-slow lint bench docs docs-check clean
 
 # one stamp per set of dependencies: `make run` never installs the test tools
 $(VENV)/.runtime: pyproject.toml
@@ -37,6 +37,11 @@ test-slow: $(VENV)/.dev
 # executed on small inputs and their outputs cached in docs/_build/jupyter_cache
 docs: $(VENV)/.docs
 	$(BIN)/python -m sphinx -b html -W --keep-going docs docs/_build/html
+
+# the built site opened in headless Chromium (/usr/bin/chromium: apt-get install chromium):
+# every figure loaded, no dead internal link; screenshots in docs/_build/screenshots
+docs-check: docs
+	$(BIN)/python docs/check_site.py
 
 lint: $(VENV)/.dev
 	$(BIN)/ruff check .
