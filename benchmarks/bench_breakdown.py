@@ -31,15 +31,17 @@ import time
 from functools import partial
 from unittest import mock
 
-import rubdiag  # noqa: F401  first: it pins OpenBLAS's kernels before numpy loads them
+import rubdiag
+
+rubdiag.pin_blas_kernels()  # first: before numpy loads OpenBLAS (the same bits anywhere)
 
 # isort: split
-import numpy as np
+import numpy as np  # noqa: E402
 
-from rubdiag.kernels.newmark import PROFILE_SECTIONS
-from rubdiag.simulate import Run, simulate
-from rubdiag.simulate import simulation as simulation_module
-from rubdiag.simulate.system import simulate_system
+from rubdiag.kernels.newmark import PROFILE_SECTIONS  # noqa: E402
+from rubdiag.simulate import Run, simulate  # noqa: E402
+from rubdiag.simulate import simulation as simulation_module  # noqa: E402
+from rubdiag.simulate.system import simulate_system  # noqa: E402
 
 
 def run_once(run: Run, profile: bool):

@@ -121,7 +121,9 @@ def describe_machine(first: dict, here: dict) -> list[str]:
 
 
 def main(argv=None) -> int:
-    import rubdiag  # noqa: F401  (first: it pins OpenBLAS's kernels before numpy loads)
+    import rubdiag
+
+    rubdiag.pin_blas_kernels()    # first: before numpy loads OpenBLAS
 
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--checks", type=int, default=10)

@@ -29,13 +29,15 @@ from concurrent.futures import ProcessPoolExecutor
 from multiprocessing import get_context
 from pathlib import Path
 
-import rubdiag  # noqa: F401  first: it pins OpenBLAS's kernels before numpy loads them
+import rubdiag
+
+rubdiag.pin_blas_kernels()  # first: before numpy loads OpenBLAS (the same bits anywhere)
 
 # isort: split
-from rubdiag.dataset import Design
-from rubdiag.dataset.design import DesignRun
-from rubdiag.dataset.ids import point_id, run_id
-from rubdiag.dataset.rows import make_row
+from rubdiag.dataset import Design  # noqa: E402
+from rubdiag.dataset.design import DesignRun  # noqa: E402
+from rubdiag.dataset.ids import point_id, run_id  # noqa: E402
+from rubdiag.dataset.rows import make_row  # noqa: E402
 
 DESIGNS = Path(__file__).resolve().parent.parent / "data" / "designs"
 FAULTS = DESIGNS / "faults_journal.toml"

@@ -22,15 +22,17 @@ import sys
 import time
 from pathlib import Path
 
-import rubdiag  # noqa: F401  first: it pins OpenBLAS's kernels before numpy loads them
+import rubdiag
+
+rubdiag.pin_blas_kernels()  # first: before numpy loads OpenBLAS (the same bits anywhere)
 
 # isort: split
-import numpy as np
+import numpy as np  # noqa: E402
 
-from rubdiag.simulate import simulate_system
+from rubdiag.simulate import simulate_system  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))  # the tests' systems
-from testsystems import bladed_rotor_casing, linear_response
+from testsystems import bladed_rotor_casing, linear_response  # noqa: E402
 
 
 def main() -> None:

@@ -13,17 +13,20 @@ Usage::
 
 from __future__ import annotations
 
-import rubdiag  # noqa: F401  (before numpy: the BLAS kernels rubdiag pins)
-
-# isort: split
 import argparse
 import platform
 import statistics
 import time
 
-from rubdiag.reduce import Reduction
-from rubdiag.runs.runup import ramp_run
-from rubdiag.simulate import simulate
+import rubdiag
+
+rubdiag.pin_blas_kernels()  # first: before numpy loads OpenBLAS (the same bits anywhere)
+
+# isort: split
+
+from rubdiag.reduce import Reduction  # noqa: E402
+from rubdiag.runs.runup import ramp_run  # noqa: E402
+from rubdiag.simulate import simulate  # noqa: E402
 
 
 def timed(run) -> dict:

@@ -129,7 +129,9 @@ def hash_seed_rows(items_toml: str) -> set[str]:
 
 
 def main(argv=None) -> int:
-    import rubdiag  # noqa: F401  (first: it pins OpenBLAS's kernels before numpy loads)
+    import rubdiag
+
+    rubdiag.pin_blas_kernels()    # first: before numpy loads OpenBLAS
 
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--repeats", type=int, default=10)

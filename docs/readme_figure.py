@@ -10,12 +10,13 @@ from __future__ import annotations
 import io
 from pathlib import Path
 
-import rubdiag  # noqa: F401  (first: it pins OpenBLAS's kernels)
+import rubdiag
 
 OUT = Path(__file__).resolve().parent / "images" / "case1_serious.png"
 
 
 def main() -> None:
+    rubdiag.pin_blas_kernels()      # first: before numpy loads OpenBLAS (the same bits anywhere)
     import matplotlib
 
     matplotlib.use("Agg")

@@ -1,18 +1,17 @@
 """rubdiag: blade-rotor-casing rub-impact simulation and diagnosis.
 
-The top level is light: ``import rubdiag`` loads no numerical library. Each public name is
-imported from its submodule on first use. Importing it first pins OpenBLAS's kernels, so that
-runs give the same bits on every x86-64 CPU (``rubdiag/_blas.py``).
+The top level is light: ``import rubdiag`` loads no numerical library and changes nothing of
+its process. Each public name is imported from its submodule on first use.
+:func:`pin_blas_kernels`, called before numpy is imported, pins OpenBLAS's kernels, so that
+runs give the same bits on every x86-64 CPU (``rubdiag/_blas.py``); the command line calls it.
 """
 
 from __future__ import annotations
 
 import importlib
 
-from rubdiag._blas import pin_kernels
+from rubdiag._blas import pin_blas_kernels
 from rubdiag._version import __version__
-
-pin_kernels()  # before numpy is loaded: see rubdiag/_blas.py
 
 # public name -> submodule that defines it
 _LAZY = {
@@ -59,7 +58,7 @@ _LAZY = {
     "features_by_revolution": "rubdiag.signal",
 }
 
-__all__ = ["__version__", *sorted(_LAZY)]
+__all__ = ["__version__", "pin_blas_kernels", *sorted(_LAZY)]
 
 
 def __getattr__(name: str):

@@ -1,5 +1,8 @@
+"""``python -m rubdiag``: the ``rubdiag`` command line."""
+
 import sys
 
 from rubdiag.cli import main
 
-sys.exit(main())
+if __name__ == "__main__":
+    sys.exit(main())

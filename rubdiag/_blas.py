@@ -7,12 +7,16 @@ of an input becomes a different list of contact episodes after a second. Measure
 documentation's case-2 sample run gives 315 sliding / 192 sticking entries with the SkylakeX
 kernels and 332 / 201 with the Haswell ones, on the same machine.
 
-OpenBLAS reads ``OPENBLAS_CORETYPE`` once, when it is loaded, so this must run before numpy or
-scipy is imported: ``import rubdiag`` does it. What the environment already says is kept (a
-user's choice, or a parent process's, which child processes inherit). Where numpy came first,
-this process keeps the kernels OpenBLAS chose, and the environment names them, so that the
-worker processes it starts use the same ones (results still do not depend on the number of
-workers; they may differ in the last bits from another CPU's).
+OpenBLAS reads ``OPENBLAS_CORETYPE`` once, when it is loaded, so :func:`pin_blas_kernels`
+must run before numpy or scipy is imported. Importing rubdiag does not call it (importing a
+library changes nothing of its process); where runs start, it is called: the ``rubdiag``
+command line first thing, a dataset's local workers as they start, and a library user's
+script or notebook (``rubdiag.pin_blas_kernels()`` before ``import numpy``). What the
+environment already says is kept (a user's choice, or a parent process's, which child
+processes inherit). Where numpy came first, this process keeps the kernels OpenBLAS chose, and
+the environment names them, so that the worker processes it starts use the same ones (results
+still do not depend on the number of workers; they may differ in the last bits from another
+CPU's).
 """
 
 from __future__ import annotations
@@ -26,8 +30,44 @@ KERNELS = "Haswell"
 _VARIABLE = "OPENBLAS_CORETYPE"
 
 
-def pin_kernels() -> str | None:
-    """Ask OpenBLAS for :data:`KERNELS`, where that is still possible; the pinned name or None."""
+def pin_blas_kernels() -> str | None:
+    """Pin OpenBLAS's kernels to :data:`KERNELS` for this process and those it starts, so that
+    runs give the same bits on every x86-64 CPU.
+
+    Call it before numpy or scipy is imported (OpenBLAS reads its kernel choice once, when it
+    loads)::
+
+        import rubdiag
+        rubdiag.pin_blas_kernels()
+        import numpy as np
+
+    The ``rubdiag`` command line and a dataset's workers call it themselves. An
+    ``OPENBLAS_CORETYPE`` already in the environment is kept. Called after numpy, it cannot
+    change this process's kernels: it names the ones in use in the environment, so that
+    worker processes use them too, and warns (``RuntimeWarning``) when they are not
+    :data:`KERNELS` (runs may then differ in their last bits from another machine's).
+
+    Returns
+    -------
+    str or None
+        The kernel set this process and its children run (e.g. ``'Haswell'``); None where
+        none is pinned (a CPU without AVX2, or not x86-64).
+    """
+    late = _VARIABLE not in os.environ and ("numpy" in sys.modules or "scipy" in sys.modules)
+    chosen = _pin()
+    if late and chosen != KERNELS and _has_avx2():
+        import warnings
+
+        warnings.warn(f"numpy was imported before rubdiag.pin_blas_kernels(): this process "
+                      f"runs OpenBLAS's {chosen} kernels, not {KERNELS}, and its runs may "
+                      f"differ in the last bits from another machine's (call it before "
+                      f"importing numpy, or start Python with {_VARIABLE}={KERNELS})",
+                      RuntimeWarning, stacklevel=2)
+    return chosen
+
+
+def _pin() -> str | None:
+    """:func:`pin_blas_kernels` without its warning (a worker follows its parent's kernels)."""
     if _VARIABLE in os.environ:
         return os.environ[_VARIABLE]
     if "numpy" in sys.modules or "scipy" in sys.modules:

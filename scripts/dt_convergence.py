@@ -53,14 +53,16 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
 
-import rubdiag  # noqa: F401  first: it pins OpenBLAS's kernels before numpy loads them
+import rubdiag
+
+rubdiag.pin_blas_kernels()  # first: before numpy loads OpenBLAS (the same bits anywhere)
 
 # isort: split
-import numpy as np
-import pandas as pd
+import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
 
-from rubdiag.paper.ensemble import GAP_RAMPS_S
-from rubdiag.paper.table2 import CASES, DIGITS, paper_values, table2
+from rubdiag.paper.ensemble import GAP_RAMPS_S  # noqa: E402
+from rubdiag.paper.table2 import CASES, DIGITS, paper_values, table2  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 RUNS_CSV = ROOT / "data" / "dt_convergence_runs.csv"

@@ -89,11 +89,13 @@ import sys
 import time
 from pathlib import Path
 
-import rubdiag  # noqa: F401  first: it pins OpenBLAS's kernels before numpy loads them
+import rubdiag
+
+rubdiag.pin_blas_kernels()  # first: before numpy loads OpenBLAS (the same bits anywhere)
 
 # isort: split
-import numpy as np
-import pandas as pd
+import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT / "data"

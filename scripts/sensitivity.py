@@ -61,11 +61,13 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
 
-import rubdiag  # first: it pins OpenBLAS's kernels before numpy loads them
+import rubdiag
+
+rubdiag.pin_blas_kernels()  # first: before numpy loads OpenBLAS (the same bits anywhere)
 
 # isort: split
-import numpy as np
-import pandas as pd
+import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
 
 DEFAULT_MU = 0.4   # the paper rig preset's friction coefficient
 DEFAULT_DT = 1e-5

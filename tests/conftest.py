@@ -6,7 +6,9 @@ from pathlib import Path
 
 import pytest
 
-import rubdiag  # first: it pins OpenBLAS's kernels before numpy loads them)
+import rubdiag
+
+rubdiag.pin_blas_kernels()  # first: before numpy loads OpenBLAS (the references' kernels)
 
 os.environ.setdefault("MPLBACKEND", "Agg")
 # the disk cache of rig-only results (rubdiag/_cache.py) of this session, and of the commands

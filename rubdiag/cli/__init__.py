@@ -2,17 +2,24 @@
 
 Each command lives in its own module and exposes ``register(subparsers)``, which adds its
 parser and sets ``func`` to a function ``(args) -> int``. Expected failures (bad input, a
-missing file) print one line on stderr and exit with status 2, never a traceback.
+missing file) print one line on stderr and exit with status 2, never a traceback (``--debug``:
+the full traceback, still status 2). A run starts here: OpenBLAS's kernels are pinned before
+numpy loads (:func:`rubdiag.pin_blas_kernels`); figures are drawn with matplotlib's Agg
+backend, which writes files and opens no window.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
+import os
 import re
 import sys
+import traceback
 import warnings
 
+from rubdiag._blas import pin_blas_kernels
 from rubdiag._version import __version__
 
 # Modules that register commands, in the order they appear in --help.
@@ -47,6 +54,9 @@ def build_parser() -> argparse.ArgumentParser:
         "signatures and the study's Table 2.",
     )
     parser.add_argument("--version", action="version", version=f"rubdiag {__version__}")
+    parser.add_argument("--debug", action="store_true",
+                        help="on an error, print the full traceback instead of one line (and "
+                             "warnings as Python shows them)")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
     for name in _COMMAND_MODULES:
@@ -55,22 +65,43 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
+    pin_blas_kernels()    # first: before anything loads numpy (rubdiag/_blas.py)
     args = build_parser().parse_args(argv)
     with warnings.catch_warnings():   # restores the caller's warning display afterwards
-        warnings.showwarning = _one_line_warning(args.command)
-        return _run(args)
+        if not args.debug:
+            warnings.showwarning = _one_line_warning(args.command)
+        with _file_backend():
+            return _run(args)
+
+
+@contextlib.contextmanager
+def _file_backend():
+    """Figures a command draws go to files: matplotlib's Agg backend (no window, no display
+    needed), unless the user chose one (``MPLBACKEND``) or matplotlib is loaded already (a
+    Python session calling :func:`main` keeps its own). Set for the command only, as
+    ``MPLBACKEND``, which matplotlib reads when it loads: the commands that draw nothing do
+    not load it."""
+    if "MPLBACKEND" in os.environ or "matplotlib" in sys.modules:
+        yield
+        return
+    os.environ["MPLBACKEND"] = "Agg"
+    try:
+        yield
+    finally:
+        del os.environ["MPLBACKEND"]
 
 
 def _run(args) -> int:
     try:
         return int(args.func(args) or 0)
     except BrokenPipeError:   # e.g. `rubdiag features x.csv | head`: the reader left
-        import os
-
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
     except (ValueError, OSError) as exc:   # OSError: files (missing, a folder, no access …)
-        print(f"rubdiag {args.command}: error: {_one_line(exc)}", file=sys.stderr)
+        if args.debug:
+            traceback.print_exc()
+        else:
+            print(f"rubdiag {args.command}: error: {_one_line(exc)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print(f"rubdiag {args.command}: interrupted", file=sys.stderr)

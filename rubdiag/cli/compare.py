@@ -104,9 +104,6 @@ def _print_difference(channel, ra, rb, args, unit: str) -> None:
 
 def _spectra_figure(args, loaded, rows, unit: str) -> None:
     """Both spectra over orders, one panel per channel, written to ``args.out``."""
-    import matplotlib
-
-    matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     import numpy as np
 

@@ -6,22 +6,20 @@ import json
 import sys
 from pathlib import Path
 
-from rubdiag.cli._paths import RIG_HELP
+from rubdiag.cli._paths import add_rig_option
 from rubdiag.cli._quiet import add_quiet_option
 
 RPM = 3.141592653589793 / 30.0   # rad/s per rpm
 
 
 def register(sub) -> None:
-    rig_help = RIG_HELP
-
     p = sub.add_parser("modal", help="critical speeds, natural frequencies, Rayleigh damping",
                        description="Print the forward critical speeds (rpm), the natural "
                        "frequencies at rest (Hz), Rayleigh alpha (1/s) and beta (s) and the "
                        "number of DOFs of a rig. On journal bearings: the critical speed map's "
                        "speeds, the natural frequencies at the first of them and the threshold "
                        "of instability.")
-    p.add_argument("--rig", type=Path, help=rig_help)
+    add_rig_option(p)
     p.add_argument("--n-modes", type=int, default=8,
                    help="natural frequencies to list (default 8)")
     p.add_argument("--json", action="store_true", help="print one JSON object (SI units)")
@@ -30,7 +28,7 @@ def register(sub) -> None:
     p = sub.add_parser("campbell", help="Campbell diagram (PNG and CSV)",
                        description="Write campbell.png and campbell.csv: damped natural "
                        "frequencies (Hz) and whirl of the lowest modes against speed (rpm).")
-    p.add_argument("--rig", type=Path, help=rig_help)
+    add_rig_option(p)
     p.add_argument("--max-speed-rpm", type=float, default=8000.0,
                    help="highest speed (rpm, default 8000)")
     p.add_argument("--n-speeds", type=int, default=41, help="speeds (default 41)")
@@ -46,7 +44,7 @@ def register(sub) -> None:
                        "deflected shaft at the first (case 1) or second (case 2) critical "
                        "speed.")
     p.add_argument("--case", type=int, choices=(1, 2), required=True, help="loading case")
-    p.add_argument("--rig", type=Path, help=rig_help)
+    add_rig_option(p)
     p.add_argument("--max-speed-rpm", type=float, default=8000.0,
                    help="highest speed (rpm, default 8000)")
     p.add_argument("--n-speeds", type=int, default=400, help="speeds (default 400)")
@@ -56,7 +54,7 @@ def register(sub) -> None:
     p = sub.add_parser("calibrate", help="fit geometry to target critical speeds",
                        description="Scale geometry knobs of a rig so that its first forward "
                        "critical speeds hit the targets (rpm); write the calibrated rig TOML.")
-    p.add_argument("--rig", type=Path, help=rig_help)
+    add_rig_option(p)
     p.add_argument("--targets-rpm", type=float, nargs="+", default=[1500.0, 5700.0],
                    help="target forward critical speeds (rpm, default 1500 5700)")
     p.add_argument("--knobs", nargs="+", default=["outer_spans", "inner_span"],

@@ -6,7 +6,7 @@ import sys
 from pathlib import Path
 
 from rubdiag.cli._model import add_model_options, reduction
-from rubdiag.cli._paths import RIG_HELP
+from rubdiag.cli._paths import add_rig_option
 from rubdiag.cli._quiet import add_quiet_option
 
 
@@ -24,7 +24,7 @@ def register(sub) -> None:
                    help="total simulated time per case (s, default 2.3)")
     p.add_argument("--discard-s", type=float, default=0.3,
                    help="start left out of the statistics (s, default 0.3)")
-    p.add_argument("--rig", type=Path, help=RIG_HELP)
+    add_rig_option(p)
     p.add_argument("--no-figures", action="store_true", help="write the tables only")
     add_model_options(p)
     add_quiet_option(p, help="no progress on stderr (on a terminal a bar with an ETA; "

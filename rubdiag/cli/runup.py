@@ -10,7 +10,7 @@ from pathlib import Path
 from rubdiag._atomic import write_text
 from rubdiag.cli._faults import add_fault_options, run_options
 from rubdiag.cli._model import add_model_options, reduction
-from rubdiag.cli._paths import RIG_HELP
+from rubdiag.cli._paths import add_rig_option
 from rubdiag.cli._quiet import add_quiet_option
 
 
@@ -46,7 +46,7 @@ def register(sub) -> None:
                    help="largest time step (s, default 1e-5)")
     p.add_argument("--mu", type=float,
                    help="friction coefficient (default: the rig's; 0.4 for the paper rig)")
-    p.add_argument("--rig", type=Path, help=RIG_HELP)
+    add_rig_option(p)
     p.add_argument("--out", type=Path, required=True, help="output folder (created)")
     add_model_options(p)
     add_fault_options(p)

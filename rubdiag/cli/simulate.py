@@ -8,7 +8,7 @@ from pathlib import Path
 
 from rubdiag.cli._faults import add_fault_options, run_options
 from rubdiag.cli._model import add_model_options, reduction
-from rubdiag.cli._paths import RIG_HELP
+from rubdiag.cli._paths import add_rig_option
 from rubdiag.cli._quiet import add_quiet_option
 
 
@@ -41,9 +41,10 @@ def register(sub) -> None:
                    "integer); contact events are logged at every step whatever the rate")
     p.add_argument("--mu", type=float,
                    help="friction coefficient (default: the rig's; 0.4 for the paper rig)")
-    p.add_argument("--rig", type=Path, help=RIG_HELP)
-    p.add_argument("--out", type=Path, help="save the result (.npz) here; the folder must "
-                   "exist")
+    add_rig_option(p)
+    p.add_argument("--out", type=Path, metavar="FILE.npz",
+                   help="save the result to this file (.npz is added to a name without it); "
+                        "its folder must exist")
     add_model_options(p)
     add_fault_options(p)
     p.add_argument("--json", action="store_true", help="print one JSON object (SI units)")
@@ -64,8 +65,9 @@ def _simulate(args) -> int:
 
     out = None
     if args.out is not None:   # before any work: a long run must not end in "no such folder"
+        output_file(args.out)           # a folder is refused, not written beside
         out = output_file(args.out if args.out.suffix == ".npz"
-                          else args.out.with_suffix(".npz"))
+                          else args.out.with_name(f"{args.out.name}.npz"))
     if args.gap_mm is not None and not 0.0 < args.gap_mm <= 100.0:
         raise ValueError(f"--gap-mm = {args.gap_mm:g} is out of range (allowed: > 0 and "
                          "<= 100)")

@@ -9,16 +9,18 @@ worker: a threaded product sums in another order.
 Local workers are forked from this process and inherit all of it; they also set the thread
 variables, so that a library loaded after their start (which ``threadpool_limits`` does not
 reach) starts on one thread too, as in a Dask worker, whose nanny sets the same variables.
+A local worker pins OpenBLAS's kernels as it starts (:func:`rubdiag.pin_blas_kernels`): a
+worker started afresh (not forked) loads the kernels this process named in the environment.
 
 Dask workers are processes of their own, and ``distributed`` loads numpy (and OpenBLAS) before
-a task can import rubdiag, so ``import rubdiag`` cannot pin their kernels
-(:func:`rubdiag._blas.pin_kernels`): a worker follows ``OPENBLAS_CORETYPE`` as its nanny passed
-it at the start. A ``LocalCluster`` made in this process inherits it; workers started by
-``dask worker`` elsewhere pick the kernels of their CPU (SkylakeX on AVX-512 machines), and all
-their rows differ. :func:`align_dask_workers` compares every worker's :func:`signature` with
-this process's before a run is sent; where only the kernels differ it restarts the workers with
-this process's kernels in their environment at the start (:func:`pin_kernels_plugin`), and
-anything that still differs is a ``ValueError`` naming the worker and the difference.
+a task can run, so no call in a task can pin their kernels: a worker follows
+``OPENBLAS_CORETYPE`` as its nanny passed it at the start. A ``LocalCluster`` made in this
+process inherits it; workers started by ``dask worker`` elsewhere pick the kernels of their
+CPU (SkylakeX on AVX-512 machines), and all their rows differ. :func:`align_dask_workers`
+compares every worker's :func:`signature` with this process's before a run is sent; where
+only the kernels differ it restarts the workers with this process's kernels in their
+environment at the start (:func:`pin_kernels_plugin`), and anything that still differs is a
+``ValueError`` naming the worker and the difference.
 """
 
 from __future__ import annotations
@@ -36,8 +38,12 @@ _VERSIONS = ("numpy", "scipy", "numba", "llvmlite")
 
 
 def start_local_worker() -> None:
-    """Initialise a local worker process: one thread for the BLAS and OpenMP libraries it has
-    (numpy's and scipy.linalg's BLAS loaded first) and for those it loads later."""
+    """Initialise a local worker process: this process's BLAS kernels (pinned before the
+    worker loads numpy, where it has not yet), one thread for the BLAS and OpenMP libraries it
+    has (numpy's and scipy.linalg's BLAS loaded first) and for those it loads later."""
+    from rubdiag._blas import _pin
+
+    _pin()                      # first: before anything below loads numpy
     from threadpoolctl import threadpool_limits
 
     from rubdiag._blas import blas_signature

@@ -128,7 +128,8 @@ def reproduce(out_dir: str | Path = "out", jobs: int | None = None, duration_s: 
             todo[stem] = run
     if todo:
         jobs = min(len(todo), jobs or os.cpu_count() or 1)
-        log(f"simulating {len(todo)} case(s), {duration_s:g} s each, on {jobs} process(es)")
+        log(f"simulating {len(todo)} case(s), {duration_s:g} s simulated each, on {jobs} "
+            "process(es)")
         start = time.perf_counter()
         with ProcessPoolExecutor(max_workers=jobs) as pool, \
                 _progress.shared(progress, len(todo), "table2", "case") as bar:

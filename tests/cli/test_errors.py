@@ -170,6 +170,8 @@ CATALOGUE = [
      "the folder {d}/new does not exist"),
     ("simulate-out-folder", [*SIM, "--gap-mm", "2.3", "--out", "{d}/folder.npz"],
      "--out {d}/folder.npz: is a folder"),
+    ("simulate-out-folder-without-suffix", [*SIM, "--gap-mm", "2.3", "--out", "{d}/folder"],
+     "--out {d}/folder: is a folder"),
     ("features-csv-missing-folder", ["features", "{d}/a.csv", "--csv", "{d}/new/f.csv"],
      "--csv {d}/new/f.csv: the folder {d}/new does not exist"),
     ("features-csv-folder", ["features", "{d}/a.csv", "--csv", "{d}/folder"],
@@ -434,6 +436,7 @@ CATALOGUE = [
 
 # entries whose check must come before any work: these functions must not be called
 BEFORE_WORK = {"simulate-out-missing-folder", "simulate-out-folder",
+               "simulate-out-folder-without-suffix",
                "features-csv-missing-folder", "features-csv-folder",
                "compare-out-missing-folder", "calibrate-out-missing-folder", "campbell-out-file",
                "table2-out-file", "plot-out-file", "simulate-output-too-large",

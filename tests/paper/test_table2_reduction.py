@@ -49,6 +49,12 @@ def test_run_file_names_say_the_model():
                      "case1_light_reduced_1824hz.npz", "case1_light_reduced_1824.5hz.npz"}
 
 
+def test_the_log_says_the_time_is_simulated_time(tmp_path, simulated):
+    messages = []
+    reproduce(tmp_path, jobs=2, log=messages.append, **WINDOW)
+    assert messages[0] == "simulating 4 case(s), 0.7 s simulated each, on 2 process(es)"
+
+
 def test_full_and_reduced_runs_are_never_mixed(tmp_path, simulated):
     def run(**options):
         messages = []

@@ -3,11 +3,11 @@
 ``data/presplit/`` was made by ``scripts/presplit_reference.py`` with the code before the
 split: digests of every array of a short contact run, of a portable run (no LAPACK-computed
 input) and of a Table 2 cell, with the library versions and the OpenBLAS kernels. With the
-same versions and kernels (``import rubdiag`` pins Haswell on x86-64) the bits must be the
-same, whatever the CPU. Otherwise only the portable run can be compared (the short run starts
-from a LAPACK steady state, and the cell is chaotic): each of its arrays to 1e-12 of the
-array's largest magnitude (``portable.npz``; a per-element rtol would fail at the zero
-crossings of waveforms that differ by round-off).
+same versions and kernels (``rubdiag.pin_blas_kernels()``, which conftest calls, pins Haswell
+on x86-64) the bits must be the same, whatever the CPU. Otherwise only the portable run can
+be compared (the short run starts from a LAPACK steady state, and the cell is chaotic): each
+of its arrays to 1e-12 of the array's largest magnitude (``portable.npz``; a per-element rtol
+would fail at the zero crossings of waveforms that differ by round-off).
 """
 
 from __future__ import annotations
