@@ -30,25 +30,6 @@ CHECKED = ("PR01", "PR02", "RT01")
 #: public names whose docstrings do not document every parameter and return yet
 PENDING: frozenset[str] = frozenset({
     "rubdiag.Design",
-    "rubdiag.contact_statistics",
-    "rubdiag.features",
-    "rubdiag.ramp_run",
-    "rubdiag.runup_orders",
-    "rubdiag.runup_summary",
-    "rubdiag.runs.contact_statistics",
-    "rubdiag.runs.fault_runs",
-    "rubdiag.runs.is_result",
-    "rubdiag.runs.line_amplitudes",
-    "rubdiag.runs.linear_response",
-    "rubdiag.runs.pair_rows",
-    "rubdiag.runs.ramp_run",
-    "rubdiag.runs.recorded_pairs",
-    "rubdiag.runs.run_features",
-    "rubdiag.runs.run_points",
-    "rubdiag.runs.run_signals",
-    "rubdiag.runs.runup_orders",
-    "rubdiag.runs.runup_summary",
-    "rubdiag.runs.whirl_runs",
     "rubdiag.dataset.Design",
     "rubdiag.dataset.DesignRun",
     "rubdiag.dataset.Factor",
@@ -89,10 +70,6 @@ PENDING: frozenset[str] = frozenset({
     "rubdiag.learn.save_model",
     "rubdiag.learn.shaft_channels",
     "rubdiag.learn.training_warnings",
-    "rubdiag.paper.PaperCase",
-    "rubdiag.paper.describe_spectrum",
-    "rubdiag.paper.paper_values",
-    "rubdiag.paper.reproduce",
 })
 
 

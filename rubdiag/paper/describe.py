@@ -43,6 +43,31 @@ def describe_spectrum(row, prefixes=("shaft", "blade")) -> str:
     half-order lines and the strongest combination pair f_a + f_b = m×, e.g.
     ``"1× dominant; broadband peak around 4×; 4× ± 2.8 Hz sidebands; 3×/2, 7×/2"`` or
     ``"1× dominant; 7×; combination 43.8 Hz + 145.8 Hz = 2×"``.
+
+    Parameters
+    ----------
+    row : pandas.Series or dict
+        One row of a feature table.
+    prefixes : sequence of str
+        The signals whose columns count.
+
+    Returns
+    -------
+    str
+        The description.
+
+    Examples
+    --------
+    A measured 25-Hz line at 1500 rpm with a tenth of it at 3× and half that at 1.5×:
+
+    >>> import numpy as np
+    >>> from rubdiag.signal import features
+    >>> fs = 2000.0
+    >>> t = np.arange(8000) / fs
+    >>> x = (np.cos(2 * np.pi * 25 * t) + 0.1 * np.cos(2 * np.pi * 75 * t)
+    ...      + 0.05 * np.cos(2 * np.pi * 37.5 * t))
+    >>> describe_spectrum(features(x, fs, speed_rpm=1500).iloc[0], prefixes=("",))
+    '1× dominant; 3×; 3×/2'
     """
     parts = []
     orders = ["1x", "2x", "3x", "4x", "5x", "6x", "7x", "8x", *_HALF_ORDERS]

@@ -33,6 +33,19 @@ __all__ = ["CASES", "PaperCase", "paper_values", "reproduce", "table2"]
 
 @dataclass(frozen=True)
 class PaperCase:
+    """One of the study's four rub cases (:data:`CASES`).
+
+    Parameters
+    ----------
+    case : {1, 2}
+        The unbalance case: 1 in phase, at the first critical speed; 2 out of phase, at the
+        second.
+    intensity : {"light", "serious"}
+        The rub's name in the study.
+    gap_mm : float
+        Blade-tip/casing gap (mm).
+    """
+
     case: int
     intensity: str
     gap_mm: float
@@ -57,7 +70,14 @@ _PAPER_COLUMNS = {
 
 
 def paper_values() -> pd.DataFrame:
-    """The study's Table 2 (package data, identical to ``data/paper_table2.csv``)."""
+    """The study's Table 2 (package data, identical to ``data/paper_table2.csv``).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per case: its gap and speed, and the study's casing displacement, spectrum
+        features and contact forces and status entries.
+    """
     with resources.files("rubdiag.paper").joinpath("paper_table2.csv").open("r") as fh:
         return pd.read_csv(fh)
 
@@ -110,6 +130,30 @@ def reproduce(out_dir: str | Path = "out", jobs: int | None = None, duration_s: 
     per case reused or finished (default: stderr, above the bar); ``progress``: a bar over
     the cases to simulate, counted as they finish, on stderr when it is a terminal (or an
     open bar of :mod:`rubdiag._progress` to count them on).
+
+    Parameters
+    ----------
+    out_dir : str or Path
+        Folder of the saved runs (``runs/``) and tables.
+    jobs : int or None
+        Parallel processes; None: every core.
+    duration_s : float
+        Simulated time of each case (s).
+    discard_s : float
+        Start of each run left out of the statistics (s).
+    rig : Rig or None
+        The rig; None: the study's.
+    log : callable or None
+        Called with one line per case reused or finished.
+    progress : bool or bar
+        Show a bar on stderr, or count on an open bar.
+    **options
+        :class:`~rubdiag.simulate.Run` fields.
+
+    Returns
+    -------
+    dict of str to SimulationResult
+        The four runs by stem (``case1_light`` …).
     """
     from rubdiag.model import paper_rig
 

@@ -78,7 +78,18 @@ def _stats(ep, mask, window_s: float, revolutions: float) -> dict[str, float]:
 def contact_statistics(result) -> dict[str, float]:
     """Contact statistics of a :class:`~rubdiag.simulate.SimulationResult` (see the module
     docstring for every key), plus ``window_s`` (its length) and, when the run records the
-    casing, ``casing_max_y_m``."""
+    casing, ``casing_max_y_m``.
+
+    Parameters
+    ----------
+    result : SimulationResult
+        A simulated run.
+
+    Returns
+    -------
+    dict of str to float
+        The statistics by name (SI units).
+    """
     ep = result.window_episodes()
     end = float(result.t[-1]) if result.t.size else result.run.discard_s
     window_s = max(end - result.run.discard_s, 0.0)

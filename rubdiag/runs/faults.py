@@ -35,7 +35,28 @@ def fault_runs(*, speed_rpm: float | None = None, interference: float = 1.3,
     ``misalignment_angle_mrad``, 20 N·m through a 5-cm spacer; bearing 0's pedestal loose
     along z with ``loose_preload_n`` N left on its seat), ``"rub <rpm>"`` and
     ``"none <rpm>"`` at each speed they run at (``speed_rpm``: one speed for all). Every run
-    lasts ``duration_s`` (s), its last half analysed."""
+    lasts ``duration_s`` (s), its last half analysed.
+
+    Parameters
+    ----------
+    speed_rpm : float or None
+        One speed for every run (rpm); None: each fault's own speed in :data:`FIGURE_FAULTS`.
+    interference : float
+        The rub runs' linear approach over their gap (> 0; above 1: the blades rub).
+    crack_depth : float
+        The crack's depth over the shaft diameter.
+    misalignment_angle_mrad : float
+        The coupling's angular misalignment (mrad).
+    loose_preload_n : float
+        The loose pedestal's preload on its seat (N).
+    duration_s : float
+        Length of every run (s).
+
+    Returns
+    -------
+    dict of str to Run
+        The runs by name.
+    """
     from rubdiag.model import preset_rig
     from rubdiag.simulate import Run
     from rubdiag.simulate.faults import Crack, Faults, Looseness
@@ -81,7 +102,26 @@ def whirl_runs(*, interference: float = 1.3, above: float = 1.06, below: float =
     each ``duration_s`` long (s; the last half analysed: the whip needs about a second to
     grow), and the order at which the whip's reference puts its line: the first critical
     speed of the rig's critical speed map over the whip run's speed (whip locks at the first
-    natural frequency)."""
+    natural frequency).
+
+    Parameters
+    ----------
+    interference : float
+        The rub run's linear approach over its gap (> 0).
+    above : float
+        The whip run's speed over the threshold of instability.
+    below : float
+        The rub run's speed over the threshold of instability.
+    duration_s : float
+        Length of each run (s).
+
+    Returns
+    -------
+    runs : dict of str to Run
+        ``"whirl"`` and ``"rub"``.
+    order : float
+        The order of the whip's line in the whip run.
+    """
     from rubdiag.assembly import assemble
     from rubdiag.modal import critical_speeds, whirl_threshold, with_rayleigh
     from rubdiag.model import preset_rig
@@ -114,7 +154,22 @@ def line_amplitudes(result, point: str, orders) -> dict[str, float]:
     """The amplitude (m) of each order's line of ``point`` (e.g. ``"shaft 11 y"``) over the
     result's analysis window: a lock-in over the window's whole multiple of 6 revolutions
     (⅓× and ½× fit in it whole; fewer than 6 revolutions: all of them). Keys ``"2x"``,
-    ``"0.333x"`` (three significant digits)."""
+    ``"0.333x"`` (three significant digits).
+
+    Parameters
+    ----------
+    result : SimulationResult
+        A simulated run.
+    point : str
+        A recorded displacement, e.g. ``"shaft 11 y"``.
+    orders : sequence of float
+        The orders (multiples of the running speed).
+
+    Returns
+    -------
+    dict of str to float
+        Amplitude of each order's line (m).
+    """
     t = result.t[result.window]
     x = result.displacement(point, True)
     omega = result.run.speed_rad_s

@@ -57,6 +57,16 @@ def is_result(obj) -> bool:
 
     Loads neither the simulator nor Numba: an object can only be a SimulationResult if
     :mod:`rubdiag.simulate` was imported, and a file is recognised by its metadata.
+
+    Parameters
+    ----------
+    obj : object
+        Anything.
+
+    Returns
+    -------
+    bool
+        Whether ``obj`` is a result or a saved result's path.
     """
     simulate = sys.modules.get("rubdiag.simulate")
     if simulate is not None and isinstance(obj, simulate.SimulationResult):
@@ -77,6 +87,35 @@ def features(signal, fs: float | None = None, speed_rpm: float | None = None, **
     them gives one row per run (:func:`run_features`); anything else is a measured signal
     and gives one row per channel (:func:`rubdiag.signal.features`, whose parameters these
     are).
+
+    Parameters
+    ----------
+    signal : SimulationResult, path, DataFrame or array_like
+        Runs (a result, a saved result's path, or a list of them), or measured signals (as
+        for :func:`rubdiag.signal.features`).
+    fs : float or None
+        Sampling frequency of measured signals (Hz).
+    speed_rpm : float or None
+        Running speed of measured signals (rpm).
+    **options
+        The analysis settings of :func:`rubdiag.signal.features`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per run, or one per channel.
+
+    Examples
+    --------
+    A 25-Hz line of 2 µm with a third of it at 3×, measured at 1500 rpm:
+
+    >>> import numpy as np
+    >>> fs = 2000.0
+    >>> t = np.arange(8000) / fs
+    >>> x = 2e-6 * np.cos(2 * np.pi * 25 * t) + 0.7e-6 * np.cos(2 * np.pi * 75 * t)
+    >>> row = features(x, fs, speed_rpm=1500).iloc[0]
+    >>> print(f"1x {row['amp_1x'] * 1e6:.2f} um, 3x {row['amp_3x'] * 1e6:.2f} um")
+    1x 2.00 um, 3x 0.70 um
     """
     if is_result(signal) or (isinstance(signal, list) and signal
                              and all(is_result(s) for s in signal)):
@@ -90,7 +129,18 @@ def features(signal, fs: float | None = None, speed_rpm: float | None = None, **
 def run_points(result) -> dict[str, str]:
     """Recorded points analysed for a run, by prefix: ``shaft`` (the bladed disc's node, or
     the first disc), ``blade`` (the tip of contact element 1's blade) and ``casing`` (the
-    casing node of contact element 1), y direction, when recorded."""
+    casing node of contact element 1), y direction, when recorded.
+
+    Parameters
+    ----------
+    result : SimulationResult
+        A simulated run.
+
+    Returns
+    -------
+    dict of str to str
+        Recorded displacement (``"shaft 11 y"``) by prefix.
+    """
     rig = result.run.rig
     disc = rig.blades.disc_node if rig.blades is not None else rig.discs[0].node
     points = {"shaft": f"shaft {disc} y"}
@@ -102,7 +152,18 @@ def run_points(result) -> dict[str, str]:
 
 
 def run_signals(result) -> dict[str, np.ndarray]:
-    """The windowed responses of :func:`run_points` (m), by prefix."""
+    """The windowed responses of :func:`run_points` (m), by prefix.
+
+    Parameters
+    ----------
+    result : SimulationResult
+        A simulated run.
+
+    Returns
+    -------
+    dict of str to numpy.ndarray
+        The displacement over the analysis window (m), by prefix.
+    """
     return {prefix: result.displacement(point, windowed=True)
             for prefix, point in run_points(result).items()}
 
@@ -117,6 +178,18 @@ def run_features(results, **options) -> pd.DataFrame:
     A run along a speed profile is order-tracked on its shaft angle first
     (:func:`order_tracked_features`): its ``speed_rpm`` is the window's mean speed and its
     frequencies are in Hz at that speed.
+
+    Parameters
+    ----------
+    results : SimulationResult, str, Path or list of them
+        Runs, or paths of saved results.
+    **options
+        Settings of :func:`rubdiag.signal.features`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per run.
     """
     from rubdiag.simulate import SimulationResult, load_result
 

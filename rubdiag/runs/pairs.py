@@ -15,7 +15,18 @@ __all__ = ["pair_rows", "recorded_pairs"]
 
 
 def recorded_pairs(result) -> tuple[str, ...]:
-    """The nodes (``"shaft 11"`` …) whose y and z displacements ``result`` records."""
+    """The nodes (``"shaft 11"`` …) whose y and z displacements ``result`` records.
+
+    Parameters
+    ----------
+    result : SimulationResult
+        A simulated run.
+
+    Returns
+    -------
+    tuple of str
+        Node labels.
+    """
     nodes = [p.rsplit(" ", 1)[0] for p in result.points if p.endswith(" y")]
     return tuple(n for n in nodes if f"{n} z" in result.points)
 
@@ -23,7 +34,18 @@ def recorded_pairs(result) -> tuple[str, ...]:
 def pair_rows(result) -> pd.DataFrame:
     """One row per recorded pair of ``result`` (a constant-speed SimulationResult): its
     ``pair`` (the node), then :func:`~rubdiag.signal.fullspectrum.pair_features` (m) over the
-    analysis window at the run's speed."""
+    analysis window at the run's speed.
+
+    Parameters
+    ----------
+    result : SimulationResult
+        A run at constant speed.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per recorded node.
+    """
     from rubdiag.signal.fullspectrum import pair_features
 
     if result.run.speed_profile is not None:

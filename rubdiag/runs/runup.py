@@ -51,6 +51,26 @@ def ramp_run(case: int, from_rpm: float, to_rpm: float, rate_rpm_s: float, gap_m
     start speed (``hold_s`` at least that long), and the analysis window starts after it.
     Other ``options`` are :class:`~rubdiag.simulate.Run` fields (``reduction``, ``dt_s``,
     ``contact``, ``rig`` …).
+
+    Parameters
+    ----------
+    case : {1, 2}
+        The study's case.
+    from_rpm, to_rpm : float
+        Start and end speed of the ramp (rpm).
+    rate_rpm_s : float
+        The ramp's rate (rpm/s, > 0).
+    gap_mm : float
+        Blade-tip/casing gap (mm).
+    hold_s : float
+        Time held at ``from_rpm`` before the ramp (s).
+    **options
+        Other :class:`~rubdiag.simulate.Run` fields.
+
+    Returns
+    -------
+    Run
+        The run along its speed profile.
     """
     from rubdiag.assembly import assemble
     from rubdiag.modal import with_rayleigh
@@ -78,7 +98,29 @@ def runup_orders(result, point: str = DEFAULT_POINT, orders=RUNUP_ORDERS,
     :func:`rubdiag.signal.order_track` of its displacement (m) on the run's shaft angle,
     with ``options`` passed on. Bins of ``revs_per_bin`` revolutions (even, for the half
     orders), one starting every ``revs_step``: at 300 rpm/s four revolutions are 48 rpm at
-    the first critical, and overlapping bins draw the passage as a curve, not a polygon."""
+    the first critical, and overlapping bins draw the passage as a curve, not a polygon.
+
+    Parameters
+    ----------
+    result : SimulationResult
+        A run along a speed profile.
+    point : str
+        A recorded displacement.
+    orders : sequence of float
+        The orders tracked.
+    revs_per_bin : int
+        Revolutions per bin (even).
+    revs_step : int
+        Revolutions between the starts of successive bins.
+    **options
+        Passed on to :func:`rubdiag.signal.order_track`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per bin (:func:`rubdiag.signal.order_track`): its speed (rpm) and each
+        order's amplitude (m) and phase (degrees).
+    """
     return order_track(result.displacement(point), result.fs, result.angle_rad,
                        orders=orders, revs_per_bin=revs_per_bin, revs_step=revs_step,
                        **options)
@@ -87,7 +129,22 @@ def runup_orders(result, point: str = DEFAULT_POINT, orders=RUNUP_ORDERS,
 def linear_response(run: Run, point: str = DEFAULT_POINT, speed_rpm=None) -> np.ndarray:
     """The contact-free steady-state unbalance response ``A`` (m, complex) of ``point`` at
     the speeds ``speed_rpm`` (full finite-element model, Rayleigh damping, gyroscopic term
-    at each speed): ``x = Re(A e^{iφ})``."""
+    at each speed): ``x = Re(A e^{iφ})``.
+
+    Parameters
+    ----------
+    run : Run
+        A run (its rig, unbalance and speed are used; contacts are not).
+    point : str
+        A DOF name, e.g. ``"shaft 11 y"``.
+    speed_rpm : float or array_like
+        Speeds (rpm).
+
+    Returns
+    -------
+    numpy.ndarray
+        Complex amplitude at each speed (m).
+    """
     from rubdiag.assembly import assemble
     from rubdiag.modal import harmonic_response, with_rayleigh
 
@@ -109,6 +166,22 @@ def runup_summary(result, point: str = DEFAULT_POINT, revs_per_bin: int = 4,
     (``n_episodes_element_1`` of the first); ``first_contact_rpm`` and ``last_contact_rpm``:
     the speed where the first episode starts and the last one ends (NaN without contact);
     ``max_contact_force_n``.
+
+    Parameters
+    ----------
+    result : SimulationResult
+        A run along a speed profile.
+    point : str
+        A recorded displacement.
+    revs_per_bin : int
+        Revolutions per bin of the order tracks.
+    orders : pandas.DataFrame or None
+        The tracks of :func:`runup_orders`; None: computed here.
+
+    Returns
+    -------
+    dict
+        The numbers above by name.
     """
     run = result.run
     if run.speed_profile is None:
