@@ -198,7 +198,23 @@ class DesignRun:
     """One run of a design: the design point (factor name -> value, canonical order), the
     replicate, the :class:`~rubdiag.simulate.Run` they make, and its identities
     (:mod:`rubdiag.dataset.ids`); ``speed_rpm``, the design point's speed (None: the run's
-    constant speed; with a ramp, the middle of the sweep), and the design's ``ramp``."""
+    constant speed; with a ramp, the middle of the sweep), and the design's ``ramp``.
+
+    Parameters
+    ----------
+    point : dict
+        Factor name -> value, canonical order.
+    replicate : int
+        The replicate (from 0).
+    run : Run
+        The run.
+    point_id, run_id : str
+        Its identities.
+    speed_rpm : float or None
+        The design point's speed (rpm).
+    ramp : SpeedRamp or None
+        The design's speed ramp.
+    """
 
     point: dict = field(hash=False)
     replicate: int
@@ -228,6 +244,42 @@ class Design:
     :class:`~rubdiag.dataset.ramp.SpeedRamp` or its table, or None: constant speed) makes
     every run a sweep; ``duration_s`` is then None (each run's length is derived), else
     2.3 s by default.
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig of every run.
+    factors : tuple of Factor or mapping
+        The design's factors.
+    method : {"grid", "lhs", "sobol", "random"}
+        How design points are drawn.
+    n : int or None
+        Number of design points.
+    seed : int
+        Seed of the sampling (>= 0).
+    replicates : int
+        Runs per design point, each with its own start history.
+    duration_s : float or None
+        Length of each run (s).
+    discard_s : float
+        Start of each run left out of the analysis (s).
+    critical_speeds_rad_s : tuple of float or None
+        Reference speed of ``speed_ratio`` per case (rad/s).
+    labels : LabelRules
+        Thresholds of the labels.
+    noise : NoiseFloors
+        The sensors' noise.
+    sensors : tuple of Sensor or None
+        The measured channels; None: :func:`~rubdiag.simulate.default_sensors`.
+    reduction : Reduction or None
+        The reduced model of every run; None: the full model.
+    ramp : SpeedRamp or None
+        The speed sweep of every run; None: constant speed.
+    fault_settings : FaultSettings
+        Fixed settings of the faults (``[base]`` keys).
+    step_error : float
+        Tolerance of the runs' long steps, relative to the largest recorded displacement
+        (0-0.01; 0: every step at the base step).
     """
 
     rig: Rig

@@ -137,7 +137,21 @@ class Factor:
     optional number of grid levels ``n`` (>= 2; used by ``method = "grid"`` only), or
     ``bands``: ``((low, high), …)`` ranges in increasing order that do not overlap (then
     ``low`` and ``high`` are the first band's low and the last band's high, and ``n``
-    counts grid levels per band)."""
+    counts grid levels per band).
+
+    Parameters
+    ----------
+    name : str
+        The factor's name (a design key).
+    levels : tuple or None
+        The levels.
+    low, high : float or None
+        The range.
+    n : int or None
+        Grid levels over the range (or per band).
+    bands : tuple of (float, float) or None
+        Ranges of the factor.
+    """
 
     name: str
     levels: tuple | None = None

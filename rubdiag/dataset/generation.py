@@ -41,7 +41,24 @@ def pending_runs(design: Design, out: str | Path, retry_failed: bool = False,
     """The runs of ``design`` not stored in ``out`` yet (and, with ``retry_failed``, those
     stored with a status other than ``ok``); the runs of an unreadable chunk count as not
     stored (:func:`generate` sets it aside and runs them again). ``runs``: ``design.runs()``
-    when the caller has it."""
+    when the caller has it.
+
+    Parameters
+    ----------
+    design : Design
+        The design.
+    out : str or Path
+        The dataset folder.
+    retry_failed : bool
+        Count the runs stored with a failure as pending.
+    runs : list of DesignRun or None
+        ``design.runs()``, when the caller has it.
+
+    Returns
+    -------
+    list of DesignRun
+        The runs still to make, in design order.
+    """
     stored = DatasetFolder(out).stored_status(skip_unreadable=True)
     return _pending(design.runs() if runs is None else runs, stored, retry_failed)
 
@@ -73,6 +90,34 @@ def generate(design: Design, out: str | Path, *, jobs: int | None = None, client
     chunk or journal row (a disk or a copy failed) is moved into ``out/broken`` with a
     warning naming it, and its runs run again. Returns a :class:`GenerateSummary`;
     :func:`rubdiag.dataset.load` reads the rows.
+
+    Parameters
+    ----------
+    design : Design
+        The runs to make.
+    out : str or Path
+        The dataset folder (created, or resumed).
+    jobs : int or None
+        Local worker processes.
+    client : dask.distributed.Client or None
+        A cluster to run on.
+    progress : bool
+        Show a progress bar on stderr.
+    run_timeout_s : float or None
+        Wall-time limit of one run (s).
+    retry_failed : bool
+        Run again the runs stored with a failure.
+    waveforms : bool
+        Store each run's measured channels.
+    chunk_rows : int
+        Rows per Parquet chunk.
+    flush_s : float
+        Longest time between chunks (s).
+
+    Returns
+    -------
+    GenerateSummary
+        What the call did (its keys above).
     """
     if not isinstance(design, Design):
         raise _check.wrong_type("design", design, "a Design, e.g. Design.from_toml(path)")

@@ -51,7 +51,18 @@ REPLICATE_FIELDS = ("gap_ramp_s",)
 
 def canonical_run(run: Run) -> dict:
     """The description of ``run`` that its ids hash (see the module docstring): plain
-    JSON-ready data, the rig as a dict."""
+    JSON-ready data, the rig as a dict.
+
+    Parameters
+    ----------
+    run : Run
+        The run.
+
+    Returns
+    -------
+    dict
+        The description.
+    """
     if not isinstance(run, Run):
         raise TypeError(f"run has the wrong type {type(run).__name__} (expected a Run)")
     with warnings.catch_warnings():   # the run warned when it was made; replace re-checks
@@ -63,7 +74,18 @@ def canonical_run(run: Run) -> dict:
 
 
 def run_id(run: Run) -> str:
-    """16 hex digits identifying the simulation ``run`` describes."""
+    """16 hex digits identifying the simulation ``run`` describes.
+
+    Parameters
+    ----------
+    run : Run
+        The run.
+
+    Returns
+    -------
+    str
+        The id.
+    """
     return _digest("run", canonical_run(run))
 
 
@@ -86,7 +108,18 @@ def noise_id(run: Run) -> str:
 
 
 def point_id(run: Run) -> str:
-    """16 hex digits identifying ``run`` without its replicate (its start history)."""
+    """16 hex digits identifying ``run`` without its replicate (its start history).
+
+    Parameters
+    ----------
+    run : Run
+        The run.
+
+    Returns
+    -------
+    str
+        The id.
+    """
     data = canonical_run(run)
     for name in REPLICATE_FIELDS:
         del data[name]

@@ -77,7 +77,15 @@ MEASURES = ("interference_ratio", "contact_time_fraction", "peak_normal_force_n"
 
 @dataclass(frozen=True)
 class LabelRules:
-    """Thresholds of the labels (see the module docstring)."""
+    """Thresholds of the labels (see the module docstring).
+
+    Parameters
+    ----------
+    severity_threshold : float
+        ``interference_ratio`` from which a rub is serious (> 0).
+    full_contact_share : float
+        Share of the window some element must be closed for a full rub (0-1).
+    """
 
     severity_threshold: float = 1.37
     full_contact_share: float = 0.95
@@ -103,14 +111,44 @@ def label_run(result, rules: LabelRules | None = None,
     (``result.linear_approach_m``, at its constant speed). A run along a speed profile needs
     it given: :func:`rubdiag.dataset.approach.sweep_linear_approach_m` of its run.
     ``clearance_m``: the clearance it is over (m; default the run's blade gap g0; a shaft
-    rubbing on its seal: the seal's clearance)."""
+    rubbing on its seal: the seal's clearance).
+
+    Parameters
+    ----------
+    result : SimulationResult
+        A simulated run.
+    rules : LabelRules or None
+        Thresholds; None: the defaults.
+    linear_approach_m : float or None
+        The linear approach (m).
+    clearance_m : float or None
+        The clearance (m).
+
+    Returns
+    -------
+    dict
+        Measures and labels by name.
+    """
     measures = run_measures(result, linear_approach_m, clearance_m)
     return {**measures, **labels_from_measures(measures, rules)}
 
 
 def labels_from_measures(measures: dict, rules: LabelRules | None = None) -> dict:
     """``rub``, ``rub_state`` and ``severity`` from the measures (relabelling uses this;
-    default rules: :class:`LabelRules`)."""
+    default rules: :class:`LabelRules`).
+
+    Parameters
+    ----------
+    measures : dict
+        The measures of :func:`label_run`.
+    rules : LabelRules or None
+        Thresholds; None: the defaults.
+
+    Returns
+    -------
+    dict
+        ``rub``, ``rub_state`` and ``severity``.
+    """
     rules = LabelRules() if rules is None else rules
     rub = measures["n_rub_episodes"] > 0
     if not rub:

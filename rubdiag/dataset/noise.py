@@ -29,7 +29,19 @@ __all__ = ["NoiseFloors", "add_noise", "noise_seed"]
 class NoiseFloors:
     """Standard deviation of the noise per quantity (SI units; 0 = none): typical values of a
     plant's eddy-current probes (1 µm), velocity pickups (0.1 mm/s), accelerometers
-    (0.05 m/s², 5 mg) and load cells (1 N)."""
+    (0.05 m/s², 5 mg) and load cells (1 N).
+
+    Parameters
+    ----------
+    displacement_m : float
+        Of displacement channels (m).
+    velocity_m_s : float
+        Of velocity channels (m/s).
+    acceleration_m_s2 : float
+        Of acceleration channels (m/s²).
+    force_n : float
+        Of force channels (N).
+    """
 
     displacement_m: float = 1e-6
     velocity_m_s: float = 1e-4

@@ -32,7 +32,17 @@ KEYS = ("rate_rpm_s", "span", "direction")
 
 @dataclass(frozen=True)
 class SpeedRamp:
-    """The sweep of every run of a design (see the module docstring)."""
+    """The sweep of every run of a design (see the module docstring).
+
+    Parameters
+    ----------
+    rate_rpm_s : float
+        How fast the speed changes (rpm/s, > 0).
+    span : float
+        Relative half-width of the sweep (0 < span < 1).
+    direction : {"up", "down"}
+        A run-up or a coast-down.
+    """
 
     rate_rpm_s: float
     span: float

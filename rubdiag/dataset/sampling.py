@@ -81,7 +81,20 @@ def gap_ramps_s(replicates: int, duration_s: float | None = None) -> tuple[float
     the standard ramp of :class:`~rubdiag.simulate.Run` (0.1 s, or half the duration of a
     run shorter than 0.2 s; None: 0.1 s, as for the runs of a design with a speed ramp,
     whose lengths differ) times ``1 + ramp_offsets(replicates)``, rounded to 1e-12 s (so
-    that five replicates of a 2.3 s run are exactly the paper's 0.098 … 0.102 s)."""
+    that five replicates of a 2.3 s run are exactly the paper's 0.098 … 0.102 s).
+
+    Parameters
+    ----------
+    replicates : int
+        Number of replicates (>= 1).
+    duration_s : float or None
+        Length of the run (s).
+
+    Returns
+    -------
+    tuple of float
+        One gap-ramp length per replicate (s).
+    """
     standard = 0.1 if duration_s is None else min(
         0.1, 0.5 * _check.positive("duration_s", duration_s, "s"))
     return tuple(round(standard * (1.0 + x), 12) for x in ramp_offsets(replicates))

@@ -332,7 +332,20 @@ def load_waveforms(root: str | Path, run_id: str) -> pd.DataFrame:
     ``attrs["discard_s"]``), one float32 column per sensor, and for a run along a speed ramp
     a last column ``angle_rad`` (float64: the shaft angle at the samples, the input of
     :func:`rubdiag.signal.resample_to_angle`); ``attrs["units"]`` maps each column to its
-    unit."""
+    unit.
+
+    Parameters
+    ----------
+    root : str or Path
+        The dataset folder.
+    run_id : str
+        The run's id (its ``run_id`` column).
+
+    Returns
+    -------
+    pandas.DataFrame
+        The channels, indexed by ``t_s``.
+    """
     path = Path(root) / "waveforms" / f"{run_id}.npz"
     if not path.is_file():
         stored = (Path(root) / "waveforms").is_dir()
@@ -359,7 +372,18 @@ def acquisition(root: str | Path) -> dict:
     """How a dataset's channels were measured: ``{"fs_hz", "window_s", "discard_s",
     "sensors": [{"name", "point", "direction", "quantity", "unit"}, …]}``; for a design with
     a speed ramp also ``"ramp"`` (its ``rate_rpm_s``, ``span``, ``direction``), and
-    ``window_s`` is then the shortest analysis window of its runs."""
+    ``window_s`` is then the shortest analysis window of its runs.
+
+    Parameters
+    ----------
+    root : str or Path
+        The dataset folder.
+
+    Returns
+    -------
+    dict
+        The keys above.
+    """
     meta = DatasetFolder(root).meta()
     if "acquisition" not in meta:
         raise ValueError(f"{root}: dataset.json does not say how the channels were measured "
@@ -373,7 +397,18 @@ def load(root: str | Path) -> pd.DataFrame:
     journal (the rows a running or killed job has not moved into a chunk yet). A folder
     made before rows had a ``model`` column holds runs of the full model: the column is
     filled with ``"full"`` (after ``speed_rpm``). Writes nothing. An unreadable chunk or
-    journal row is a ``ValueError`` naming it, with the command that repairs the folder."""
+    journal row is a ``ValueError`` naming it, with the command that repairs the folder.
+
+    Parameters
+    ----------
+    root : str or Path
+        The dataset folder.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per run: design factors, ids, status, labels, measures and features.
+    """
     folder = DatasetFolder(root)
     if not (folder.root / "design.toml").is_file():
         raise ValueError(f"{folder.root}: not a rubdiag dataset folder (no design.toml)")
