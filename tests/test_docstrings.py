@@ -28,31 +28,7 @@ PACKAGES = ("rubdiag", *(f"rubdiag.{name}" for name in generate.SUBPACKAGES))
 CHECKED = ("PR01", "PR02", "RT01")
 
 #: public names whose docstrings do not document every parameter and return yet
-PENDING: frozenset[str] = frozenset({
-    "rubdiag.learn.Evaluation",
-    "rubdiag.learn.Fold",
-    "rubdiag.learn.Model",
-    "rubdiag.learn.ModelScores",
-    "rubdiag.learn.OrderFeatures",
-    "rubdiag.learn.Score",
-    "rubdiag.learn.SelectColumns",
-    "rubdiag.learn.audit_columns",
-    "rubdiag.learn.baseline_pipeline",
-    "rubdiag.learn.casing_channels",
-    "rubdiag.learn.channels_of",
-    "rubdiag.learn.choose_channels",
-    "rubdiag.learn.cross_predict",
-    "rubdiag.learn.evaluate_model",
-    "rubdiag.learn.folds",
-    "rubdiag.learn.load_model",
-    "rubdiag.learn.make_estimator",
-    "rubdiag.learn.make_pipeline",
-    "rubdiag.learn.read_dataset",
-    "rubdiag.learn.read_records",
-    "rubdiag.learn.save_model",
-    "rubdiag.learn.shaft_channels",
-    "rubdiag.learn.training_warnings",
-})
+PENDING: frozenset[str] = frozenset()
 
 
 def public_names() -> list[str]:

@@ -42,7 +42,18 @@ def small_class_warnings(class_counts: dict) -> list[str]:
 
 def training_warnings(ev) -> list[str]:
     """The warnings of an :class:`~rubdiag.learn.evaluate.Evaluation` (module docstring),
-    one sentence each; empty when none applies."""
+    one sentence each; empty when none applies.
+
+    Parameters
+    ----------
+    ev : Evaluation
+        An evaluation.
+
+    Returns
+    -------
+    list of str
+        The warnings.
+    """
     out = small_class_warnings(ev.class_counts)
     for c, row in ev.per_class.iterrows():
         if row["support"] > 0 and row["recall"] == 0:

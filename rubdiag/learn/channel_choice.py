@@ -97,7 +97,20 @@ def power_over_floor_db(data: pd.DataFrame, channels) -> dict[str, float]:
 def choose_channels(data: pd.DataFrame, channels="auto") -> ChannelChoice:
     """``channels`` of :func:`rubdiag.learn.evaluate` resolved on ``data``: ``"auto"`` (the
     default: the shaft channels with more than their floor, module docstring),
-    ``"shaft"``, ``"all"``, or names (a string or a list)."""
+    ``"shaft"``, ``"all"``, or names (a string or a list).
+
+    Parameters
+    ----------
+    data : pandas.DataFrame
+        A dataset's rows (:func:`read_dataset`).
+    channels : str or list of str
+        ``"auto"``, ``"shaft"``, ``"all"`` or channel names.
+
+    Returns
+    -------
+    ChannelChoice
+        The channels, and what ``"auto"`` left out.
+    """
     if channels is None or (isinstance(channels, str) and channels == "auto"):
         return _auto(data)
     if isinstance(channels, str) and channels == "shaft":

@@ -39,7 +39,18 @@ def read_dataset(root: str | Path) -> pd.DataFrame:
     needs to know of it in ``attrs``: ``acquisition`` (``fs_hz``, ``window_s``, sensors
     with their units and points), ``noise_floors`` (channel -> standard deviation of the
     white noise the design added to it, in the channel's SI unit), ``failed`` (rows left
-    out) and ``source`` (the folder)."""
+    out) and ``source`` (the folder).
+
+    Parameters
+    ----------
+    root : str or Path
+        The dataset folder.
+
+    Returns
+    -------
+    pandas.DataFrame
+        The finished rows.
+    """
     rows = load(root)           # first: it says when the folder is not a dataset at all
     meta = acquisition(root)
     if rows.empty:
@@ -61,7 +72,18 @@ def read_dataset(root: str | Path) -> pd.DataFrame:
 
 def channels_of(data: pd.DataFrame) -> list[str]:
     """The sensor channels of a dataset frame, in column order: every ``C`` with the full
-    set of ``C__<feature>`` columns (truth columns such as ``contact1__…`` have not)."""
+    set of ``C__<feature>`` columns (truth columns such as ``contact1__…`` have not).
+
+    Parameters
+    ----------
+    data : pandas.DataFrame
+        A dataset's rows (:func:`read_dataset`).
+
+    Returns
+    -------
+    list of str
+        The channels.
+    """
     present = set(data.columns)
     seen = []
     for name in data.columns:
@@ -75,7 +97,18 @@ def channels_of(data: pd.DataFrame) -> list[str]:
 
 def casing_channels(data: pd.DataFrame) -> list[str]:
     """Channels measured on the casing: from the sensors' points (``casing …``) when the
-    frame came from :func:`read_dataset`, else from the name (``casing…``)."""
+    frame came from :func:`read_dataset`, else from the name (``casing…``).
+
+    Parameters
+    ----------
+    data : pandas.DataFrame
+        A dataset's rows (:func:`read_dataset`).
+
+    Returns
+    -------
+    list of str
+        The channels.
+    """
     sensors = data.attrs.get("acquisition", {}).get("sensors")
     if sensors:
         on_casing = {s["name"] for s in sensors if str(s["point"]).startswith("casing")}
@@ -86,7 +119,18 @@ def casing_channels(data: pd.DataFrame) -> list[str]:
 def shaft_channels(data: pd.DataFrame) -> list[str]:
     """The channels not on the casing: the default input of a classifier (in this model
     the casing moves only through contact, so a casing channel gives rub away by itself;
-    a real casing also sees the rotor through its supports)."""
+    a real casing also sees the rotor through its supports).
+
+    Parameters
+    ----------
+    data : pandas.DataFrame
+        A dataset's rows (:func:`read_dataset`).
+
+    Returns
+    -------
+    list of str
+        The channels.
+    """
     casing = set(casing_channels(data))
     return [c for c in channels_of(data) if c not in casing]
 

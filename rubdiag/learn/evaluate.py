@@ -100,7 +100,29 @@ def cross_predict(pipeline, data: pd.DataFrame, y: np.ndarray, splits: list[Fold
     """Fit a clone of ``pipeline`` on each training side, predict its test side — of
     ``test_data`` when given (the same rows measured otherwise, e.g. with more noise).
     ``on_fold()``, when given, is called after each fold (e.g. a progress bar's
-    ``update``)."""
+    ``update``).
+
+    Parameters
+    ----------
+    pipeline : sklearn estimator
+        Unfitted.
+    data : pandas.DataFrame
+        A dataset's rows (:func:`read_dataset`).
+    y : numpy.ndarray
+        The target of every row.
+    splits : list of Fold
+        The folds.
+    test_data : pandas.DataFrame or None
+        The rows predicted; None: ``data``.
+    on_fold : callable or None
+        Called after each fold.
+
+    Returns
+    -------
+    CrossPrediction
+        The held-out class of every row (``predicted``, "" where not ``scored``), the rows
+        not scored per class (``unscored``) and the fitted pipelines.
+    """
     test_data = data if test_data is None else test_data
     predicted = np.full(len(data), "", dtype=object)
     scored = np.zeros(len(data), dtype=bool)
@@ -126,7 +148,48 @@ def cross_predict(pipeline, data: pd.DataFrame, y: np.ndarray, splits: list[Fold
 
 @dataclass
 class Evaluation:
-    """What :func:`evaluate` measured (``to_dict`` for JSON, ``to_markdown`` for people)."""
+    """What :func:`evaluate` measured (``to_dict`` for JSON, ``to_markdown`` for people).
+
+    Parameters
+    ----------
+    target, split, estimator : str
+        What was predicted, how the rows were split, the classifier.
+    channels, families : list of str
+        The input channels and feature families.
+    classes : list of str
+        The classes, in the order of the tables.
+    class_counts : dict of str to int
+        Rows per class.
+    n_rows : int
+        Rows of the dataset.
+    folds : list of dict
+        ``name``, ``n_train`` and ``n_test`` of each fold.
+    unscored : dict of str to int
+        Rows not scored per class (the class was absent from their training fold).
+    scores : dict of str to Score
+        Macro-F1 and balanced accuracy with their 95 % intervals, by metric.
+    per_class, confusion, predictions : pandas.DataFrame
+        Per-class precision and recall, the confusion matrix, the held-out prediction of
+        every row.
+    importances, channel_importances : pandas.DataFrame or None
+        Permutation importances of the features and of the channels.
+    baselines : pandas.DataFrame or None
+        The baselines' scores.
+    casing : dict or None
+        Macro-F1 with and without the casing channels.
+    shuffled : dict or None
+        The shuffled-label control.
+    audit : pandas.DataFrame or None
+        The single columns that separate the classes alone (:func:`audit_columns`).
+    confusers : pandas.DataFrame or None
+        False rub alarms per confuser (:mod:`rubdiag.learn.confusers`).
+    notes : list of str
+        Remarks for the report.
+    channel_choice : ChannelChoice or None
+        What the default channels left out, and why.
+    warnings : list of str
+        What says the model learnt little (:func:`training_warnings`).
+    """
 
     target: str
     split: str
@@ -215,6 +278,11 @@ def evaluate(data, target: str = "rub", split: str = "group", estimator: str = "
         A bar over the fits (each fold of each cross-prediction, of the importances and of
         the audit), on stderr when it is a terminal; or an open bar of
         :mod:`rubdiag._progress` to count them on (``train``'s).
+
+    Returns
+    -------
+    Evaluation
+        The scores and everything measured beside them.
     """
     if isinstance(data, str | Path):
         data = read_dataset(data)
@@ -478,7 +546,30 @@ def audit_columns(data, y, splits, classes, threshold: float = 0.9, seed: int = 
     predicted on ``splits``, reaches ``threshold`` macro-F1. Candidates: every derived
     feature of every channel in every family (levels and absolute frequencies included)
     and every design factor; sorted by score. ``on_fold()``, when given, is called after
-    each fold's trees."""
+    each fold's trees.
+
+    Parameters
+    ----------
+    data : pandas.DataFrame
+        A dataset's rows (:func:`read_dataset`).
+    y : numpy.ndarray
+        The target of every row.
+    splits : list of Fold
+        The folds.
+    classes : list of str
+        The classes.
+    threshold : float
+        Macro-F1 from which a column separates the classes (0-1).
+    seed : int
+        Seed of the trees.
+    on_fold : callable or None
+        Called after each fold.
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``column``, ``kind`` and ``macro_f1`` of each such column, best first.
+    """
     everything = OrderFeatures(channels=None, families=FAMILIES).fit(data)
     Z = everything.transform(data)
     names = list(everything.get_feature_names_out())

@@ -215,6 +215,10 @@ def _check_families(families) -> tuple[str, ...]:
 class OrderFeatures(TransformerMixin, BaseEstimator):
     """Classifier features of the channels of a feature table (module docstring).
 
+    Input is a DataFrame with ``speed_rpm`` and the ``C__feature`` columns of the channels
+    (other columns are ignored); output a float array, named by
+    ``get_feature_names_out`` (``C__rel_amp_1p5x`` …).
+
     Parameters
     ----------
     channels : sequence of str, optional
@@ -222,10 +226,6 @@ class OrderFeatures(TransformerMixin, BaseEstimator):
         the training frame.
     families : sequence of str
         Feature families (module docstring); default orders, sidebands, combinations.
-
-    Input is a DataFrame with ``speed_rpm`` and the ``C__feature`` columns of the channels
-    (other columns are ignored); output a float array, named by
-    ``get_feature_names_out`` (``C__rel_amp_1p5x`` …).
     """
 
     def __init__(self, channels=None, families=DEFAULT_FAMILIES):
@@ -320,7 +320,13 @@ class OrderFeatures(TransformerMixin, BaseEstimator):
 
 
 class SelectColumns(TransformerMixin, BaseEstimator):
-    """The given columns of a DataFrame as floats (NaN as 0): the baselines' input."""
+    """The given columns of a DataFrame as floats (NaN as 0): the baselines' input.
+
+    Parameters
+    ----------
+    columns : sequence of str
+        The columns.
+    """
 
     def __init__(self, columns=()):
         self.columns = columns

@@ -21,7 +21,15 @@ METRICS = ("macro_f1", "balanced_accuracy")
 
 @dataclass(frozen=True)
 class Score:
-    """A score and its 95 % interval (``lo`` … ``hi``)."""
+    """A score and its 95 % interval (``lo`` … ``hi``).
+
+    Parameters
+    ----------
+    value : float
+        The score.
+    lo, hi : float
+        Its 95 % interval.
+    """
 
     value: float
     lo: float

@@ -93,7 +93,15 @@ TRUSTED_TYPES = (
 
 @dataclass(frozen=True)
 class Model:
-    """A loaded model: the fitted ``pipeline`` and its description ``meta`` (model.json)."""
+    """A loaded model: the fitted ``pipeline`` and its description ``meta`` (model.json).
+
+    Parameters
+    ----------
+    pipeline : sklearn.pipeline.Pipeline
+        The fitted pipeline.
+    meta : dict
+        Its description.
+    """
 
     pipeline: object
     meta: dict
@@ -113,6 +121,15 @@ def save_model(pipeline, model_dir: str | Path, meta: dict) -> Path:
     The folder is created if missing. A pipeline holding a type outside
     :data:`TRUSTED_TYPES` is refused here (ValueError), so that no model is saved that
     :func:`load_model` would refuse.
+
+    Parameters
+    ----------
+    pipeline : sklearn.pipeline.Pipeline
+        The fitted pipeline.
+    model_dir : str or Path
+        The model's folder.
+    meta : dict
+        Its description (JSON-ready).
 
     Returns
     -------
@@ -157,6 +174,16 @@ def load_model(model_dir: str | Path) -> Model:
     ValueError
         One line naming the file: no such folder or file, not a rubdiag model, a damaged
         file, or a type outside :data:`TRUSTED_TYPES` (named).
+
+    Parameters
+    ----------
+    model_dir : str or Path
+        The model's folder.
+
+    Returns
+    -------
+    Model
+        The fitted pipeline and its description.
     """
     import skops.io as sio
 

@@ -29,7 +29,20 @@ ESTIMATORS = ("rf", "hgb", "svm", "logreg")
 
 
 def make_estimator(name: str = "rf", random_state: int = 0):
-    """An unfitted classifier by ``--estimator`` name (see :data:`ESTIMATORS`)."""
+    """An unfitted classifier by ``--estimator`` name (see :data:`ESTIMATORS`).
+
+    Parameters
+    ----------
+    name : {"rf", "hgb", "svm", "logreg"}
+        The classifier.
+    random_state : int
+        Its seed.
+
+    Returns
+    -------
+    sklearn estimator
+        Unfitted.
+    """
     if name == "rf":
         return RandomForestClassifier(n_estimators=300, min_samples_leaf=1,
                                       class_weight="balanced", n_jobs=1,
@@ -51,7 +64,24 @@ def make_estimator(name: str = "rf", random_state: int = 0):
 def make_pipeline(estimator: str = "rf", *, channels=None, families=DEFAULT_FAMILIES,
                   random_state: int = 0) -> Pipeline:
     """Features of ``channels`` (None: all of the training data's) in ``families`` →
-    scaling → the ``estimator``: an unfitted :class:`~sklearn.pipeline.Pipeline`."""
+    scaling → the ``estimator``: an unfitted :class:`~sklearn.pipeline.Pipeline`.
+
+    Parameters
+    ----------
+    estimator : {"rf", "hgb", "svm", "logreg"}
+        The classifier.
+    channels : sequence of str or None
+        The input channels.
+    families : sequence of str
+        Feature families (:mod:`rubdiag.learn.features`).
+    random_state : int
+        The classifier's seed.
+
+    Returns
+    -------
+    sklearn.pipeline.Pipeline
+        Unfitted.
+    """
     return Pipeline([
         ("features", OrderFeatures(channels=channels, families=families)),
         ("scale", StandardScaler()),
@@ -60,7 +90,22 @@ def make_pipeline(estimator: str = "rf", *, channels=None, families=DEFAULT_FAMI
 
 
 def baseline_pipeline(columns, estimator: str = "rf", random_state: int = 0) -> Pipeline:
-    """The same estimator on the raw ``columns`` only (a baseline: what they alone give)."""
+    """The same estimator on the raw ``columns`` only (a baseline: what they alone give).
+
+    Parameters
+    ----------
+    columns : sequence of str
+        The raw columns (design factors, or features).
+    estimator : {"rf", "hgb", "svm", "logreg"}
+        The classifier.
+    random_state : int
+        Its seed.
+
+    Returns
+    -------
+    sklearn.pipeline.Pipeline
+        Unfitted.
+    """
     return Pipeline([
         ("features", SelectColumns(columns=tuple(columns))),
         ("scale", StandardScaler()),

@@ -49,6 +49,16 @@ def read_records(path) -> pd.DataFrame:
     ``rub`` column added from ``faults`` where only that is given, ``run_id`` the file's
     name (records are their own groups); ``attrs["source"]`` is the list's path.
 
+    Parameters
+    ----------
+    path : str or Path
+        The record list (CSV).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per record.
+
     Raises
     ------
     ValueError

@@ -27,7 +27,15 @@ __all__ = ["Fold", "folds", "in_band", "split_names"]
 
 @dataclass(frozen=True)
 class Fold:
-    """One split: row positions of the training and the test side, and what was held out."""
+    """One split: row positions of the training and the test side, and what was held out.
+
+    Parameters
+    ----------
+    name : str
+        What was held out.
+    train, test : numpy.ndarray
+        Row positions of the two sides (int).
+    """
 
     name: str
     train: np.ndarray
@@ -60,7 +68,28 @@ def split_names(data: pd.DataFrame) -> list[str]:
 def folds(data: pd.DataFrame, split: str = "group", y=None, *, n_splits: int = 5,
           bands: int = 5, seed: int = 0) -> list[Fold]:
     """The folds of ``split`` over the rows of ``data`` (module docstring); ``y`` (the
-    target) stratifies the ``group`` split."""
+    target) stratifies the ``group`` split.
+
+    Parameters
+    ----------
+    data : pandas.DataFrame
+        A dataset's rows (:func:`read_dataset`).
+    split : str
+        ``"group"`` or a design factor.
+    y : numpy.ndarray or None
+        The target, which stratifies the group split.
+    n_splits : int
+        Folds of the group split.
+    bands : int
+        Bands of a factor split.
+    seed : int
+        Seed of the group split.
+
+    Returns
+    -------
+    list of Fold
+        The folds.
+    """
     allowed = split_names(data)
     if split not in allowed:
         raise ValueError(f"split = {split!r} is not available (allowed: {', '.join(allowed)})")

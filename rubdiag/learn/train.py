@@ -303,7 +303,33 @@ def order_reach(column: str, band: float = Options.band) -> tuple[float, float]:
 
 @dataclass
 class ModelScores:
-    """A saved model scored on a dataset it was not trained on (:func:`evaluate_model`)."""
+    """A saved model scored on a dataset it was not trained on (:func:`evaluate_model`).
+
+    Parameters
+    ----------
+    target : str
+        What the model predicts.
+    dataset : str
+        The data scored (its folder or record list).
+    classes : list of str
+        The model's classes.
+    n_rows, n_scored : int
+        Rows of the data, and those scored (of a class the model knows).
+    unknown : dict of str to int
+        Rows per class of the data that the model does not know.
+    scores : dict of str to Score
+        Macro-F1 and balanced accuracy with their 95 % intervals, by metric.
+    per_class, confusion, predictions : pandas.DataFrame
+        Per-class precision and recall, the confusion matrix, every row's prediction.
+    warnings : list of str
+        The prediction warnings of the rows, each "run: warning".
+    shared_runs : int or None
+        Runs of the data the model was trained on; None: unknown.
+    model_warnings : list of str
+        The warnings of the model's training.
+    confusers, kinds : pandas.DataFrame or None
+        False rub alarms per confuser, and per kind of run or record.
+    """
 
     target: str
     dataset: str
@@ -408,6 +434,11 @@ def evaluate_model(model, dataset, n_bootstrap: int = 1000, seed: int = 0,
         ``lo`` … ``hi`` (:func:`~rubdiag.learn.splits.in_band`), e.g. a level of a
         model-uncertainty factor the model was trained without (``train(...,
         leave_out=...)``).
+
+    Returns
+    -------
+    ModelScores
+        The scores, tables and warnings above.
     """
     from rubdiag.learn.predict import predict_rows
 
