@@ -19,7 +19,9 @@ import pytest
 
 numpydoc_validate = pytest.importorskip("numpydoc.validate")
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "docs"))
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGE = ROOT / "rubdiag"
+sys.path.insert(0, str(ROOT / "docs"))
 generate = importlib.import_module("generate")       # docs/generate.py: the subpackages
 
 PACKAGES = ("rubdiag", *(f"rubdiag.{name}" for name in generate.SUBPACKAGES))
@@ -61,25 +63,22 @@ def test_the_pending_list_names_only_public_names():
     assert PENDING <= set(public_names())
 
 
-def examples() -> list[str]:
-    """The public names whose docstrings hold an Example (each object once)."""
-    seen, names = set(), []
-    finder = doctest.DocTestFinder(recurse=False)
-    for name in public_names():
-        obj = resolve(name)
-        if id(obj) in seen or not callable(obj):
-            continue
-        seen.add(id(obj))
-        if any(test.examples for test in finder.find(obj, name)):
-            names.append(name)
+def modules_with_examples() -> list[str]:
+    """Every module of rubdiag whose source holds a doctest (``>>>``), as
+    ``--doctest-modules`` would collect them (``__main__`` modules left out)."""
+    names = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        if path.name != "__main__.py" and ">>>" in path.read_text(encoding="utf-8"):
+            parts = path.relative_to(PACKAGE.parent).with_suffix("").parts
+            names.append(".".join(parts[:-1] if parts[-1] == "__init__" else parts))
     return names
 
 
-@pytest.mark.parametrize("name", examples())
-def test_the_examples_print_what_they_say(name):
-    obj = resolve(name)
-    module = importlib.import_module(getattr(obj, "__module__", None) or name.rsplit(".", 1)[0])
+@pytest.mark.parametrize("module", modules_with_examples())
+def test_the_examples_print_what_they_say(module):
     runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE)
-    for test in doctest.DocTestFinder(recurse=False).find(obj, name, globs=vars(module).copy()):
+    tests = doctest.DocTestFinder().find(importlib.import_module(module))
+    assert any(test.examples for test in tests)
+    for test in tests:
         runner.run(test)
     assert runner.summarize(verbose=False).failed == 0
