@@ -42,11 +42,11 @@ def rayleigh_coefficients(omega_1: float, omega_2: float, xi_1: float,
     The paper rig's ξ = 0.04 at its critical speeds, 1500 and 5700 rpm:
 
     >>> import math
-    >>> alpha, beta = rayleigh_coefficients(1500 * math.pi / 30, 5700 * math.pi / 30, 0.04, 0.04)
+    >>> w1, w2 = 1500 * math.pi / 30, 5700 * math.pi / 30      # rad/s
+    >>> alpha, beta = rayleigh_coefficients(w1, w2, 0.04, 0.04)
     >>> print(f"{alpha:.3f} 1/s, {beta:.4g} s")
     9.948 1/s, 0.0001061 s
-    >>> w = 1500 * math.pi / 30
-    >>> print(f"{alpha / (2 * w) + beta * w / 2:.4f}")
+    >>> print(f"{alpha / (2 * w1) + beta * w1 / 2:.4f}")
     0.0400
     """
     _check.positive("omega_1", omega_1)

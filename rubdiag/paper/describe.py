@@ -66,7 +66,8 @@ def describe_spectrum(row, prefixes=("shaft", "blade")) -> str:
     >>> t = np.arange(8000) / fs
     >>> x = (np.cos(2 * np.pi * 25 * t) + 0.1 * np.cos(2 * np.pi * 75 * t)
     ...      + 0.05 * np.cos(2 * np.pi * 37.5 * t))
-    >>> describe_spectrum(features(x, fs, speed_rpm=1500).iloc[0], prefixes=("",))
+    >>> row = features(x, fs, speed_rpm=1500).iloc[0]
+    >>> describe_spectrum(row, prefixes=("",))
     '1× dominant; 3×; 3×/2'
     """
     parts = []

@@ -112,9 +112,11 @@ def features(signal, fs: float | None = None, speed_rpm: float | None = None, **
     >>> import numpy as np
     >>> fs = 2000.0
     >>> t = np.arange(8000) / fs
-    >>> x = 2e-6 * np.cos(2 * np.pi * 25 * t) + 0.7e-6 * np.cos(2 * np.pi * 75 * t)
+    >>> x = (2e-6 * np.cos(2 * np.pi * 25 * t)
+    ...      + 0.7e-6 * np.cos(2 * np.pi * 75 * t))
     >>> row = features(x, fs, speed_rpm=1500).iloc[0]
-    >>> print(f"1x {row['amp_1x'] * 1e6:.2f} um, 3x {row['amp_3x'] * 1e6:.2f} um")
+    >>> one, three = row["amp_1x"] * 1e6, row["amp_3x"] * 1e6      # um
+    >>> print(f"1x {one:.2f} um, 3x {three:.2f} um")
     1x 2.00 um, 3x 0.70 um
     """
     if is_result(signal) or (isinstance(signal, list) and signal
