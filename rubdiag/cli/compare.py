@@ -104,14 +104,15 @@ def _print_difference(channel, ra, rb, args, unit: str) -> None:
 
 def _spectra_figure(args, loaded, rows, unit: str) -> None:
     """Both spectra over orders, one panel per channel, written to ``args.out``."""
-    import matplotlib.pyplot as plt
     import numpy as np
 
+    from rubdiag._figures import new_figure
+    from rubdiag.plotting import save_figure
     from rubdiag.plotting.spectra import plot_order_spectra
     from rubdiag.signal import amplitude_spectrum
 
-    fig, axes = plt.subplots(len(rows), 1, figsize=(9.0, 4.2 * len(rows)),
-                             layout="constrained", squeeze=False)
+    fig = new_figure(figsize=(9.0, 4.2 * len(rows)), layout="constrained")
+    axes = fig.subplots(len(rows), 1, squeeze=False)
     for ax, (channel, pair) in zip(axes[:, 0], rows.items(), strict=True):
         curves = []
         for label, path, row in zip(("A", "B"), (args.a, args.b), pair, strict=True):
@@ -119,8 +120,7 @@ def _spectra_figure(args, loaded, rows, unit: str) -> None:
             f, amp = amplitude_spectrum(frame[channel].to_numpy(dtype=np.float64), fs)
             curves.append((f"{label}: {path}", f, amp, row))
         plot_order_spectra(curves, title=f"channel {channel}", ax=ax, unit=unit)
-    fig.savefig(args.out, dpi=120)
-    plt.close(fig)
+    save_figure(fig, args.out, dpi=120)
     print(f"wrote {args.out}")
 
 
@@ -158,10 +158,11 @@ def _across_speed(args, channels, ta, tb, unit: str) -> int:
 
 
 def _across_speed_figure(args, channels, ta, tb, unit: str) -> None:
-    from matplotlib.figure import Figure
+    from rubdiag._figures import new_figure
+    from rubdiag.plotting import save_figure
 
     orders = ACROSS_SPEED_ORDERS[:4]
-    fig = Figure(figsize=(12.0, 2.9 * len(channels) + 0.6), layout="constrained")
+    fig = new_figure(figsize=(12.0, 2.9 * len(channels) + 0.6), layout="constrained")
     axes = fig.subplots(len(channels), len(orders), sharex=True, squeeze=False)
     for row, channel in zip(axes, channels, strict=True):
         for ax, k in zip(row, orders, strict=True):
@@ -175,5 +176,5 @@ def _across_speed_figure(args, channels, ta, tb, unit: str) -> None:
         ax.set_xlabel("speed (rpm)")
     axes[0, 0].legend(fontsize="small")
     fig.suptitle("order amplitudes across speed")
-    fig.savefig(args.out, dpi=120)
+    save_figure(fig, args.out, dpi=120)
     print(f"wrote {args.out}")

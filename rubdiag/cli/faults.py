@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import io
 import json
 from pathlib import Path
 
@@ -46,8 +45,8 @@ def register(sub) -> None:
 
 
 def _faults(args) -> int:
-    from rubdiag._atomic import write_bytes
     from rubdiag.cli._paths import output_folder
+    from rubdiag.plotting import save_figure
     from rubdiag.plotting.faults import PREDICTED, faults_figure
     from rubdiag.runs.faults import FIGURE_FAULTS, fault_runs, line_amplitudes, whirl_runs
 
@@ -66,17 +65,10 @@ def _faults(args) -> int:
         rub = f"rub {results[fault].run.speed_rpm:g}"
         fig = faults_figure({fault: results[fault], "rub": results[rub]}, POINT,
                             direction=direction)
-        buf = io.BytesIO()
-        fig.savefig(buf, format="png", dpi=90)
-        path = out / f"faults_{fault}.png"
-        write_bytes(path, buf.getvalue())
-        written.append(path)
+        written.append(save_figure(fig, out / f"faults_{fault}.png", dpi=90))
     fig = faults_figure(journal, POINT, direction="y",
                         predicted={"whirl": (whip_order, 1.0), "rub": PREDICTED["rub"]})
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=90)
-    write_bytes(out / "faults_whirl.png", buf.getvalue())
-    written.append(out / "faults_whirl.png")
+    written.append(save_figure(fig, out / "faults_whirl.png", dpi=90))
     whirl_orders = sorted({whip_order, 0.5, *PREDICTED["rub"]})
     for name, r in journal.items():
         table[f"{name} journal"] = {d: line_amplitudes(r, f"{POINT} {d}", whirl_orders)

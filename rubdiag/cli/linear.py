@@ -142,6 +142,7 @@ def _campbell(args) -> int:
     from rubdiag.assembly import assemble
     from rubdiag.cli._paths import output_folder
     from rubdiag.modal import campbell
+    from rubdiag.plotting import save_figure
     from rubdiag.plotting.modal import campbell_figure
 
     _positive("--max-speed-rpm", args.max_speed_rpm)
@@ -157,8 +158,8 @@ def _campbell(args) -> int:
     result.to_frame().to_csv(args.out / "campbell.csv", index=False)
     films = (", journal bearings: coefficients at each speed" if model.journal_bearings
              else "")
-    campbell_figure(result, title=f"Campbell diagram: {model.rig.name}{films}").savefig(
-        args.out / "campbell.png", dpi=150)
+    save_figure(campbell_figure(result, title=f"Campbell diagram: {model.rig.name}{films}"),
+                args.out / "campbell.png", dpi=150)
     if films:
         print(f"{len(model.journal_bearings)} plain journal bearing(s): the films' speed-"
               "dependent, cross-coupled coefficients at each speed; the diagram starts at "
@@ -173,6 +174,7 @@ def _unbalance(args) -> int:
     from rubdiag.assembly import assemble
     from rubdiag.cli._paths import output_folder
     from rubdiag.modal import critical_speeds, harmonic_response, unbalance_response
+    from rubdiag.plotting import save_figure
     from rubdiag.plotting.modal import deflection_figure, unbalance_figure
 
     _positive("--max-speed-rpm", args.max_speed_rpm)
@@ -187,14 +189,16 @@ def _unbalance(args) -> int:
     crit = critical_speeds(model, n=2)
     stem = f"case{args.case}"
     response.to_frame().to_csv(args.out / f"unbalance_{stem}.csv", index=False)
-    unbalance_figure({f"case {args.case}": response}, critical_rpm=crit / RPM,
-                     title=f"Unbalance response of disc 1 (node 11, y), case {args.case}"
-                     ).savefig(args.out / f"unbalance_{stem}.png", dpi=150)
+    save_figure(unbalance_figure({f"case {args.case}": response}, critical_rpm=crit / RPM,
+                                 title="Unbalance response of disc 1 (node 11, y), case "
+                                       f"{args.case}"),
+                args.out / f"unbalance_{stem}.png", dpi=150)
     speed = crit[min(args.case, len(crit)) - 1]
     shape = harmonic_response(model, speed, unbalance)
-    deflection_figure(model, {f"case {args.case} at {speed / RPM:.0f} rpm": shape},
-                      title=f"Deflected shaft at {speed / RPM:.0f} rpm, case {args.case}"
-                      ).savefig(args.out / f"deflection_{stem}.png", dpi=150)
+    save_figure(deflection_figure(model, {f"case {args.case} at {speed / RPM:.0f} rpm": shape},
+                                  title=f"Deflected shaft at {speed / RPM:.0f} rpm, case "
+                                        f"{args.case}"),
+                args.out / f"deflection_{stem}.png", dpi=150)
     peak = response.peak_speed() / RPM
     print(f"case {args.case}: peak at {peak:.0f} rpm, disc 1 amplitude at "
           f"{speed / RPM:.0f} rpm = {abs(shape.amplitude(11, 'y')) * 1e3:.3f} mm (y); wrote "

@@ -187,7 +187,7 @@ def _figures(tracks: dict, linear, args) -> list[Path]:
     lo, hi = sorted((args.from_rpm, args.to_rpm))
     criticals = critical_speeds(assemble(run.rig), n=4) * 30 / math.pi
     criticals = [c for c in np.atleast_1d(criticals) if lo <= c <= hi]
-    return save_runup_figures(args.out, orders, linear=linear, critical_rpm=criticals or None,
+    return save_runup_figures(orders, args.out, linear=linear, critical_rpm=criticals or None,
                               contact_rpm=contact, waterfalls=waterfalls, order_maps=maps)
 
 

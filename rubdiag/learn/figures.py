@@ -7,45 +7,44 @@
 * :func:`noise_curve_figure` — macro-F1 against the SNR of added noise
   (:func:`rubdiag.learn.robustness.noise_curve`).
 
-Matplotlib is imported inside the functions, so that importing :mod:`rubdiag.learn` does
-not import it. Figures are built with ``matplotlib.figure.Figure`` and drawn by the Agg
-canvas, never through pyplot: no global figure list to leak from a long training loop.
-The look follows :mod:`rubdiag.plotting` (its colours, ``DPI`` 110, fast PNG compression),
-which this layer may not import (it sits above ``rubdiag.learn``).
+Each draws on the axes ``ax`` (the importances, two panels: the figure ``fig``) when given,
+else on a figure of its own, and returns the figure; :func:`save_figure` writes it. The
+``path`` argument is kept for calls that draw and save in one (``confusion_figure(evaluation,
+"cm.png")``). Matplotlib is imported inside the functions, so that importing
+:mod:`rubdiag.learn` does not import it. Figures are built with ``matplotlib.figure.Figure``
+and drawn by the Agg canvas, never through pyplot: no global figure list to leak from a long
+training loop. The look follows :mod:`rubdiag.plotting` (its colours, ``DPI`` 110, fast PNG
+compression), which this layer may not import (it sits above ``rubdiag.learn``).
 """
 
 from __future__ import annotations
 
 import math
 import textwrap
-from pathlib import Path
 
 import numpy as np
 
 from rubdiag import _check
+from rubdiag._figures import figure_and_axes, new_figure, save_figure
 
-__all__ = ["DPI", "confusion_figure", "importances_figure", "noise_curve_figure"]
+__all__ = ["DPI", "confusion_figure", "importances_figure", "noise_curve_figure",
+           "save_figure"]
 
 DPI = 110                                  # as rubdiag.plotting.run
 _EMPTY_ROWS = 6                            # height of a figure with no bar at all
 _TEXT_WIDTH = 40                           # characters per line of words in a panel
-_PNG = {"compress_level": 1}               # as rubdiag.plotting.run.PNG_OPTIONS
 _BLUE, _RED, _GREY = "#2471a3", "#c0392b", "0.6"
 
 
 def _figure(size):
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
+    return new_figure(figsize=size, dpi=DPI, layout="constrained")
 
-    fig = Figure(figsize=size, dpi=DPI, layout="constrained")
-    FigureCanvasAgg(fig)
+
+def _saved(fig, path):
+    """``fig``, written to ``path`` first when one is given."""
+    if path is not None:
+        save_figure(fig, path, dpi=DPI)
     return fig
-
-
-def _save(fig, path) -> None:
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=DPI, pil_kwargs=_PNG)
 
 
 def _headline(evaluation) -> str:
@@ -54,7 +53,7 @@ def _headline(evaluation) -> str:
             f"macro-F1 {f1.value:.3f} (95 % CI {f1.lo:.3f}–{f1.hi:.3f})")
 
 
-def confusion_figure(evaluation, path):
+def confusion_figure(evaluation, path=None, *, ax=None):
     """The held-out confusion matrix as a heat map normalised by row.
 
     Colour is the share of each true class predicted as each class (the diagonal is the
@@ -65,13 +64,16 @@ def confusion_figure(evaluation, path):
     ----------
     evaluation : Evaluation
         From :func:`rubdiag.learn.evaluate` (``confusion``: rows true, columns predicted).
-    path : str or Path
-        The PNG to write (parent folders are made).
+    path : str or Path, optional
+        A PNG to write the figure to (parent folders are made); default none
+        (:func:`save_figure` writes it).
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on (with its colour bar beside it); default a new figure sized for
+        the number of classes.
 
     Returns
     -------
     matplotlib.figure.Figure
-        The saved figure (for inspection; nothing else holds it).
     """
     cm = evaluation.confusion
     counts = cm.to_numpy(dtype=np.int64)
@@ -82,8 +84,8 @@ def confusion_figure(evaluation, path):
     labels_true = [str(c) for c in cm.index]
     labels_pred = [str(c) for c in cm.columns]
     side = 1.0 + 0.95 * k
-    fig = _figure((side + 2.4, side + 1.4))
-    ax = fig.add_subplot()
+    fig, ax = figure_and_axes(ax, figsize=(side + 2.4, side + 1.4), dpi=DPI,
+                              layout="constrained")
     image = ax.imshow(share, cmap="Blues", vmin=0.0, vmax=1.0)
     for i in range(k):
         for j in range(k):
@@ -100,11 +102,10 @@ def confusion_figure(evaluation, path):
     ax.set(xlabel="predicted", ylabel="true")
     ax.set_title(_headline(evaluation), fontsize="medium")
     fig.colorbar(image, ax=ax, shrink=0.8, label="share of the true class (recall)")
-    _save(fig, path)
-    return fig
+    return _saved(fig, path)
 
 
-def importances_figure(evaluation, path, top: int = 20):
+def importances_figure(evaluation, path=None, top: int = 20, *, fig=None):
     """Permutation importances: the ``top`` features (left) and every channel (right).
 
     A bar is the mean drop of held-out macro-F1 when that feature (in every channel at
@@ -118,10 +119,12 @@ def importances_figure(evaluation, path, top: int = 20):
     ----------
     evaluation : Evaluation
         From :func:`rubdiag.learn.evaluate` with ``importances=True``.
-    path : str or Path
-        The PNG to write.
+    path : str or Path, optional
+        A PNG to write the figure to; default none (:func:`save_figure` writes it).
     top : int
         Features shown (>= 1).
+    fig : matplotlib.figure.Figure, optional
+        An empty figure to draw the panels on; default a new one sized for the bars.
 
     Returns
     -------
@@ -143,7 +146,8 @@ def importances_figure(evaluation, path, top: int = 20):
     # an empty panel lists no rows: the figure is as tall as its drawn panels need
     rows = max([len(p[0]) for p, e in zip(panels, empty, strict=True) if not e],
                default=_EMPTY_ROWS)
-    fig = _figure((12.0 if len(panels) == 2 else 7.5, 1.6 + 0.3 * rows))
+    if fig is None:
+        fig = _figure((12.0 if len(panels) == 2 else 7.5, 1.6 + 0.3 * rows))
     grid = fig.add_gridspec(1, len(panels), width_ratios=[1.25, 1.0][:len(panels)])
     for n, ((frame, title), nothing) in enumerate(zip(panels, empty, strict=True)):
         ax = fig.add_subplot(grid[0, n])
@@ -163,8 +167,7 @@ def importances_figure(evaluation, path, top: int = 20):
         ax.axvline(0.0, color="0.3", lw=0.8)
         ax.grid(axis="x", alpha=0.3)
     fig.suptitle(_headline(evaluation).replace("\n", "; "), fontsize="large")
-    _save(fig, path)
-    return fig
+    return _saved(fig, path)
 
 
 def _nothing_to_show(frame) -> bool:
@@ -186,7 +189,7 @@ def _why_no_bars(evaluation) -> str:
     return "\n\n".join(textwrap.fill(p, _TEXT_WIDTH) for p in paragraphs)
 
 
-def noise_curve_figure(curve, path, chance=None):
+def noise_curve_figure(curve, path=None, chance=None, *, ax=None):
     """Macro-F1 with its 95 % interval against the SNR of the added noise.
 
     The SNR falls to the right (more noise); the "as stored" row (``snr_db`` = inf: no
@@ -197,11 +200,13 @@ def noise_curve_figure(curve, path, chance=None):
     curve : DataFrame
         From :func:`rubdiag.learn.robustness.noise_curve`: ``snr_db``, ``macro_f1``,
         ``macro_f1_lo``, ``macro_f1_hi`` per row.
-    path : str or Path
-        The PNG to write.
+    path : str or Path, optional
+        A PNG to write the figure to; default none (:func:`save_figure` writes it).
     chance : float or (float, float), optional
         Chance level (a line) or chance interval (a band). Default: the curve's
         ``chance_lo``/``chance_hi`` columns (their median over levels) when present.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; default a new 7.5 × 4.5 in figure.
 
     Returns
     -------
@@ -222,8 +227,7 @@ def noise_curve_figure(curve, path, chance=None):
     rows = curve[finite].iloc[order]
     span = max(float(x.max() - x.min()), 10.0)
     stored_x = float(x.max()) + 0.2 * span
-    fig = _figure((7.5, 4.5))
-    ax = fig.add_subplot()
+    fig, ax = figure_and_axes(ax, figsize=(7.5, 4.5), dpi=DPI, layout="constrained")
     ax.fill_between(x, rows["macro_f1_lo"], rows["macro_f1_hi"], color=_BLUE, alpha=0.2,
                     lw=0, label="95 % interval")
     ax.plot(x, rows["macro_f1"], "o-", color=_BLUE, label="macro-F1 with added noise")
@@ -256,5 +260,4 @@ def noise_curve_figure(curve, path, chance=None):
     ax.legend(loc="best", fontsize="small")
     if math.isfinite(stored_x) and (~finite).any():
         ax.axvline(float(x.max()) + 0.1 * span, color="0.4", lw=0.8, ls=":")
-    _save(fig, path)
-    return fig
+    return _saved(fig, path)

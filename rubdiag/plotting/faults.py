@@ -4,11 +4,16 @@ Each row shows a shaft point's displacement in one direction over its last revol
 orbit, and the amplitude spectrum of the analysis window against the order of the running
 speed, with the lines the fault's model predicts marked (``PREDICTED``): what an analyst
 compares when the question is "rub, or something that also makes harmonics?".
+
+Each figure function draws on the figure ``fig`` when given, else on one of its own, and
+returns it (:func:`rubdiag.plotting.save_figure` writes it).
 """
 
 from __future__ import annotations
 
 import numpy as np
+
+from rubdiag._figures import new_figure
 
 #: the orders each fault's reference predicts at the shaft (rub: the study's 1×, 2×, 4× and
 #: half orders; a breathing crack: 2× and 3× (Gasch 1993, Mayes & Davies 1984); a misaligned
@@ -38,21 +43,22 @@ def _spectrum(t, x, speed_rad_s: float):
 
 
 def faults_figure(results: dict, point: str = "shaft 11", kinds: dict | None = None,
-                  direction: str = "y", predicted: dict | None = None):
+                  direction: str = "y", predicted: dict | None = None, *, fig=None):
     """One row per run of ``results`` (name -> SimulationResult): the last
     :data:`REVOLUTIONS` revolutions of ``point``'s displacement along ``direction`` ("y" or
     "z"), its orbit over the window, and the spectrum along ``direction`` against the order,
     the fault's predicted lines marked (``kinds``: name -> a key of :data:`PREDICTED`;
     default the name itself; ``predicted``: name -> orders, in place of :data:`PREDICTED`'s,
     for a line that depends on the run, such as a whip's at the first natural
-    frequency)."""
-    import matplotlib.pyplot as plt
+    frequency).
 
+    ``fig``: an empty figure to draw the rows of panels on; default a new one, 13 in wide
+    and 2.9 in per run. Returns the figure."""
     kinds = {} if kinds is None else kinds
     predicted_orders = {} if predicted is None else predicted
     n = len(results)
-    fig, axes = plt.subplots(n, 3, figsize=(13, 2.9 * n), squeeze=False,
-                             gridspec_kw={"width_ratios": (2.2, 1, 2.2)})
+    fig = new_figure(figsize=(13, 2.9 * n)) if fig is None else fig
+    axes = fig.subplots(n, 3, squeeze=False, gridspec_kw={"width_ratios": (2.2, 1, 2.2)})
     for row, (name, result) in zip(axes, results.items(), strict=True):
         t, x = _window_signal(result, point)
         y, z, u = x["y"], x["z"], x[direction]
@@ -88,20 +94,22 @@ def faults_figure(results: dict, point: str = "shaft 11", kinds: dict | None = N
 
 
 def full_spectrum_figure(y, z, fs: float, speed_hz: float, *, rotation: int = 1,
-                         clearance=None, title: str = "", max_order: float = 5.0):
+                         clearance=None, title: str = "", max_order: float = 5.0,
+                         fig=None):
     """The full spectrum of a probe pair against the order of the running speed
     ``speed_hz`` (Hz), reverse precession to the left of 0 and forward to the right, beside
     the orbit (the probes' unit) with its ``clearance`` circle when given (a radius in the
-    probes' unit, about the orbit's mean)."""
-    import matplotlib.pyplot as plt
+    probes' unit, about the orbit's mean).
 
+    ``fig``: an empty figure to draw the two panels on; default a new 11 × 3.6 in one.
+    Returns the figure."""
     from rubdiag.signal.fullspectrum import full_spectrum
 
     f, amp = full_spectrum(y, z, fs, rotation=rotation)
     order = f / speed_hz
     keep = np.abs(order) <= max_order
-    fig, (spec, orbit) = plt.subplots(1, 2, figsize=(11, 3.6),
-                                      gridspec_kw={"width_ratios": (2.4, 1)})
+    fig = new_figure(figsize=(11, 3.6)) if fig is None else fig
+    spec, orbit = fig.subplots(1, 2, gridspec_kw={"width_ratios": (2.4, 1)})
     spec.semilogy(order[keep], np.maximum(amp[keep], 1e-12 * amp.max()), lw=0.8,
                   color="C0")
     spec.axvline(0.0, color="k", lw=0.8)

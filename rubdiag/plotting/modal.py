@@ -1,10 +1,13 @@
-"""Figures of the linear analysis: Campbell diagram, unbalance response, deflected shape."""
+"""Figures of the linear analysis: Campbell diagram, unbalance response, deflected shape.
+
+Each draws on the axes ``ax`` when given, else on a figure of its own, and returns the figure
+(:func:`rubdiag.plotting.save_figure` writes it)."""
 
 from __future__ import annotations
 
-import matplotlib.pyplot as plt
 import numpy as np
 
+from rubdiag._figures import figure_and_axes, new_figure
 from rubdiag.plotting._ticks import decade_labels
 
 __all__ = ["campbell_figure", "deflection_figure", "unbalance_figure"]
@@ -13,19 +16,37 @@ _RPM = 30.0 / np.pi
 _FORWARD, _BACKWARD = "#c0392b", "#2471a3"
 
 
-def _fixed_axes(bottom_in: float, size=(7.5, 4.5)):
-    """A figure with one axes placed by fixed margins (inches): constrained layout measured
-    every label again, half of the drawing time of these small figures."""
-    fig, ax = plt.subplots(figsize=size)
+def _fixed_axes(ax, bottom_in: float, size=(7.5, 4.5)):
+    """``ax`` and its figure, or a figure with one axes placed by fixed margins (inches):
+    constrained layout measured every label again, half of the drawing time of these small
+    figures."""
+    if ax is not None:
+        return ax.figure, ax
+    fig = new_figure(figsize=size)
+    ax = fig.add_subplot()
     width, height = size
     fig.subplots_adjust(left=0.95 / width, right=1 - 0.2 / width, bottom=bottom_in / height,
                         top=1 - 0.4 / height)
     return fig, ax
 
 
-def campbell_figure(campbell, title: str = "Campbell diagram"):
-    """Damped natural frequencies (Hz) against speed (rpm), coloured by whirl; 1× line."""
-    fig, ax = plt.subplots(figsize=(7.5, 5), constrained_layout=True)
+def campbell_figure(campbell, title: str = "Campbell diagram", *, ax=None):
+    """Damped natural frequencies (Hz) against speed (rpm), coloured by whirl; 1× line.
+
+    Parameters
+    ----------
+    campbell : Campbell
+        From :func:`rubdiag.modal.campbell`.
+    title : str
+        The axes' title.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; default a new 7.5 × 5 in figure.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, ax = figure_and_axes(ax, figsize=(7.5, 5), layout="constrained")
     rpm = campbell.speeds * _RPM
     f_hz = campbell.frequencies / (2 * np.pi)
     for j in range(f_hz.shape[1]):
@@ -56,9 +77,26 @@ def campbell_figure(campbell, title: str = "Campbell diagram"):
     return fig
 
 
-def unbalance_figure(responses: dict, critical_rpm=(), title="Unbalance response, disc 1 y"):
-    """Amplitude (mm, log) against speed (rpm) for several labelled UnbalanceResponse."""
-    fig, ax = _fixed_axes(bottom_in=0.6)
+def unbalance_figure(responses: dict, critical_rpm=(), title="Unbalance response, disc 1 y",
+                     *, ax=None):
+    """Amplitude (mm, log) against speed (rpm) for several labelled UnbalanceResponse.
+
+    Parameters
+    ----------
+    responses : dict
+        Label -> :class:`~rubdiag.modal.UnbalanceResponse` (its first response point drawn).
+    critical_rpm : sequence of float
+        Critical speeds (rpm) marked by vertical lines.
+    title : str
+        The axes' title.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; default a new 7.5 × 4.5 in figure.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, ax = _fixed_axes(ax, bottom_in=0.6)
     for label, resp in responses.items():
         ax.semilogy(resp.speeds * _RPM, np.abs(resp.amplitudes[:, 0]) * 1e3, lw=1.6,
                     label=label)
@@ -71,10 +109,27 @@ def unbalance_figure(responses: dict, critical_rpm=(), title="Unbalance response
     return fig
 
 
-def deflection_figure(model, responses: dict, title="Deflected shape at the critical speeds"):
+def deflection_figure(model, responses: dict, title="Deflected shape at the critical speeds",
+                      *, ax=None):
     """Orbit semi-major axis (mm) along the shaft for labelled HarmonicResponse objects,
-    with bearings and discs marked."""
-    fig, ax = _fixed_axes(bottom_in=1.15)       # the legend goes under the axes
+    with bearings and discs marked.
+
+    Parameters
+    ----------
+    model : Model
+        The assembled rig (:func:`rubdiag.assemble`): the shaft's nodes, bearings, discs.
+    responses : dict
+        Label -> :class:`~rubdiag.modal.HarmonicResponse`.
+    title : str
+        The axes' title.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; default a new 7.5 × 4.5 in figure (the legend under the axes).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, ax = _fixed_axes(ax, bottom_in=1.15)       # the legend goes under the axes
     x_mm = model.shaft_x_m * 1e3
     for label, resp in responses.items():
         _, _, major = resp.shaft_deflection()

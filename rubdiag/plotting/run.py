@@ -7,19 +7,22 @@ forces of the contact elements, (f) their contact status, drawn from the per-ste
 status-segment log so that no episode is lost between two output samples.
 
 ``FIGSIZE`` and ``DPI`` are the size and resolution of the saved figure (``rubdiag plot`` and
-``rubdiag table2`` both save with them).
+``rubdiag table2`` both save with them). :func:`run_figure` draws on the figure ``fig`` when
+given, else on one of its own, and returns it (:func:`rubdiag.plotting.save_figure` writes
+it; :func:`save_run_figures` draws and writes).
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib.pyplot as plt
+import matplotlib as mpl
 import numpy as np
 from matplotlib.collections import PolyCollection
 from matplotlib.patches import Patch
 from matplotlib.ticker import MaxNLocator
 
+from rubdiag._figures import PNG_OPTIONS, new_figure, save_figure
 from rubdiag.plotting.spectra import plot_order_spectra
 
 __all__ = ["DPI", "FIGSIZE", "PNG_OPTIONS", "STATUS_COLOURS", "ZOOM_REVOLUTIONS", "run_figure",
@@ -30,7 +33,6 @@ DPI = 110                       # saved resolution (dots per inch)
 ZOOM_REVOLUTIONS = 5            # revolutions shown in the zoom under each waveform
 STATUS_COLOURS = {2: "#f39c12", 3: "#c0392b"}          # sliding, sticking
 _STATUS_NAMES = {2: "sliding (status 2)", 3: "sticking (status 3)"}
-PNG_OPTIONS = {"compress_level": 1}  # zlib level: 35 % faster than the default 6, 15 % larger
 _MIN_PX = 1.0                   # narrowest drawn status segment (pixels at the drawn DPI)
 
 
@@ -148,22 +150,23 @@ def _panel_status(ax, segments, n_elements: int, window: tuple[float, float]):
     _few_ticks(ax, y=None)
 
 
-def run_figure(result, row=None, title: str | None = None):
+def run_figure(result, row=None, title: str | None = None, *, fig=None):
     """The six-panel figure of one run (analysis window only), ``FIGSIZE`` at ``DPI``.
 
     ``row`` is the run's feature row (:func:`rubdiag.runs.run_features`); computed when
-    not given.
+    not given. ``fig``: an empty figure to draw the panels on (the layout's margins are
+    tuned for ``FIGSIZE``); default a new one. Returns the figure.
     """
     from rubdiag.runs import run_features
 
     if row is None:
         row = run_features(result).iloc[0].to_dict()
     # titles at a fixed height: automatic placement measures every tick label again
-    with plt.rc_context({"axes.titley": 1.0}):
-        return _draw_run(result, row, title)
+    with mpl.rc_context({"axes.titley": 1.0}):
+        return _draw_run(result, row, title, fig)
 
 
-def _draw_run(result, row, title):
+def _draw_run(result, row, title, fig):
     from rubdiag.runs import run_points, run_signals
     from rubdiag.signal import amplitude_spectrum
 
@@ -173,7 +176,7 @@ def _draw_run(result, row, title):
     run = result.run
     # a fixed layout (margins in figure fractions, tuned for FIGSIZE): constrained layout
     # measured every tick label again and doubled the drawing time
-    fig = plt.figure(figsize=FIGSIZE, dpi=DPI)
+    fig = new_figure(figsize=FIGSIZE, dpi=DPI) if fig is None else fig
     grid = fig.add_gridspec(3, 2, height_ratios=(1.25, 1.0, 1.0), left=0.06, right=0.965,
                             top=0.945, bottom=0.085, wspace=0.2, hspace=0.2)
     fig.suptitle(title or f"{run.label} at {run.speed_rpm:.0f} rpm", fontsize=14, y=0.985)
@@ -221,7 +224,4 @@ def save_run_figures(result, out_dir: str | Path, stem: str = "run", row=None,
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     fig = run_figure(result, row=row, title=title)
-    path = out_dir / f"{stem}.png"
-    fig.savefig(path, dpi=DPI, pil_kwargs=PNG_OPTIONS)
-    plt.close(fig)
-    return [path]
+    return [save_figure(fig, out_dir / f"{stem}.png", dpi=DPI)]

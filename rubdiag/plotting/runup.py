@@ -20,14 +20,18 @@ Where to look: the critical speed is the 1× peak of the linear response with it
 (clipped near the clearance, run-up and coast-down apart) and where the rub orders — 0.5×,
 2×, 3× … — rise from their floor (order map, :func:`rub_orders_figure`); for simulated runs
 the contact bars (``contact_rpm``) give the speeds of the first and last contact.
+
+Each figure function draws on the figure ``fig`` (the polar plot: the axes ``ax``) when
+given, else on one of its own, and returns it (:func:`rubdiag.plotting.save_figure` writes
+it; :func:`save_runup_figures` writes them all).
 """
 
 from __future__ import annotations
 
+import os
 import re
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib import patheffects
 from matplotlib.colors import LogNorm
@@ -40,7 +44,8 @@ from matplotlib.ticker import (
     NullFormatter,
 )
 
-from rubdiag.plotting.run import DPI, PNG_OPTIONS
+from rubdiag._figures import new_figure, save_figure
+from rubdiag.plotting.run import DPI
 from rubdiag.signal.leakage import tracking_leakage
 from rubdiag.signal.orders import order_label
 
@@ -60,10 +65,12 @@ _BOX = dict(boxstyle="round,pad=0.15", fc="w", ec="none", alpha=0.8)
 _ROUND = (1, 2, 2.5, 5, 10)          # tick steps: 100, 200, 250, 500 rpm …
 
 
-def _figure(size, left, right, bottom, top, **subplots):
-    """Axes placed by fixed margins (inches): constrained layout measures every label again."""
-    width, height = size
-    fig, axes = plt.subplots(figsize=size, dpi=DPI, **subplots)
+def _figure(size, left, right, bottom, top, fig=None, **subplots):
+    """Axes on ``fig`` (default a new figure of ``size`` at ``DPI``), placed by fixed margins
+    (inches): constrained layout measures every label again."""
+    fig = new_figure(figsize=size, dpi=DPI) if fig is None else fig
+    width, height = fig.get_size_inches()
+    axes = fig.subplots(**subplots)
     fig.subplots_adjust(left=left / width, right=1 - right / width, bottom=bottom / height,
                         top=1 - top / height)
     return fig, axes
@@ -142,7 +149,7 @@ def _contact_bars(ax, tracks: dict, contact_rpm) -> None:
 # --- colour maps -------------------------------------------------------------------------
 
 def _colour_map(x, rpm, amplitude, *, per_rpm, xlabel, orders, critical_rpm, unit, scale,
-                dynamic_range_db, title, x_max=None):
+                dynamic_range_db, title, x_max=None, fig=None):
     """The shared body of the waterfall and the order map: rpm upwards, ``x`` across."""
     x, rpm = np.asarray(x, dtype=float), np.asarray(rpm, dtype=float)
     amp = np.asarray(amplitude, dtype=float) * scale
@@ -151,7 +158,7 @@ def _colour_map(x, rpm, amplitude, *, per_rpm, xlabel, orders, critical_rpm, uni
                          "one column per speed, at least two speeds)")
     keep = (x > 0) & (x <= (x[-1] if x_max is None else x_max))    # not the mean
     sort = np.argsort(rpm, kind="stable")          # a coast-down is drawn the right way up
-    fig, (ax, cax) = _figure((8.0, 6.2), 0.85, 0.85, 0.65, 0.75, ncols=2,
+    fig, (ax, cax) = _figure((8.0, 6.2), 0.85, 0.85, 0.65, 0.75, fig, ncols=2,
                              gridspec_kw=dict(width_ratios=(36, 1), wspace=0.05))
     top = float(np.nanmax(amp[keep]))
     norm = LogNorm(top * 10.0 ** (-dynamic_range_db / 20.0), top)
@@ -188,7 +195,7 @@ def _colour_map(x, rpm, amplitude, *, per_rpm, xlabel, orders, critical_rpm, uni
 
 def waterfall_figure(f_hz, rpm, amplitude, orders=ORDERS, critical_rpm=None, max_hz=None,
                      unit: str = "µm", scale: float = 1e6, dynamic_range_db: float = 60.0,
-                     title: str = "Waterfall"):
+                     title: str = "Waterfall", *, fig=None):
     """Short-time spectra as a colour map: frequency across, speed upwards, order lines.
 
     Parameters
@@ -212,6 +219,8 @@ def waterfall_figure(f_hz, rpm, amplitude, orders=ORDERS, critical_rpm=None, max
         Colours span this range below the largest amplitude shown (log scale, 60 dB: three
         decades); anything lower is drawn in the lowest colour.
     title : str
+    fig : matplotlib.figure.Figure, optional
+        An empty figure to draw the map and its colour bar on; default a new 8 × 6.2 in one.
 
     Returns
     -------
@@ -221,12 +230,12 @@ def waterfall_figure(f_hz, rpm, amplitude, orders=ORDERS, critical_rpm=None, max
         max_hz = 1.05 * max(orders, default=1.0) * float(np.max(rpm)) / 60.0
     return _colour_map(f_hz, rpm, amplitude, per_rpm=True, xlabel="frequency (Hz)",
                        orders=orders, critical_rpm=critical_rpm, unit=unit, scale=scale,
-                       dynamic_range_db=dynamic_range_db, title=title, x_max=max_hz)
+                       dynamic_range_db=dynamic_range_db, title=title, x_max=max_hz, fig=fig)
 
 
 def order_map_figure(orders, rpm, amplitude, guides=ORDERS, critical_rpm=None,
                      max_order=None, unit: str = "µm", scale: float = 1e6,
-                     dynamic_range_db: float = 60.0, title: str = "Order map"):
+                     dynamic_range_db: float = 60.0, title: str = "Order map", *, fig=None):
     """Order spectra against speed as a colour map: order across, speed upwards.
 
     Parameters
@@ -239,7 +248,7 @@ def order_map_figure(orders, rpm, amplitude, guides=ORDERS, critical_rpm=None,
     max_order : float, optional
         Right end of the order axis; default 2.5 times the highest guide (10 with the
         default guides), as far as the map goes.
-    critical_rpm, unit, scale, dynamic_range_db, title
+    critical_rpm, unit, scale, dynamic_range_db, title, fig
         As for :func:`waterfall_figure`.
 
     Returns
@@ -250,7 +259,8 @@ def order_map_figure(orders, rpm, amplitude, guides=ORDERS, critical_rpm=None,
         max_order = 2.5 * max(guides, default=4.0)
     return _colour_map(orders, rpm, amplitude, per_rpm=False, xlabel="order (f / 1×)",
                        orders=guides, critical_rpm=critical_rpm, unit=unit, scale=scale,
-                       dynamic_range_db=dynamic_range_db, title=title, x_max=max_order)
+                       dynamic_range_db=dynamic_range_db, title=title, x_max=max_order,
+                       fig=fig)
 
 
 # --- order tracks ------------------------------------------------------------------------
@@ -284,7 +294,7 @@ def _amount(value: float) -> str:
 
 def bode_figure(tracks: dict, linear=None, critical_rpm=None, contact_rpm=None,
                 order: float = 1, unit: str = "µm", scale: float = 1e6,
-                title: str | None = None):
+                title: str | None = None, *, fig=None):
     """Amplitude and phase of one order against speed, tracks overlaid (Bode plot).
 
     Parameters
@@ -309,6 +319,8 @@ def bode_figure(tracks: dict, linear=None, critical_rpm=None, contact_rpm=None,
     unit, scale
         Amplitude unit and the factor that turns the tracks into it (default m to µm).
     title : str, optional
+    fig : matplotlib.figure.Figure, optional
+        An empty figure to draw both panels on; default a new 8.5 × 7 in one.
 
     Returns
     -------
@@ -317,7 +329,7 @@ def bode_figure(tracks: dict, linear=None, critical_rpm=None, contact_rpm=None,
         the linear response, else the first track, whose value at its lowest speed lies
         within ±180°).
     """
-    fig, (ax_a, ax_p) = _figure((8.5, 7.0), 0.9, 0.25, 0.6, 0.95, nrows=2, sharex=True,
+    fig, (ax_a, ax_p) = _figure((8.5, 7.0), 0.9, 0.25, 0.6, 0.95, fig, nrows=2, sharex=True,
                                 gridspec_kw=dict(height_ratios=(3, 2), hspace=0.07))
     ref, highest, peaks = None, 0.0, []
     if linear is not None:
@@ -373,7 +385,7 @@ def bode_figure(tracks: dict, linear=None, critical_rpm=None, contact_rpm=None,
 
 def polar_figure(tracks: dict, linear=None, critical_rpm=None, order: float = 1,
                  n_labels: int = 5, unit: str = "µm", scale: float = 1e6,
-                 title: str | None = None):
+                 title: str | None = None, *, ax=None):
     """The order's vector ``A e^{iθ}`` in the complex plane, tracks overlaid (polar plot).
 
     Parameters
@@ -387,13 +399,15 @@ def polar_figure(tracks: dict, linear=None, critical_rpm=None, order: float = 1,
         (interpolated between bins).
     n_labels : int
     title : str, optional
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; default a new 7 × 7.6 in figure.
 
     Returns
     -------
     matplotlib.figure.Figure
         ``A cos θ`` across, ``A sin θ`` upwards, equal scales.
     """
-    fig, ax = _figure((7.0, 7.6), 0.95, 0.3, 1.25, 0.5)
+    fig, ax = (ax.figure, ax) if ax is not None else _figure((7.0, 7.6), 0.95, 0.3, 1.25, 0.5)
     ax.axhline(0.0, color="0.6", lw=0.8)
     ax.axvline(0.0, color="0.6", lw=0.8)
     critical = _criticals(critical_rpm)
@@ -442,7 +456,7 @@ def polar_figure(tracks: dict, linear=None, critical_rpm=None, order: float = 1,
 
 def rub_orders_figure(tracks: dict, orders=RUB_ORDERS, critical_rpm=None, contact_rpm=None,
                       unit: str = "µm", scale: float = 1e6, title: str = "Rub orders",
-                      revs_per_bin: int | None = None):
+                      revs_per_bin: int | None = None, *, fig=None):
     """Amplitudes of the orders a rub excites against speed, one panel per order, tracks
     overlaid: a rub begins where they rise from their floor.
 
@@ -464,13 +478,15 @@ def rub_orders_figure(tracks: dict, orders=RUB_ORDERS, critical_rpm=None, contac
     revs_per_bin : int, optional
         The tracks' bin length in revolutions (default: each track's ``attrs``, as
         :func:`~rubdiag.signal.order_track` sets them; unknown: no leakage level).
+    fig : matplotlib.figure.Figure, optional
+        An empty figure to draw the panels on; default a new one, 8.5 in wide.
 
     Returns
     -------
     matplotlib.figure.Figure
     """
     n = len(orders)
-    fig, axes = _figure((8.5, 1.7 * n + 1.6), 0.9, 0.25, 0.6, 1.0, nrows=n, sharex=True,
+    fig, axes = _figure((8.5, 1.7 * n + 1.6), 0.9, 0.25, 0.6, 1.0, fig, nrows=n, sharex=True,
                         sharey=True, squeeze=False, gridspec_kw=dict(hspace=0.08))
     axes = axes[:, 0]
     leaks = {name: _leakage(df, orders, revs_per_bin) for name, df in tracks.items()}
@@ -556,15 +572,14 @@ def runup_figures(tracks: dict, *, linear=None, critical_rpm=None, contact_rpm=N
     return figures
 
 
-def save_runup_figures(out_dir: str | Path, tracks: dict, stem: str = "runup",
+def save_runup_figures(tracks: dict, out_dir: str | Path, stem: str = "runup",
                        **options) -> list[Path]:
     """Write :func:`runup_figures` as ``out_dir/<stem>_<name>.png`` at ``DPI``; returns the
-    written paths. ``options`` are those of :func:`runup_figures`."""
+    written paths. ``options`` are those of :func:`runup_figures`. The order of the first two
+    arguments is that of every saving function (what is drawn, then where); the earlier
+    order, ``(out_dir, tracks)``, is still understood."""
+    if isinstance(tracks, str | os.PathLike) and isinstance(out_dir, dict):
+        tracks, out_dir = out_dir, tracks
     out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
-    paths = []
-    for name, fig in runup_figures(tracks, **options).items():
-        paths.append(out_dir / f"{stem}_{name}.png")
-        fig.savefig(paths[-1], dpi=DPI, pil_kwargs=PNG_OPTIONS)
-        plt.close(fig)
-    return paths
+    return [save_figure(fig, out_dir / f"{stem}_{name}.png", dpi=DPI)
+            for name, fig in runup_figures(tracks, **options).items()]

@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.collections import LineCollection
 from matplotlib.lines import Line2D
 from matplotlib.ticker import NullLocator
 
+from rubdiag._figures import figure_and_axes
 from rubdiag.plotting._ticks import decade_labels
 
 __all__ = ["MARKERS", "plot_order_spectra"]
@@ -42,7 +42,7 @@ def plot_order_spectra(curves, title: str = "", max_order: float = _MAX_ORDER, a
     max_order : float
         Right end of the order axis.
     ax : matplotlib Axes, optional
-        Axes to draw in; a new figure when None.
+        Axes to draw on; default a new 9 × 4.8 in figure.
     unit : str
         Unit of the plotted amplitude (after ``scale``), shown on the axis label.
     scale : float
@@ -58,10 +58,7 @@ def plot_order_spectra(curves, title: str = "", max_order: float = _MAX_ORDER, a
     -------
     matplotlib.figure.Figure
     """
-    if ax is None:
-        fig, ax = plt.subplots(figsize=(9, 4.8), layout="constrained")
-    else:
-        fig = ax.figure
+    fig, ax = figure_and_axes(ax, figsize=(9, 4.8), layout="constrained")
     lowest, highest = np.inf, -np.inf
     drawn = set()
     for i, (label, f, amp, row) in enumerate(curves):
