@@ -35,6 +35,7 @@ from sklearn.tree import DecisionTreeClassifier
 from threadpoolctl import threadpool_limits  # installed with scikit-learn
 
 from rubdiag import _check, _progress
+from rubdiag.dataset.labels import MEASURES
 from rubdiag.dataset.schema import SEPARATOR
 from rubdiag.learn.caveats import training_warnings
 from rubdiag.learn.channel_choice import ChannelChoice, choose_channels
@@ -452,7 +453,12 @@ def baseline_factors(data: pd.DataFrame) -> tuple[list[str], list[str]]:
     A factor blank (NaN) in some runs is blank by design for some level — a crack's depth
     where no crack acted, the gap where nothing rubs, the speed ratio of a whirling run
     (:func:`rubdiag.dataset.faults.shown_point`): where it is blank tells the level, and a
-    baseline reading it is an oracle. Such factors are left out; the audit
+    baseline reading it is an oracle. So is, in a design with a fault factor, a factor
+    whose column holds the run's own measure of that name: ``interference_ratio``, which
+    the row shows as measured (the linear approach over the gap: about 0.001 where the
+    casing is out of reach, 1.2 and up where the design made the run rub; in a design where
+    every run rubs it is the designed condition, and stays). Such factors are left out; the
+    audit
     (:func:`audit_columns`) still lists any factor that separates the classes.
 
     Returns
@@ -461,7 +467,8 @@ def baseline_factors(data: pd.DataFrame) -> tuple[list[str], list[str]]:
         The :func:`condition_factors` every run shows, and those blank in some run.
     """
     factors = condition_factors(data)
-    blank = [c for c in factors if data[c].isna().any()]
+    faults = "faults" in data.columns          # some level keeps the contacts out of reach
+    blank = [c for c in factors if data[c].isna().any() or (faults and c in MEASURES)]
     return [c for c in factors if c not in blank], blank
 
 
