@@ -33,15 +33,16 @@ from unittest import mock
 
 import rubdiag
 
-rubdiag.pin_blas_kernels()  # first: before numpy loads OpenBLAS (the same bits anywhere)
+if __name__ == "__main__":     # a run starts here (imported, numpy is loaded already)
+    rubdiag.pin_blas_kernels()  # first: before numpy loads OpenBLAS (the same bits anywhere)
 
 # isort: split
-import numpy as np  # noqa: E402
+import numpy as np
 
-from rubdiag.kernels.newmark import PROFILE_SECTIONS  # noqa: E402
-from rubdiag.simulate import Run, simulate  # noqa: E402
-from rubdiag.simulate import simulation as simulation_module  # noqa: E402
-from rubdiag.simulate.system import simulate_system  # noqa: E402
+from rubdiag.kernels.newmark import PROFILE_SECTIONS
+from rubdiag.simulate import Run, simulate
+from rubdiag.simulate import simulation as simulation_module
+from rubdiag.simulate.system import simulate_system
 
 
 def run_once(run: Run, profile: bool):

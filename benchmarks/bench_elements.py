@@ -22,16 +22,17 @@ import statistics
 
 import rubdiag
 
-rubdiag.pin_blas_kernels()  # first: before numpy loads OpenBLAS (the same bits anywhere)
+if __name__ == "__main__":     # a run starts here (imported, numpy is loaded already)
+    rubdiag.pin_blas_kernels()  # first: before numpy loads OpenBLAS (the same bits anywhere)
 
 # isort: split
-import dataclasses  # noqa: E402
+import dataclasses
 
-from rubdiag.model import Bearing, JournalFilm, Pedestal, paper_rig  # noqa: E402
-from rubdiag.simulate import Run, simulate  # noqa: E402
-from rubdiag.simulate.faults import Crack, Faults, Looseness  # noqa: E402
-from rubdiag.simulate.misalignment import Misalignment  # noqa: E402
-from rubdiag.simulate.static_load import StaticLoad  # noqa: E402
+from rubdiag.model import Bearing, JournalFilm, Pedestal, paper_rig
+from rubdiag.simulate import Run, simulate
+from rubdiag.simulate.faults import Crack, Faults, Looseness
+from rubdiag.simulate.misalignment import Misalignment
+from rubdiag.simulate.static_load import StaticLoad
 
 GRAVITY = StaticLoad(direction="y", gravity_m_s2=-9.81)
 

@@ -31,13 +31,14 @@ from pathlib import Path
 
 import rubdiag
 
-rubdiag.pin_blas_kernels()  # first: before numpy loads OpenBLAS (the same bits anywhere)
+if __name__ == "__main__":     # a run starts here (imported, numpy is loaded already)
+    rubdiag.pin_blas_kernels()  # first: before numpy loads OpenBLAS (the same bits anywhere)
 
 # isort: split
-from rubdiag.dataset import Design  # noqa: E402
-from rubdiag.dataset.design import DesignRun  # noqa: E402
-from rubdiag.dataset.ids import point_id, run_id  # noqa: E402
-from rubdiag.dataset.rows import make_row  # noqa: E402
+from rubdiag.dataset import Design
+from rubdiag.dataset.design import DesignRun
+from rubdiag.dataset.ids import point_id, run_id
+from rubdiag.dataset.rows import make_row
 
 DESIGNS = Path(__file__).resolve().parent.parent / "data" / "designs"
 FAULTS = DESIGNS / "faults_journal.toml"

@@ -24,15 +24,16 @@ from pathlib import Path
 
 import rubdiag
 
-rubdiag.pin_blas_kernels()  # first: before numpy loads OpenBLAS (the same bits anywhere)
+if __name__ == "__main__":     # a run starts here (imported, numpy is loaded already)
+    rubdiag.pin_blas_kernels()  # first: before numpy loads OpenBLAS (the same bits anywhere)
 
 # isort: split
-import numpy as np  # noqa: E402
+import numpy as np
 
-from rubdiag.simulate import simulate_system  # noqa: E402
+from rubdiag.simulate import simulate_system
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))  # the tests' systems
-from testsystems import bladed_rotor_casing, linear_response  # noqa: E402
+from testsystems import bladed_rotor_casing, linear_response
 
 
 def main() -> None:

@@ -20,13 +20,14 @@ import time
 
 import rubdiag
 
-rubdiag.pin_blas_kernels()  # first: before numpy loads OpenBLAS (the same bits anywhere)
+if __name__ == "__main__":     # a run starts here (imported, numpy is loaded already)
+    rubdiag.pin_blas_kernels()  # first: before numpy loads OpenBLAS (the same bits anywhere)
 
 # isort: split
 
-from rubdiag.reduce import Reduction  # noqa: E402
-from rubdiag.runs.runup import ramp_run  # noqa: E402
-from rubdiag.simulate import simulate  # noqa: E402
+from rubdiag.reduce import Reduction
+from rubdiag.runs.runup import ramp_run
+from rubdiag.simulate import simulate
 
 
 def timed(run) -> dict:

@@ -55,14 +55,15 @@ from pathlib import Path
 
 import rubdiag
 
-rubdiag.pin_blas_kernels()  # first: before numpy loads OpenBLAS (the same bits anywhere)
+if __name__ == "__main__":     # a run starts here (imported, numpy is loaded already)
+    rubdiag.pin_blas_kernels()  # first: before numpy loads OpenBLAS (the same bits anywhere)
 
 # isort: split
-import numpy as np  # noqa: E402
-import pandas as pd  # noqa: E402
+import numpy as np
+import pandas as pd
 
-from rubdiag.paper.ensemble import GAP_RAMPS_S  # noqa: E402
-from rubdiag.paper.table2 import CASES, DIGITS, paper_values, table2  # noqa: E402
+from rubdiag.paper.ensemble import GAP_RAMPS_S
+from rubdiag.paper.table2 import CASES, DIGITS, paper_values, table2
 
 ROOT = Path(__file__).resolve().parents[1]
 RUNS_CSV = ROOT / "data" / "dt_convergence_runs.csv"
