@@ -4,14 +4,14 @@ Each command lives in its own module and exposes ``register(subparsers)``, which
 parser and sets ``func`` to a function ``(args) -> int``. Expected failures (bad input, a
 missing file) print one line on stderr and exit with status 2, never a traceback (``--debug``:
 the full traceback, still status 2). A run starts here: OpenBLAS's kernels are pinned before
-numpy loads (:func:`rubdiag.pin_blas_kernels`); figures are drawn with matplotlib's Agg
-backend, which writes files and opens no window.
+numpy loads (:func:`rubdiag.pin_blas_kernels`). Figures are drawn on matplotlib's Agg canvas
+and written to files (``rubdiag/_figures.py``): no backend is chosen or needed, no window
+opens.
 """
 
 from __future__ import annotations
 
 import argparse
-import contextlib
 import importlib
 import os
 import re
@@ -70,25 +70,7 @@ def main(argv: list[str] | None = None) -> int:
     with warnings.catch_warnings():   # restores the caller's warning display afterwards
         if not args.debug:
             warnings.showwarning = _one_line_warning(args.command)
-        with _file_backend():
-            return _run(args)
-
-
-@contextlib.contextmanager
-def _file_backend():
-    """Figures a command draws go to files: matplotlib's Agg backend (no window, no display
-    needed), unless the user chose one (``MPLBACKEND``) or matplotlib is loaded already (a
-    Python session calling :func:`main` keeps its own). Set for the command only, as
-    ``MPLBACKEND``, which matplotlib reads when it loads: the commands that draw nothing do
-    not load it."""
-    if "MPLBACKEND" in os.environ or "matplotlib" in sys.modules:
-        yield
-        return
-    os.environ["MPLBACKEND"] = "Agg"
-    try:
-        yield
-    finally:
-        del os.environ["MPLBACKEND"]
+        return _run(args)
 
 
 def _run(args) -> int:
