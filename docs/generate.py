@@ -202,7 +202,8 @@ def _confusers(design: str) -> dict[str, str]:
     module = script("confuser_tables")
     cells_csv, rates_csv, one_csv, splits = module.OUTPUTS[design]
     cells, rates, one = (pd.read_csv(path) for path in (cells_csv, rates_csv, one_csv))
-    prefix = "" if design == "faults_journal" else "bands-"
+    prefix = {"faults_journal": "", "faults_bands": "bands-"}.get(
+        design, design.replace("_", "-") + "-")
     out = {f"{prefix}confuser-goals": module.goals_table(cells, rates),
            f"{prefix}confuser-recall": module.recall_table(rates)}
     for split in splits:
@@ -228,7 +229,11 @@ TABLES = {
                                                  "one-vs-one")),
                              ("faults_bands", ("bands-confuser-goals",
                                                "bands-confuser-recall", "bands-one-vs-one",
-                                               "bands-one-vs-one-speed_ratio")))
+                                               "bands-one-vs-one-speed_ratio")),
+                             ("rub_kinds", ("rub-kinds-confuser-goals",
+                                            "rub-kinds-confuser-recall",
+                                            "rub-kinds-one-vs-one",
+                                            "rub-kinds-one-vs-one-speed_ratio")))
        for name in names},
 }
 

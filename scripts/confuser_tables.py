@@ -218,17 +218,22 @@ def goals_table(cells: pd.DataFrame, rates: pd.DataFrame) -> str:
 
 
 def recall_table(rates: pd.DataFrame) -> str:
-    """Rub recall beside each fault, rub target, per split of the speed and the points."""
-    lines = ["| held out | " + " | ".join(f"rub recall: {k}" for k in
-                                           ["rub", *[f"rub+{k}" for k in CONFUSER_KINDS]])
-             + " |", "|---|" + "---|" * 5]
-    for split in ("group", "speed_ratio"):
-        r = rates[(rates.target == "rub") & (rates.split == split)
-                  & (rates.measure == "rub recall")].set_index("faults")
+    """Rub recall beside each fault (and of each rub kind where the design has them), rub
+    target, held out by design point, by speed band and (where stored) by blade count."""
+    recall = rates[(rates.target == "rub") & (rates.measure == "rub recall")]
+    kinds = ["rub", *[f"rub+{k}" for k in CONFUSER_KINDS]]
+    kinds = [k for k in kinds if (recall.faults == k).any() and recall[recall.faults == k].n.sum()]
+    kinds += sorted(k for k in set(recall.faults) if k.startswith("rub ("))
+    lines = ["| held out | " + " | ".join(f"rub recall: {k}" for k in kinds) + " |",
+             "|---|" + "---|" * len(kinds)]
+    names = {"group": "design point", "speed_ratio": "band of speed_ratio",
+             "blade_count": "blade count"}
+    for split, name in names.items():
+        r = recall[recall.split == split].set_index("faults")
+        if r.empty:
+            continue
         cells = [f"{_f(r.loc[k, 'rate'], r.loc[k, 'lo'], r.loc[k, 'hi'])} "
-                 f"({int(r.loc[k, 'n_called_rub'])}/{int(r.loc[k, 'n'])})"
-                 for k in ["rub", *[f"rub+{k}" for k in CONFUSER_KINDS]]]
-        name = "design point" if split == "group" else f"band of {split}"
+                 f"({int(r.loc[k, 'n_called_rub'])}/{int(r.loc[k, 'n'])})" for k in kinds]
         lines.append(f"| {name} | " + " | ".join(cells) + " |")
     return "\n".join(lines)
 

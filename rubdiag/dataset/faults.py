@@ -38,6 +38,21 @@ joined by ``+``; adding a fault is one entry in :data:`FAULT_KINDS` and its leve
   rig's threshold of instability (:func:`whirl_threshold_rad_s`), whatever the design's
   speed factor says; the other runs keep that factor. A run on such a rig whips wherever its
   speed lies above the threshold, whatever its level: its label says so.
+* Rub has kinds (``rub_kind``: ``blade`` or ``seal``; ``rubbing_blades``: which blades,
+  :func:`rubdiag.dataset.rig_factors.blade_set`; and the rig factor ``blade_count``). A
+  design with seal rubs gives every run an annular seal at ``seal_node``
+  (:meth:`~rubdiag.dataset.Design.runs`), out of reach (:data:`NO_RUB_GAP_M`) unless the
+  run rubs on it, when its blades are out of reach instead and ``Run.seal_clearance_m`` is
+  the seal's own linear orbit over ``interference_ratio``. Aligned on the loaded rotor
+  (clearances ``"loaded"``), the seal is centred on the rotor's static state. Partial rub
+  (a touch per revolution) and full annular rub (continuous contact, which dry friction
+  can turn into backward whirl) are the two regimes a seal shows (Muszynska A.,
+  "Rotor-to-stationary element rub-related vibration phenomena in rotating machinery —
+  literature survey", Shock and Vibration Digest 21(3) 3-11, 1989; Black H.F.,
+  "Interaction of a whirling rotor with a vibrating stator across a clearance annulus",
+  J. Mech. Eng. Sci. 10(1) 1-12, 1968; Choy F.K. & Padovan J., "Non-linear transient
+  analysis of rotor-casing rub events", J. Sound Vib. 113(3) 529-545, 1987); the row's
+  ``rub_state`` tells them apart.
 * The rest of each fault is fixed by ``[base]`` options (:class:`FaultSettings`).
 
 Labels (:func:`fault_labels`), from what each fault's element or model did, never a

@@ -1,7 +1,14 @@
 """The transfer table (scripts/transfer.py): on a small case, every row is what a hand count
 of the predictions gives, and a held-out band's model never saw the band; the stored table
-(data/transfer.csv) is its stored predictions counted by hand, and shows the goals for
-textbook records and another simulator's records (or their strict xfails)."""
+(data/transfer.csv, models trained on data/designs/rub_kinds.toml's dataset) is its stored
+predictions counted by hand, and shows the goals for held-out blade counts and speeds,
+textbook records and another simulator's records (or their strict xfails). Made by::
+
+    python scripts/transfer.py rub-kinds --name rub_kinds --hold-out blade_count=8:8 \
+        --hold-out blade_count=12:12 --hold-out blade_count=16:16 \
+        --hold-out blade_count=20:20 --hold-out speed_ratio=0.9:1.1 \
+        --ross data/ross_records/records.csv
+"""
 
 from __future__ import annotations
 
@@ -145,29 +152,65 @@ ROSS_ALARM, ROSS_RECALL = 0.10, 0.90
 
 # a goal that is not met: its measured number, interval and what limits it
 _THREE = ("9 of 9 called rub, 1.00 [0.70, 1.00] (Wilson), every strength (0.1-0.5 of 1x) "
-          "and speed: a 3x of 10 % of 1x reads rel_amp_3x = 0.14 (over the channel's level), "
-          "while no faults_journal run without rub reads more than 0.022 (y) and 0.036 (z) "
-          "at the disc probes (0.07-0.13 at the bearing probes) and 16-26 % of the rubbing "
-          "runs read 0.1 or more at the disc: the model reads a 3x of textbook strength as "
-          "rub. Needs confusers whose 3x reaches it in training (a crack near a third of the "
-          "critical speed, misalignment)")
+          "and speed: in rub_kinds a 3x of a tenth of 1x or more is rub's (30-34 % of the "
+          "rubbing runs at the disc probes; without rub at most 0.15 (y) and 0.18 (z), the "
+          "cracks at half the critical speed): the model reads a textbook 3x as rub. Needs "
+          "confusers whose 3x reaches 0.5 of 1x in training (a crack near a third of the "
+          "critical speed)")
 _NOT_MET = {
     ("textbook records, probe pairs", "3x (on bins)"): _THREE,
     ("textbook records, probe pairs", "3x (between bins)"): _THREE,
-    ("ROSS records, paper shaft", "crack"): (
-        "4 of 8 called rub, 0.50 [0.21, 0.79] (Wilson): the four runs at 0.45 and 0.5 of the "
-        "critical speed, whose 2x is 5-19 % of 1x at the disc's y probe and stronger along "
-        "z, where weight acts (shaft11_z_disp__rel_amp_2x 1.37 at 0.5, beyond its training "
-        "range 0-1.27), at 718-798 rpm, below the training speeds "
-        "(957-8605 rpm); the paper shaft's stiff bearings leave the bearing probes at their "
-        "noise floor, where every faults_journal run moves them on its oil film: another rig "
-        "and speeds, which predict warns of"),
     ("ROSS records, paper shaft", "seal rub"): (
-        "3 of 8 found, 0.375 [0.14, 0.69] (Wilson): ROSS's shaft-on-stator rub is a "
-        "continuous annular contact whose response is almost pure 1x (2x at most 8 % of 1x, "
-        "7x under 1 % at the disc's y probe); faults_journal labels only blade-casing rub "
-        "(8 of 16 blades touching): no seal rub in training"),
+        "0 of 8 found, 0.00 [0.00, 0.32] (Wilson): ROSS's shaft-on-stator rub runs on the "
+        "paper shaft's stiff bearings, whose probes stay at their noise floor, while every "
+        "rub_kinds run (seal rubs included) moves its bearing probes on an oil film; "
+        "rub_kinds' own seal rubs are found in 0.81 of runs by design point (the misses at "
+        "case 2's half critical speed, where the seal sits near the mode's node): another "
+        "rig, which predict warns of"),
 }
+HELD_OUT_RECALL = 0.90
+#: a held-out band's rubs that are not found: measured numbers and what limits them
+_HELD_OUT_NOT_MET = {
+    **{(f"rub_kinds: blade_count {n}", "rub (seal)"): (
+        f"{found} of {total} seal rubs found with blade count {n} held out (the seal rubs' "
+        "recall is 0.81 by design point too): a full annular rub at case 2's half critical "
+        "speed, the seal near the mode's node, leaves the shaft probes almost unchanged "
+        "(4 of 15 found)") for n, found, total in ((8, 12, 17), (12, 14, 20), (16, 12, 18),
+                                                   (20, 8, 12))},
+    ("rub_kinds: speed_ratio 0.9 to 1.1", "rub (blade)"): (
+        "21 of 46 found, 0.46 [0.32, 0.60] (Wilson), trained on the band around half the "
+        "critical speed only: rub near the critical speed (large 1x, a rub's lines small "
+        "beside it) is never seen in training; the design holds both bands so that no "
+        "level is told by its speed"),
+    ("rub_kinds: speed_ratio 0.9 to 1.1", "rub (seal)"): (
+        "5 of 31 found, 0.16 [0.07, 0.33] (Wilson): as the blade rubs, and a seal rub "
+        "near the critical speed is almost pure 1x"),
+}
+
+
+def _held_out_params():
+    rows = TABLE[TABLE["scored_on"].str.startswith("rub_kinds: ")
+                 & TABLE["kind"].isin(["rub (blade)", "rub (seal)"])]
+    return [pytest.param(r.scored_on, r.kind, id=f"{r.scored_on}, {r.kind}",
+                         marks=pytest.mark.xfail(
+                             strict=True, reason=_HELD_OUT_NOT_MET[r.scored_on, r.kind])
+                         if (r.scored_on, r.kind) in _HELD_OUT_NOT_MET else ())
+            for r in rows.itertuples()]
+
+
+@pytest.mark.parametrize("scored_on, kind", _held_out_params())
+def test_a_model_finds_rub_in_the_band_it_never_saw(scored_on, kind):
+    """Trained without one blade count, a model finds the blade rubs of that count; and
+    so on for each held-out band and kind of rub."""
+    row = TABLE[(TABLE["scored_on"] == scored_on) & (TABLE["kind"] == kind)].iloc[0]
+    assert row["rub_recall"] >= HELD_OUT_RECALL, (row["n_called_rub"], row["n"])
+
+
+def test_every_blade_count_is_held_out_once():
+    held = {s for s in TABLE["scored_on"] if s.startswith("rub_kinds: blade_count")}
+    assert held == {f"rub_kinds: blade_count {n}" for n in (8, 12, 16, 20)}
+    blade = TABLE[TABLE["scored_on"].isin(held) & (TABLE["kind"] == "rub (blade)")]
+    assert blade["n"].sum() == 92        # every blade rub of the design but the one with whirl
 
 
 def _goal_params(scored_on, column):
