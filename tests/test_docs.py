@@ -92,6 +92,10 @@ def test_comparing_records_shows_the_rub_beside_the_healthy_machine(tmp_path, mo
     assert (namespace["folder"] / "spectra.png").stat().st_size > 10_000
 
 
+@pytest.mark.slow(reason=(
+    "make docs executes the page; by default tests/dataset/test_killed_command.py::"
+    "test_a_killed_job_keeps_every_run_it_counted kills the same 16-run job and resumes it, "
+    "and tests/dataset/test_generate.py's SIGKILL tests kill a job at chosen moments"))
 def test_a_killed_dataset_resumes_where_it_stopped(tmp_path, monkeypatch):
     """The job killed after four stored runs: the rerun reuses at least those four and the
     folder ends with every run of the design once."""
@@ -130,6 +134,11 @@ def test_a_runup_shows_its_rub_in_the_order_tracks(tmp_path, monkeypatch):
     assert first <= summary["peak_rpm"] <= last
 
 
+@pytest.mark.slow(reason=(
+    "make docs executes the page; by default tests/dataset/test_generate.py::"
+    "test_a_dask_cluster_gives_the_same_rows checks a LocalCluster's rows bit for bit "
+    "against local processes' and tests/dataset/test_dask_workers.py::"
+    "test_dask_workers_with_other_kernels_give_this_process_rows_bit_for_bit"))
 def test_a_dataset_on_dask_is_the_local_one_to_the_bit(tmp_path, monkeypatch):
     """Every run made on a LocalCluster, and every feature equal to the local processes'."""
     pytest.importorskip("dask.distributed")
