@@ -4,6 +4,8 @@ simulated dataset with a confuser (misalignment, alone and with rub), and their 
 from __future__ import annotations
 
 import contextlib
+import functools
+import importlib
 import io
 import json
 import re
@@ -14,6 +16,8 @@ import pytest
 
 from rubdiag.cli import main
 from rubdiag.dataset import load
+
+TRAIN = importlib.import_module("rubdiag.learn.train")
 
 #: The repository's small multi-fault design cut down to 24 runs of 0.8 s (about 15 s on
 #: one core): healthy, rub, a misaligned coupling and both, near the critical speeds.
@@ -50,7 +54,10 @@ def fault_model(fault_dataset, tmp_path_factory):
     """``rubdiag train DATA --target fault --quick``: (model folder, stdout)."""
     out = tmp_path_factory.mktemp("faultmodel") / "model"
     sink = io.StringIO()
-    with contextlib.redirect_stdout(sink):
+    with pytest.MonkeyPatch.context() as patch, contextlib.redirect_stdout(sink):
+        # one shuffled-label control, not five: these tests read the model's files and
+        # predictions (the control: tests/learn/test_evaluate.py, test_caveats.py)
+        patch.setattr(TRAIN, "train", functools.partial(TRAIN.train, n_shuffles=1))
         code = main(["train", str(fault_dataset), "--target", "fault", "--out", str(out),
                      "--quick"])
     assert code == 0

@@ -5,6 +5,8 @@ default model, its files, the output formats, warnings on stderr, a fresh proces
 from __future__ import annotations
 
 import contextlib
+import functools
+import importlib
 import io
 import json
 import subprocess
@@ -16,6 +18,8 @@ import pytest
 
 from rubdiag.cli import main
 from rubdiag.dataset import load_waveforms
+
+TRAIN = importlib.import_module("rubdiag.learn.train")
 
 SIMULATOR = ("rubdiag.simulate", "rubdiag.runs", "rubdiag.kernels", "rubdiag.model",
              "rubdiag.modal", "rubdiag.assembly", "numba")
@@ -33,7 +37,10 @@ def trained(small_dataset, tmp_path_factory):
     split, channels); (model folder, stdout)."""
     out = tmp_path_factory.mktemp("cli") / "model"
     sink = io.StringIO()                        # capsys is per test; this fixture is not
-    with contextlib.redirect_stdout(sink):
+    with pytest.MonkeyPatch.context() as patch, contextlib.redirect_stdout(sink):
+        # one shuffled-label control, not five: these tests read the model's files and
+        # predictions (the control: tests/learn/test_evaluate.py, test_caveats.py)
+        patch.setattr(TRAIN, "train", functools.partial(TRAIN.train, n_shuffles=1))
         code = main(["train", str(small_dataset), "--out", str(out), "--quick"])
     assert code == 0
     return out, sink.getvalue()
