@@ -41,6 +41,11 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
+import rubdiag
+
+if __name__ == "__main__":     # a run starts here (imported, numpy is loaded already)
+    rubdiag.pin_blas_kernels()  # first: before numpy loads OpenBLAS (the same bits anywhere)
+
 ROOT = Path(__file__).resolve().parents[1]
 CLAIMS = ROOT / "data" / "claims.csv"
 COLUMNS = ("id", "source", "claim", "quantity", "data", "study", "per_run", "tolerance",
