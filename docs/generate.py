@@ -222,6 +222,7 @@ TABLES = {
     "uncertainty": lambda: _csv_table("uncertainty", "table"),
     "step-study": lambda: _csv_table("step_study", "markdown"),
     "learn-table": lambda: _csv_table("learn_table", "table"),
+    "noise-curve": lambda: _csv_table("noise_table", "table"),
     "runup-bands": runup_bands_table,
     "ross-versions": ross_versions,
     **{name: (lambda design=design, name=name: _confusers(design)[name])
