@@ -18,6 +18,7 @@ import argparse
 import importlib
 import importlib.util
 import json
+import os
 import sys
 import tomllib
 from pathlib import Path
@@ -68,15 +69,32 @@ def commands() -> tuple:
     return parser, dict(sub.choices)
 
 
+#: the width (characters) of the help text on the command-line page: the pages' code width
+HELP_COLUMNS = 76
+
+
+def _help(parser) -> str:
+    """``parser``'s help wrapped at :data:`HELP_COLUMNS` (argparse reads ``COLUMNS``)."""
+    saved = os.environ.get("COLUMNS")
+    os.environ["COLUMNS"] = str(HELP_COLUMNS)
+    try:
+        return parser.format_help().rstrip()
+    finally:
+        if saved is None:
+            del os.environ["COLUMNS"]
+        else:
+            os.environ["COLUMNS"] = saved
+
+
 def cli_page() -> str:
     """Every command's ``--help``, from the parsers themselves."""
     parser, subcommands = commands()
     out = ["# Command line", "",
            "Every command of `rubdiag`, with the help it prints (`rubdiag COMMAND --help`).",
            "Invalid input is refused in one line on stderr, with exit status 2.", "",
-           "```text", parser.format_help().rstrip(), "```", ""]
+           "```text", _help(parser), "```", ""]
     for name, sub in subcommands.items():
-        out += [f"## `rubdiag {name}`", "", "```text", sub.format_help().rstrip(), "```", ""]
+        out += [f"## `rubdiag {name}`", "", "```text", _help(sub), "```", ""]
     return "\n".join(out)
 
 

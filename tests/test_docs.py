@@ -32,7 +32,11 @@ def test_every_command_has_its_help_on_the_command_line_page():
     assert len(commands) > 10
     for name, parser in commands.items():
         assert f"## `rubdiag {name}`" in page
-        assert parser.format_help().rstrip() in page
+        assert generate._help(parser) in page
+    # wrapped to the page's code width: nothing is cut off on the page
+    blocks = page.split("```text\n")[1:]
+    widest = max(len(line) for block in blocks for line in block.split("```")[0].splitlines())
+    assert widest <= generate.HELP_COLUMNS
 
 
 def test_the_feature_page_lists_every_pattern_with_its_unit():
