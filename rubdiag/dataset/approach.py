@@ -65,7 +65,7 @@ def sweep_linear_approach_m(run, model=None, of: str | None = None) -> float:
 
     if model is None:
         model = damped_model(run.rig)
-    approach = functools.partial(_approach, run, model, of)
+    approach = functools.partial(_approach, run, model, of=of)
     lo, hi = window_speed_range(run)
     if hi == lo:
         return approach(lo)
@@ -78,7 +78,7 @@ def sweep_linear_approach_m(run, model=None, of: str | None = None) -> float:
     return max(float(values[k]), -float(best.fun))
 
 
-def _approach(run, model, of, speed_rad_s: float) -> float:
+def _approach(run, model, speed_rad_s: float, of: str | None = None) -> float:
     """The linear approach of ``run``'s contacts at constant speed (full model)."""
     from rubdiag.simulate import GapRampInWindow
     from rubdiag.simulate.rig_system import linear_approach

@@ -50,7 +50,8 @@ def test_a_full_run_is_described_as_before(full):
     assert set(data) == {f.name for f in dataclasses.fields(Run)} - {"reduction",
                                                                       "speed_profile",
                                                                       "static_load", "faults",
-                                                                      "step_error", "dt_max_s"}
+                                                                      "step_error", "dt_max_s",
+                                                                      "seal_clearance_m"}
     # computed with rubdiag at ec17223 (Run without a reduction field), same rig and values
     assert (run_id(full), point_id(full)) == ("c9d0d9212e38d531", "5ad352256e5af7af")
 
