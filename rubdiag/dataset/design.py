@@ -384,8 +384,7 @@ class Design:
         without stator contacts of its own, and takes the rig's contact law."""
         if names & {"blade_count", "rubbing_blades"}:
             blade_set_of(self.rig)
-        kinds = next((f.levels for f in self.factors if f.name == "rub_kind"), ())
-        if "seal" not in kinds:
+        if self._seal() is None:
             return
         if self.rig.stator_contacts:
             raise ValueError(f"factors.rub_kind 'seal' with base.rig = {self.rig.name!r}, which "
@@ -395,7 +394,6 @@ class Design:
         if law:
             raise ValueError(f"factors.{law[0]} with factors.rub_kind 'seal' (allowed: no "
                              "contact-law factor: the seal takes the rig's contact law)")
-        self._seal()
 
     def _seal(self) -> StatorContact | None:
         """The annular seal every run of a design with seal rubs has (its clearance out of

@@ -45,7 +45,7 @@ import functools
 from collections.abc import Mapping
 
 from rubdiag import _check
-from rubdiag.dataset import fault_levels
+from rubdiag.dataset.fault_levels import BLADE_SETS
 
 __all__ = ["BLADE_SETS", "CRITICAL_FACTORS", "JOURNAL_FACTORS", "RIG_FACTORS",
            "THRESHOLD_FACTORS", "bearing_loads_n", "blade_set", "blade_set_of",
@@ -60,9 +60,6 @@ JOURNAL_FACTORS = ("oil_viscosity_scale", "bearing_clearance_scale")
 #: contact, and the critical speed map is undamped: neither casing_stiffness_scale nor
 #: damping_ratio moves them)
 CRITICAL_FACTORS = ("blade_count", "disc_mass_scale", *JOURNAL_FACTORS)
-# the sets of blades that may rub (``rubbing_blades``): the study's is every other blade
-# (8 of 16); blade 1 alone is one long blade
-BLADE_SETS = fault_levels.BLADE_SETS
 #: the factors that move the threshold of instability: those and the damping
 THRESHOLD_FACTORS = ("damping_ratio", *CRITICAL_FACTORS)
 
