@@ -1,7 +1,7 @@
 """Where a step of the full model's kernel spends its time (issue 13, point 2).
 
 Runs the study's rubbing cells (case 1 and case 2, g0 = 1.9 mm: serious) through
-``rubdiag.simulate.simulate`` with the kernel's cycle counters on
+``rubdiag.simulation.simulate`` with the kernel's cycle counters on
 (``simulate_system(profile=True)``: the same bits, one counter read per section), and
 prints, per case, the kernel's µs per step and each section's share:
 
@@ -39,10 +39,10 @@ if __name__ == "__main__":     # a run starts here (imported, numpy is loaded al
 # isort: split
 import numpy as np
 
-from rubdiag.kernels.newmark import PROFILE_SECTIONS
-from rubdiag.simulate import Run, simulate
-from rubdiag.simulate import simulation as simulation_module
-from rubdiag.simulate.system import simulate_system
+from rubdiag._kernels.newmark import PROFILE_SECTIONS
+from rubdiag.simulation import Run, simulate
+from rubdiag.simulation import _simulation as simulation_module
+from rubdiag.simulation._system import simulate_system
 
 
 def run_once(run: Run, profile: bool):

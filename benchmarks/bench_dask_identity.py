@@ -15,7 +15,7 @@ datasets are compared run by run on every column but the wall times (``wall_s``,
 by value. A check passes when no bit differs; the script exits with status 1 when a check
 fails. It prints one line per check (runs, rubbing runs, the columns compared, what differs,
 both wall times) and, first, the machine, versions and the BLAS kernels of this process and
-of the first cluster's workers (``rubdiag.dataset.workers.signature``).
+of the first cluster's workers (``rubdiag.dataset._workers.signature``).
 """
 
 from __future__ import annotations
@@ -81,7 +81,7 @@ def one_check(index: int, args, root: Path) -> dict:
     import dask.distributed as dd
 
     from rubdiag.dataset import Design, generate, load
-    from rubdiag.dataset.workers import signature
+    from rubdiag.dataset._workers import signature
 
     design = Design.from_toml(design_toml(args.runs, args.duration_s, args.seed + index))
     start = time.perf_counter()
@@ -134,7 +134,7 @@ def main(argv=None) -> int:
     p.add_argument("--out", type=Path, help="also write the report to this file")
     args = p.parse_args(argv)
 
-    from rubdiag.dataset.workers import signature
+    from rubdiag.dataset._workers import signature
 
     lines, failed = [], 0
     header = ["| check (seed) | runs (ok) | rubbing | float columns | differing columns | "

@@ -147,7 +147,7 @@ def warm_up(design) -> float:
     """One short run of the design's fastest point through the whole row path (simulate,
     labels, noise, features): compiles the kernels or loads them from the on-disk cache, and
     imports everything a row needs. Returns its wall time."""
-    from rubdiag.dataset.rows import make_row
+    from rubdiag.dataset._rows import make_row
 
     item = max(design.runs(), key=lambda it: it.run.speed_rad_s)
     short = dataclasses.replace(item, run=dataclasses.replace(
@@ -165,7 +165,7 @@ def bare_simulations(design) -> tuple[float, list[float]]:
     """``simulate(item.run)`` of every run, one after the other; (sum, per run) in s."""
     from threadpoolctl import threadpool_limits
 
-    from rubdiag.simulate import simulate
+    from rubdiag.simulation import simulate
 
     per_run = []
     with threadpool_limits(limits=1):
@@ -178,20 +178,20 @@ def bare_simulations(design) -> tuple[float, list[float]]:
 
 #: (module, function, part): what a row's parts are timed by (:func:`part_times`)
 PARTS = (
-    ("rubdiag.simulate.simulation", "damped_model", "set-up: model (rig cache)"),
+    ("rubdiag.simulation._simulation", "damped_model", "set-up: model (rig cache)"),
     ("rubdiag.reduce", "reduced_model", "set-up: reduced model (cache)"),
-    ("rubdiag.simulate.simulation", "rig_system", "set-up: start state"),
-    ("rubdiag.simulate.system", "_level_operators", "set-up: step operators"),
-    ("rubdiag.simulate.simulation", "simulate_system", "set-up: integrator, other"),
-    ("rubdiag.simulate", "simulate", "set-up: simulate, other"),
-    ("rubdiag.simulate.system", "_integrate", "kernel"),
-    ("rubdiag.simulate.system", "_package", "kernel's records to a result"),
-    ("rubdiag.simulate.simulation", "sensor_signals", "sensor signals (filter + decimation)"),
-    ("rubdiag.dataset.rows", "add_noise", "noise"),
-    ("rubdiag.dataset.rows", "_spectral_features", "spectral features"),
-    ("rubdiag.dataset.rows", "_pair_features", "pair features"),
-    ("rubdiag.dataset.rows", "_truth", "contact statistics"),
-    ("rubdiag.dataset.rows", "_labels", "labels"),
+    ("rubdiag.simulation._simulation", "rig_system", "set-up: start state"),
+    ("rubdiag.simulation._system", "_level_operators", "set-up: step operators"),
+    ("rubdiag.simulation._simulation", "simulate_system", "set-up: integrator, other"),
+    ("rubdiag.simulation", "simulate", "set-up: simulate, other"),
+    ("rubdiag.simulation._system", "_integrate", "kernel"),
+    ("rubdiag.simulation._system", "_package", "kernel's records to a result"),
+    ("rubdiag.simulation._simulation", "sensor_signals", "sensor signals (filter + decimation)"),
+    ("rubdiag.dataset._rows", "add_noise", "noise"),
+    ("rubdiag.dataset._rows", "_spectral_features", "spectral features"),
+    ("rubdiag.dataset._rows", "_pair_features", "pair features"),
+    ("rubdiag.dataset._rows", "_truth", "contact statistics"),
+    ("rubdiag.dataset._rows", "_labels", "labels"),
 )
 KERNEL = "kernel"
 REST = "rest (row building, BLAS limits)"
@@ -238,7 +238,7 @@ def part_times(design) -> dict[str, list[tuple[float, float]]]:
     from contextlib import ExitStack
     from unittest import mock
 
-    from rubdiag.dataset.rows import make_row
+    from rubdiag.dataset._rows import make_row
 
     clock = PartClock()
     per_part: dict[str, list[tuple[float, float]]] = {part: [] for *_, part in PARTS}
@@ -292,7 +292,7 @@ def parts_table(per_part: dict[str, list[tuple[float, float]]]) -> list[str]:
 
 def comparable(rows):
     """The rows without provenance (wall times, version), by run id, for equality checks."""
-    from rubdiag.dataset.rows import PROVENANCE
+    from rubdiag.dataset._rows import PROVENANCE
 
     keep = [c for c in rows.columns if c not in PROVENANCE]
     return rows[keep].sort_values("run_id").reset_index(drop=True)

@@ -17,7 +17,7 @@ For every shipped design (``data/designs/*.toml``, or ``--designs``):
 * the expansion alone, what ``generate`` does before its first run is simulated:
   ``Design.from_toml(DESIGN).runs(jobs=JOBS)`` timed in a fresh interpreter after its
   imports (:func:`expansion_seconds`; the design module, ``scipy.stats`` for the samplers
-  and ``rubdiag.runs.features`` for the ramp checks, which the design module loads itself
+  and ``rubdiag.runs._features`` for the ramp checks, which the design module loads itself
   only where a design needs them), cold and warm likewise.
 
 The Numba JIT cache is whatever it is (warm after any run of this checkout). ``--pythonpath``
@@ -45,8 +45,8 @@ DESIGNS = ROOT / "data" / "designs"
 
 _EXPAND = """
 import inspect, sys, time
-import scipy.stats, rubdiag.runs.features   # the samplers, the ramp checks: imports, untimed
-import rubdiag.dataset.design as design_module
+import scipy.stats, rubdiag.runs._features   # the samplers, the ramp checks: imports, untimed
+import rubdiag.dataset._design as design_module
 path, jobs = sys.argv[1], int(sys.argv[2])
 start = time.perf_counter()
 design = design_module.Design.from_toml(path)

@@ -29,10 +29,10 @@ if __name__ == "__main__":     # a run starts here (imported, numpy is loaded al
 import dataclasses
 
 from rubdiag.model import Bearing, JournalFilm, Pedestal, paper_rig
-from rubdiag.simulate import Run, simulate
-from rubdiag.simulate.faults import Crack, Faults, Looseness
-from rubdiag.simulate.misalignment import Misalignment
-from rubdiag.simulate.static_load import StaticLoad
+from rubdiag.simulation import Run, simulate
+from rubdiag.simulation._faults import Crack, Faults, Looseness
+from rubdiag.simulation._misalignment import Misalignment
+from rubdiag.simulation._static_load import StaticLoad
 
 GRAVITY = StaticLoad(direction="y", gravity_m_s2=-9.81)
 
@@ -41,7 +41,7 @@ def cases(duration: float) -> dict[str, Run]:
     base = dict(speed_rpm=750.0, duration_s=duration, discard_s=0.0, static_load=GRAVITY)
     coupling = Misalignment(node=3, drive_torque_n_m=20.0, spacer_length_m=0.05,
                             offset_m=5e-4)
-    rig = paper_rig()       # bearing 0 on a 20 kg pedestal (tests/simulate/test_looseness…)
+    rig = paper_rig()       # bearing 0 on a 20 kg pedestal (tests/simulation/test_looseness…)
     seat = Pedestal(mass_kg=20.0, k_y_n_m=2e7, k_z_n_m=2e7, c_y_ns_m=500.0, c_z_ns_m=500.0)
     pedestal = dataclasses.replace(
         rig, bearings=(dataclasses.replace(rig.bearings[0], pedestal=seat), *rig.bearings[1:]))

@@ -9,7 +9,7 @@ Takes the first ``--per-level`` design points of each fault level of
 dataset's default long steps) and as many points again of ``data/designs/rub_lhs200.toml``
 (the paper rig's rub design) made as long (its ``[base]`` given the fault design's
 ``duration_s``, ``discard_s`` and ``reduced``), so both simulate the same time. Every run is
-made into a dataset row (:func:`rubdiag.dataset.rows.make_row`: simulate, features, labels)
+made into a dataset row (:func:`rubdiag.dataset._rows.make_row`: simulate, features, labels)
 on ``--jobs`` worker processes, all runs in one interleaved queue so that a change of the
 machine's load hits every level alike; the worker time of a run is its row's ``wall_s``.
 
@@ -36,9 +36,9 @@ if __name__ == "__main__":     # a run starts here (imported, numpy is loaded al
 
 # isort: split
 from rubdiag.dataset import Design
-from rubdiag.dataset.design import DesignRun
-from rubdiag.dataset.ids import point_id, run_id
-from rubdiag.dataset.rows import make_row
+from rubdiag.dataset._design import DesignRun
+from rubdiag.dataset._ids import point_id, run_id
+from rubdiag.dataset._rows import make_row
 
 DESIGNS = Path(__file__).resolve().parent.parent / "data" / "designs"
 FAULTS = DESIGNS / "faults_journal.toml"

@@ -30,7 +30,7 @@ if __name__ == "__main__":     # a run starts here (imported, numpy is loaded al
 # isort: split
 import numpy as np
 
-from rubdiag.simulate import simulate_system
+from rubdiag.simulation import simulate_system
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))  # the tests' systems
 from testsystems import bladed_rotor_casing, linear_response

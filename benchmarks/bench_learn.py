@@ -14,7 +14,7 @@ Measured, each ``--repeat`` times (medians reported, min–max beside them):
     noise at 1500 … 5700 rpm); ``fit`` (a shape check) is not timed. Throughput in signals/s
     and in features/s (the transformer's 106 output columns per signal, ``speed_rpm`` and
     ``speed_confidence`` included).
-(b) ``rubdiag.learn.predict(model, paths)`` on ``--records`` records of 10 s at 10 kHz
+(b) ``rubdiag.learn._predict(model, paths)`` on ``--records`` records of 10 s at 10 kHz
     with the six shaft displacement channels of the paper rig's sensors (the default
     model's inputs), each record a file: CSV (a time column and six channels, written with
     ``%.7g``; 100,000 rows) and NPZ (one array per channel and ``fs``). Timed: the whole
@@ -27,7 +27,7 @@ Measured, each ``--repeat`` times (medians reported, min–max beside them):
     speed (``prefixed_features`` per window) and the fitted pipeline on those rows
     (``predict_proba``).
 
-The model: ``rubdiag.learn.train`` (defaults but for the evaluation's importances,
+The model: ``rubdiag.learn._train`` (defaults but for the evaluation's importances,
 baselines and audit, which are off) on a synthetic dataset made here — 40 design points ×
 2 replicates of a 2-s window at 10 kHz, half of the points rubbing, speeds 1200–6800 rpm —
 so that the script needs no simulation and runs in about a minute. Rub in the synthetic
@@ -96,7 +96,7 @@ def training_rows(points: int = 40, replicates: int = 2, seed: int = 1,
                   window_s: float = WINDOW_S) -> pd.DataFrame:
     """A synthetic dataset frame as rubdiag.learn.read_dataset returns one (runs of
     ``window_s`` seconds)."""
-    from rubdiag.learn.robustness import window_features
+    from rubdiag.learn._robustness import window_features
 
     rng = np.random.default_rng(seed)
     names = [c[0] for c in CHANNELS]
@@ -153,7 +153,7 @@ def breakdown(model, path: Path, csv: Path, repeat: int) -> dict:
     step and the whole pipeline on those rows."""
     from rubdiag.learn import predict
     from rubdiag.signal import read_signals
-    from rubdiag.signal.table import prefixed_features
+    from rubdiag.signal._table import prefixed_features
 
     frame, fs = read_signals(path)
     n = round(model.meta["window_s"] * fs)

@@ -25,12 +25,12 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-import rubdiag.signal.bandfloor as bandfloor
+import rubdiag.signal._bandfloor as bandfloor
 from rubdiag.dataset import Design, generate, load
-from rubdiag.dataset.noise import NoiseFloors
+from rubdiag.dataset._noise import NoiseFloors
 from rubdiag.learn import make_pipeline, shaft_channels
-from rubdiag.learn.features import _level
-from rubdiag.signal.orders import HARMONICS
+from rubdiag.learn._features import _level
+from rubdiag.signal._orders import HARMONICS
 
 DESIGN = """
 [base]

@@ -49,9 +49,9 @@ def make_model(out: Path) -> Path:
     """The default random forest on the disc probes, fitted on 80 synthetic 1-s runs;
     saved as a model folder ``out``."""
     from rubdiag.learn import make_pipeline
-    from rubdiag.learn.features import DEFAULT_FAMILIES
-    from rubdiag.learn.persist import save_model
-    from rubdiag.learn.train import model_meta
+    from rubdiag.learn._features import DEFAULT_FAMILIES
+    from rubdiag.learn._persist import save_model
+    from rubdiag.learn._train import model_meta
 
     data = training_rows(window_s=RECORD_S)
     pipeline = make_pipeline("rf", channels=CHANNELS).fit(data, data["rub"].astype(str))

@@ -66,9 +66,9 @@ import rubdiag.cli, rubdiag.simulate
 lap("imports")
 from rubdiag.model import paper_rig
 from rubdiag.reduce import Reduction, reduced_model
-from rubdiag.simulate import Run, simulate
+from rubdiag.simulation import Run, simulate
 try:
-    from rubdiag.simulate.rig_cache import damped_model
+    from rubdiag.simulation._rig_cache import damped_model
 except ImportError:    # a checkout from before the cache
     from rubdiag.assembly import assemble
     from rubdiag.modal import with_rayleigh

@@ -1,7 +1,7 @@
 """Full against reduced model: speed of the study's rubbing cells, and the reduction's cost.
 
 For case 1 and case 2 at g0 = 1.9 mm (both rub), the default 2.3-s run through
-``rubdiag.simulate.simulate``, full (412 DOF, sparse LU) and reduced (Craig–Bampton, default
+``rubdiag.simulation.simulate``, full (412 DOF, sparse LU) and reduced (Craig–Bampton, default
 cutoff or each of ``--cutoff-hz``, dense), median of ``--repeat`` runs after one warm-up run
 each:
 
@@ -29,13 +29,13 @@ import time
 from functools import partial
 from unittest import mock
 
-from rubdiag.kernels.newmark import PROFILE_SECTIONS
+from rubdiag._kernels.newmark import PROFILE_SECTIONS
 from rubdiag.model import paper_rig
 from rubdiag.reduce import Reduction, reduced
-from rubdiag.reduce.spec import DEFAULT_CUTOFF_HZ
-from rubdiag.simulate import Run, simulate
-from rubdiag.simulate import simulation as simulation_module
-from rubdiag.simulate.system import simulate_system
+from rubdiag.reduce._spec import DEFAULT_CUTOFF_HZ
+from rubdiag.simulation import Run, simulate
+from rubdiag.simulation import _simulation as simulation_module
+from rubdiag.simulation._system import simulate_system
 
 
 def timed(run: Run) -> dict:

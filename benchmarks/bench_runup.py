@@ -1,7 +1,7 @@
 """Run-up speed: simulated seconds per wall second of a 6-s run-up with rub.
 
 The issue-14 example — case 1, 600 → 2400 rpm at 300 rpm/s (6 s), g0 = 2.3 mm, which rubs
-through the first critical — through ``rubdiag.simulate.simulate``, full (412 DOF) and
+through the first critical — through ``rubdiag.simulation.simulate``, full (412 DOF) and
 reduced (Craig–Bampton, 2 kHz) model, median of ``--repeat`` runs after one warm-up run
 each. Also printed: the kernel's µs per step, the speed stretches (refactorisations of the
 step operators) and the contact episodes.
@@ -26,8 +26,8 @@ if __name__ == "__main__":     # a run starts here (imported, numpy is loaded al
 # isort: split
 
 from rubdiag.reduce import Reduction
-from rubdiag.runs.runup import ramp_run
-from rubdiag.simulate import simulate
+from rubdiag.runs._runup import ramp_run
+from rubdiag.simulation import simulate
 
 
 def timed(run) -> dict:

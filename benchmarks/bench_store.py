@@ -7,7 +7,7 @@ Usage::
 
 One real row first: the paper rig, case 1 at its critical speed, g0 = 1.9 mm, the reduced
 model, 1.3 s simulated (0.3 s discarded), the default sensors (6 shaft probes and the
-casing accelerometer: ≈ 870 columns), made by ``rubdiag.dataset.rows.make_row`` twice in
+casing accelerometer: ≈ 870 columns), made by ``rubdiag.dataset._rows.make_row`` twice in
 this process, as a dataset worker makes its runs (the first loads the kernels; the second's
 ``wall_s`` is the run the writer is measured against, the fixed ≤ 26 ms of the issue the
 other). Then
@@ -60,7 +60,7 @@ gap_mm = [1.9]
 
 def one_row() -> dict:
     from rubdiag.dataset import Design
-    from rubdiag.dataset.rows import make_row
+    from rubdiag.dataset._rows import make_row
 
     design = Design.from_toml(DESIGN)
     item = design.runs()[0]
@@ -73,8 +73,8 @@ def one_row() -> dict:
 
 def time_writer(row: dict, n: int, chunk_rows: int, root: Path) -> tuple[list, float, int]:
     """(seconds of each add, seconds of the final compaction, chunks written)."""
-    from rubdiag.dataset.generation import _Writer as writer_class
-    from rubdiag.dataset.store import DatasetFolder, load
+    from rubdiag.dataset._generation import _Writer as writer_class
+    from rubdiag.dataset._store import DatasetFolder, load
 
     folder = DatasetFolder(root)
     folder.create(DESIGN)
@@ -94,7 +94,7 @@ def time_writer(row: dict, n: int, chunk_rows: int, root: Path) -> tuple[list, f
 
 
 def time_parquet_rows(row: dict, n: int, root: Path) -> list:
-    from rubdiag.dataset.chunks import row_schema, write_chunk
+    from rubdiag.dataset._chunks import row_schema, write_chunk
 
     schema = row_schema(row)
     root.mkdir()

@@ -31,9 +31,9 @@ def main() -> None:
     ap.add_argument("--jobs", type=int, default=None)
     args = ap.parse_args()
 
-    from rubdiag.simulate import Run, simulate
+    from rubdiag.simulation import Run, simulate
 
-    module = importlib.import_module("rubdiag.paper.table2")   # the package exports table2()
+    module = importlib.import_module("rubdiag.paper._table2")   # the package exports table2()
     with warnings.catch_warnings():      # a 0.01-s run is all gap ramp: said, and known
         warnings.simplefilter("ignore")
         simulate(Run.paper_case(1, 2.3, duration_s=0.01, discard_s=0.0))   # warm the cache

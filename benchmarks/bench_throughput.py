@@ -13,7 +13,7 @@ in ``bench_dataset.py``). Three configurations of it differ in ``[base]`` only:
 * A: the full model at the 10-µs base step (``step_error = 0``);
 * B: the reduced model at the 10-µs base step (``reduced = true``, ``step_error = 0``);
 * C: the dataset defaults (``reduced = true`` and no ``step_error``:
-  ``rubdiag.dataset.design.DEFAULT_STEP_ERROR``, long steps where nothing is in contact).
+  ``rubdiag.dataset._design.DEFAULT_STEP_ERROR``, long steps where nothing is in contact).
 
 After a warm-up (one 0.3-s run of each configuration through the row path in this process,
 so the Numba kernels are compiled or loaded from the on-disk cache; the local workers are
@@ -168,7 +168,7 @@ def report(args, design, now, commit, pools, load_start, warm, measured, schedul
     import numpy as np
 
     import rubdiag
-    from rubdiag.dataset.design import DEFAULT_STEP_ERROR
+    from rubdiag.dataset._design import DEFAULT_STEP_ERROR
 
     n, d = args.runs, args.duration_s
     cases = sorted({item.point["case"] for item in design.runs()})

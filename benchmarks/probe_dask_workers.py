@@ -56,7 +56,7 @@ def place() -> dict:
 def _local_place() -> dict:
     from concurrent.futures import ProcessPoolExecutor
 
-    from rubdiag.dataset.generation import _start_worker
+    from rubdiag.dataset._generation import _start_worker
 
     with ProcessPoolExecutor(1, initializer=_start_worker) as pool:
         return pool.submit(place).result()
@@ -73,10 +73,10 @@ def perturbed_rows(items, repeats: int, seed: int = 0) -> tuple[list[str], int]:
     import numpy as np
     from threadpoolctl import threadpool_limits
 
-    from rubdiag.dataset.ids import noise_id
-    from rubdiag.dataset.noise import NoiseFloors, add_noise, noise_seed
-    from rubdiag.signal.table import prefixed_features
-    from rubdiag.simulate import simulate
+    from rubdiag.dataset._ids import noise_id
+    from rubdiag.dataset._noise import NoiseFloors, add_noise, noise_seed
+    from rubdiag.signal._table import prefixed_features
+    from rubdiag.simulation import simulate
 
     def after_simulation(item, result) -> str:
         signals = result.sensor_signals()
@@ -141,7 +141,7 @@ def main(argv=None) -> int:
     from bench_dask_identity import design_toml  # benchmarks/ is on sys.path as a script
 
     from rubdiag.dataset import Design
-    from rubdiag.dataset.workers import align_dask_workers, signature
+    from rubdiag.dataset._workers import align_dask_workers, signature
 
     signature()                     # loads scipy.linalg's BLAS here too
     toml = design_toml(4, 0.6, 1)

@@ -5,7 +5,7 @@ mid-span ``shaft 11 y``, 4-revolution bins one revolution apart) and the same ru
 contact (g0 = 50 mm), on the reduced model. For each rub order it prints, away from contact
 (more than 50 rpm outside the first-to-last contact speeds) and in contact, the median (and
 90th percentile) of the order over 1× and the median of the order over its leakage level
-(:func:`rubdiag.signal.leakage.tracking_leakage`: what tracking the 1× track alone puts
+(:func:`rubdiag.signal._leakage.tracking_leakage`: what tracking the 1× track alone puts
 there). An order over its leakage near 1 is leakage.
 
     python benchmarks/runup_leakage.py
@@ -19,9 +19,9 @@ import numpy as np
 
 from rubdiag.reduce import Reduction
 from rubdiag.runs import ramp_run, runup_orders, runup_summary
-from rubdiag.signal.leakage import tracking_leakage
-from rubdiag.signal.orders import order_label
-from rubdiag.simulate import simulate
+from rubdiag.signal._leakage import tracking_leakage
+from rubdiag.signal._orders import order_label
+from rubdiag.simulation import simulate
 
 ORDERS = (0.5, 1.5, 2.0, 3.0)
 MARGIN_RPM = 50.0

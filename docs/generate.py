@@ -4,7 +4,7 @@
   autosummary table of the names of its ``__all__`` (each with a page of its own);
 * ``cli.md``: every ``rubdiag`` command's help, as ``rubdiag COMMAND --help`` prints it;
 * ``tutorials/index.md``: the notebooks, in order;
-* ``features.md``: the dictionary of the feature columns (:mod:`rubdiag.signal.glossary`);
+* ``features.md``: the dictionary of the feature columns (:mod:`rubdiag.signal._glossary`);
 * ``tables/<name>.md``: each table of the validation and explanation pages, rendered from its
   file in ``data/`` by the script that wrote the file (:data:`TABLES`), and the values of
   ``data/tolerances.toml`` that the pages' prose states (:func:`substitutions`).
@@ -27,7 +27,7 @@ ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT / "data"
 
 #: the public subpackages, in the order a user meets them (the layers, bottom up)
-SUBPACKAGES = ("model", "assembly", "modal", "simulate", "reduce", "runs", "signal",
+SUBPACKAGES = ("model", "assembly", "modal", "simulation", "reduce", "runs", "signal",
                "dataset", "learn", "paper")
 
 
@@ -100,14 +100,14 @@ def cli_page() -> str:
 
 def features_page() -> str:
     """The feature dictionary: one table row per name pattern."""
-    from rubdiag.signal.glossary import glossary_frame
+    from rubdiag.signal._glossary import glossary_frame
 
     frame = glossary_frame()
     out = ["# Feature columns", "",
            "What each feature column of a feature table or a dataset row means. A dataset "
            "stores a channel's features as `<channel>__<feature>` (`shaft11_y_disp__amp_2x`) "
            "and a probe pair's as `<node>_yz_disp__<feature>`; its `columns.csv` gives every "
-           "column's group, channel and unit. `rubdiag.signal.glossary.describe(name)` looks "
+           "column's group, channel and unit. `rubdiag.signal._glossary.describe(name)` looks "
            "a column up.", "",
            "In a pattern, `<k>` is an order label (`1x`, `2x`, `1p5x` for 1.5×, `0p33x` for "
            "⅓×) and `<n>` a harmonic, 1 to 8. The unit *signal* is the unit of the signal "
@@ -152,9 +152,9 @@ def _percent(fraction: float) -> str:
 def substitutions() -> dict[str, str]:
     """The values that prose states, as MyST substitutions (``{{ off_bin_band }}`` in a
     page): the bands of ``data/tolerances.toml`` and the library's constants."""
-    from rubdiag.learn.caveats import MIN_RUNS_PER_CLASS
-    from rubdiag.learn.channel_choice import NOISE_MARGIN_DB
-    check = importlib.import_module("rubdiag.reduce.check")    # the module, not the function
+    from rubdiag.learn._caveats import MIN_RUNS_PER_CLASS
+    from rubdiag.learn._channel_choice import NOISE_MARGIN_DB
+    check = importlib.import_module("rubdiag.reduce._check")    # the module, not the function
     t = tolerances()
     return {"reduce_frequency_tolerance": _percent(check.FREQUENCY_TOLERANCE),
             "reduce_response_tolerance": _percent(check.RESPONSE_TOLERANCE),

@@ -22,8 +22,8 @@ def main() -> None:
     matplotlib.use("Agg")
     from PIL import Image
 
-    from rubdiag.plotting.run import run_figure
-    from rubdiag.simulate import Run, simulate
+    from rubdiag.plotting._run import run_figure
+    from rubdiag.simulation import Run, simulate
 
     figure = run_figure(simulate(Run.paper_case(1, gap_mm=1.9)))
     OUT.parent.mkdir(parents=True, exist_ok=True)

@@ -1,5 +1,5 @@
 """When a contact episode is a rub and when a graze: one rule for the labels and the contact
-statistics (``rubdiag.dataset.labels``, ``rubdiag.runs.contact_stats``), kept here so that
+statistics (``rubdiag.dataset._labels``, ``rubdiag.runs._contact_stats``), kept here so that
 both read it without importing each other's layers."""
 
 from __future__ import annotations
@@ -13,5 +13,5 @@ MIN_EPISODE_S = 15e-6
 
 def closed_time(episodes):
     """Each episode's closed time (s): its steps' lengths, sliding and sticking (an
-    :class:`~rubdiag.simulate.result.EpisodeLog` or anything with those arrays)."""
+    :class:`~rubdiag.simulation._result.EpisodeLog` or anything with those arrays)."""
     return episodes.slide_time + episodes.stick_time

@@ -103,7 +103,7 @@ def simulated(total_s: float, desc: str, enabled: bool = True, stream=None):
 
 
 def following(progress, start_s: float, span_s: float) -> Callable[[float, float], None] | None:
-    """The ``progress(t, duration)`` callback of :func:`rubdiag.simulate.simulate` that moves
+    """The ``progress(t, duration)`` callback of :func:`rubdiag.simulation.simulate` that moves
     the bar ``progress`` (a :func:`simulated` bar) from ``start_s`` to ``start_s + span_s``
     as the run goes from 0 to its end (s); None when the bar is not shown, so that a quiet
     run is integrated in one piece, as without a bar."""

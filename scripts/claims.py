@@ -13,7 +13,7 @@ reproduced as strict xfails with their reason.
 
 A claim is measured either on the Table 2 reproduction (``data`` = ``table``: one run per
 cell) or on the five start histories of a case-1 cell (``ensemble case 1 light|serious``:
-the gap ramp 0.1 s ± 2 %, :func:`rubdiag.paper.ensemble`), where ``measured`` counts the runs
+the gap ramp 0.1 s ± 2 %, :func:`rubdiag.paper._ensemble`), where ``measured`` counts the runs
 whose per-run quantity lies in ``per_run``.
 
 Usage::
@@ -23,7 +23,7 @@ Usage::
     python scripts/claims.py --no-measure          # statuses from stored measurements
     python scripts/claims.py --no-measure --check  # fast: do the statuses follow?
 
-Measuring runs Table 2 (``rubdiag.paper.table2``, whose runs are kept in ``OUT/runs``) and
+Measuring runs Table 2 (``rubdiag.paper._table2``, whose runs are kept in ``OUT/runs``) and
 the two case-1 ensembles (10 runs, kept in ``OUT/claims_ensemble.csv`` with the fingerprint
 of their run descriptions): a few minutes on 2 cores the first time.
 """
@@ -277,7 +277,7 @@ def per_run_values(claim: dict, ensemble) -> list[float]:
 
 
 def measure(claim: dict, table, ensemble=None) -> tuple[float, str]:
-    """``(value, detail)`` of one claim: on ``table`` (:func:`rubdiag.paper.table2`'s, with
+    """``(value, detail)`` of one claim: on ``table`` (:func:`rubdiag.paper._table2`'s, with
     its ``features``) or, for an ensemble claim, the number of start histories in
     ``ensemble`` (:func:`case1_ensemble`) whose quantity lies in ``per_run``."""
     if ensemble_intensity(claim) is None:
@@ -302,7 +302,7 @@ def case1_ensemble(jobs: int | None = 2, cache: Path | None = None):
     import pandas as pd
 
     from rubdiag.paper import GAP_RAMPS_S, ensemble
-    from rubdiag.simulate import Run
+    from rubdiag.simulation import Run
 
     runs = [Run.paper_case(c, g, gap_ramp_s=r) for c, g in ENSEMBLE_CASES for r in GAP_RAMPS_S]
     key = hashlib.sha256("\n".join(map(repr, runs)).encode()).hexdigest()

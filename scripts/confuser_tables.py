@@ -21,7 +21,7 @@ speed bands; ``tests/learn/test_bands_confuser_tables.py`` checks its goals) or
 extra cell holds out one blade count at a time, :data:`EXTRA_CELLS`, and its rates give
 the rub recall of each kind; ``tests/learn/test_rub_kinds_tables.py``).
 
-**Goals** (:data:`CELLS`): :func:`rubdiag.learn.evaluate` with the forest on the shaft
+**Goals** (:data:`CELLS`): :func:`rubdiag.learn._evaluate` with the forest on the shaft
 probes only (``channels="shaft"``: every probe but the casing's) and the order families
 plus the probe pairs' full spectrum and orbit (:data:`FAMILIES`), held out by design point
 (``group``), by speed band (``speed_ratio``, 5 quantile bands of design points) and by each
@@ -89,8 +89,8 @@ EXTRA_CELLS = {"rub_kinds": [("rub", "blade_count")]}
 def _channels_and_features(data):
     """The shaft channels and every row's derived features of FAMILIES (a per-row
     transform: fitting it learns nothing from other rows)."""
-    from rubdiag.learn.evaluate import resolve_channels
-    from rubdiag.learn.features import OrderFeatures
+    from rubdiag.learn._evaluate import resolve_channels
+    from rubdiag.learn._features import OrderFeatures
 
     channels = resolve_channels(data, "shaft")
     features = OrderFeatures(channels=channels, families=FAMILIES).fit(data)
@@ -147,9 +147,9 @@ MIN_PAIR_RUNS = 5
 def one_vs_one(data, features, splits=("group",)) -> pd.DataFrame:
     """Held-out macro-F1 of each family on each pair of pure classes, by each of ``splits``
     (module docstring)."""
-    from rubdiag.learn.metrics import score
-    from rubdiag.learn.pipelines import make_estimator
-    from rubdiag.learn.splits import folds
+    from rubdiag.learn._metrics import score
+    from rubdiag.learn._pipelines import make_estimator
+    from rubdiag.learn._splits import folds
 
     faults = data["faults"].astype(str).to_numpy()
     groups = data["point_id"].to_numpy()

@@ -3,7 +3,7 @@
 For each design of ``data/designs/*.toml``, one row per run of ``Design.runs()``: the design's
 file name, the run's index, ``run_id``, ``point_id``, the design point's speed (rpm, ``repr``:
 every digit) and the run's gap g0 (m, ``repr``; empty for a run whose gap is the design's
-"none"). The run ids hash the whole run description (:mod:`rubdiag.dataset.ids`), speeds
+"none"). The run ids hash the whole run description (:mod:`rubdiag.dataset._ids`), speeds
 and gaps included, so equal ids mean equal runs; the speed and gap columns say which number
 moved when they are not.
 

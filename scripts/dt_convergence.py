@@ -2,11 +2,11 @@
 """Time-step convergence of the Table 2 columns: five start histories per cell at three dt.
 
 Every cell of the study's Table 2 — (case 1, g0 = 2.3 mm light), (1, 1.9 serious),
-(2, 2.3), (2, 1.9), :data:`rubdiag.paper.table2.CASES` — runs once per gap-ramp length of the
-default start-history ensemble (:data:`rubdiag.paper.ensemble.GAP_RAMPS_S`, 0.1 s ± 2 %) at
+(2, 2.3), (2, 1.9), :data:`rubdiag.paper._table2.CASES` — runs once per gap-ramp length of the
+default start-history ensemble (:data:`rubdiag.paper._ensemble.GAP_RAMPS_S`, 0.1 s ± 2 %) at
 each largest step dt = 10, 5 and 2.5 µs (:data:`DTS_S`), with the duration and discard of
-:func:`rubdiag.paper.table2.table2` (2.3 s, 0.3 s): 60 runs. The runs are the ones
-:func:`rubdiag.paper.ensemble.ensemble` makes (``Run.paper_case(case, gap_mm,
+:func:`rubdiag.paper._table2.table2` (2.3 s, 0.3 s): 60 runs. The runs are the ones
+:func:`rubdiag.paper._ensemble.ensemble` makes (``Run.paper_case(case, gap_mm,
 gap_ramp_s=…, dt_s=…)``), so that the 10-µs, 0.1-s one of each cell is the Table 2 run.
 
 **Per-run rows** (``data/dt_convergence_runs.csv``, 6 significant digits): the cell, the gap
@@ -62,8 +62,8 @@ if __name__ == "__main__":     # a run starts here (imported, numpy is loaded al
 import numpy as np
 import pandas as pd
 
-from rubdiag.paper.ensemble import GAP_RAMPS_S
-from rubdiag.paper.table2 import CASES, DIGITS, paper_values, table2
+from rubdiag.paper._ensemble import GAP_RAMPS_S
+from rubdiag.paper._table2 import CASES, DIGITS, paper_values, table2
 
 ROOT = Path(__file__).resolve().parents[1]
 RUNS_CSV = ROOT / "data" / "dt_convergence_runs.csv"
@@ -141,7 +141,7 @@ def grid() -> list[dict]:
 
 
 def make_run(key: dict):
-    from rubdiag.simulate import Run
+    from rubdiag.simulation import Run
 
     return Run.paper_case(key["case"], key["gap_mm"], gap_ramp_s=key["gap_ramp_s"],
                           dt_s=key["dt_s"], duration_s=DURATION_S, discard_s=DISCARD_S)
@@ -158,7 +158,7 @@ def _entries_rate(entries: float, seconds: float) -> float:
 
 def row_of(result, key: dict) -> dict:
     """One per-run row (:data:`ROW_COLUMNS`) of a finished run."""
-    from rubdiag.paper.describe import describe_spectrum
+    from rubdiag.paper._describe import describe_spectrum
     from rubdiag.runs import run_features
 
     feats = run_features(result).iloc[0].to_dict()
@@ -197,7 +197,7 @@ def row_of(result, key: dict) -> dict:
 
 def _row_worker(key: dict, cache: str | None) -> dict:
     """Worker: the row of one run, from its cached result or a new simulation (then cached)."""
-    from rubdiag.simulate import load_result, simulate
+    from rubdiag.simulation import load_result, simulate
 
     run = make_run(key)
     path = Path(cache) / f"{stem(key)}.npz" if cache else None

@@ -10,8 +10,8 @@ Runs
 μ = 0.10, 0.15 … 0.60 (every other value first: 0.1, 0.2 … 0.6, then 0.15 … 0.55, so that
 an interrupted scan still covers the whole range); for every μ the four Table 2 cells
 (case 1 and 2, g0 = 2.3 and 1.9 mm) from the five start histories of
-:data:`rubdiag.paper.ensemble.GAP_RAMPS_S` (gap ramp 0.1 s ± 2 %), through
-:func:`rubdiag.paper.ensemble` with ``contact = replace(rig.contact,
+:data:`rubdiag.paper._ensemble.GAP_RAMPS_S` (gap ramp 0.1 s ± 2 %), through
+:func:`rubdiag.paper._ensemble` with ``contact = replace(rig.contact,
 friction_coefficient=μ)`` on the paper rig preset, everything else as in Table 2 (dt =
 1e-5 s, 2.3 s simulated, the first 0.3 s discarded). 11 × 4 × 5 = 220 runs.
 
@@ -148,7 +148,7 @@ def log(message: str) -> None:
 # runs
 # ------------------------------------------------------------------------------------------
 def _rows(table: pd.DataFrame, mu: float) -> pd.DataFrame:
-    """Our per-run columns from :func:`rubdiag.paper.ensemble` rows."""
+    """Our per-run columns from :func:`rubdiag.paper._ensemble` rows."""
     intensity = {gap: name for _, name, gap in CELLS}
     out = pd.DataFrame({"mu": mu, "case": table["case"],
                         "intensity": table["gap_mm"].map(intensity),
@@ -166,7 +166,7 @@ def run_mu(mu: float, jobs: int) -> pd.DataFrame:
     """The 20 runs of one μ; a run that raises becomes a row with its status and message."""
     from rubdiag.model import paper_rig
     from rubdiag.paper import ensemble
-    from rubdiag.paper.ensemble import GAP_RAMPS_S
+    from rubdiag.paper._ensemble import GAP_RAMPS_S
 
     rig = paper_rig()
     contact = dataclasses.replace(rig.contact, friction_coefficient=mu)
@@ -192,7 +192,7 @@ def run_mu(mu: float, jobs: int) -> pd.DataFrame:
 
 
 def _atomic_csv(frame: pd.DataFrame, path: Path) -> None:
-    from rubdiag.paper.table2 import write_csv
+    from rubdiag.paper._table2 import write_csv
 
     tmp = path.with_name(path.name + ".tmp")
     write_csv(frame, tmp)

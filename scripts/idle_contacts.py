@@ -5,10 +5,10 @@ The journal ensemble of ``scripts/step_study.py`` (``data/designs/faults_journal
 20 design points, two per fault level, three start histories, the default long steps and
 measurement noise) is made twice: as rubdiag makes it — a run whose casing is out of reach
 simulated on the reduction without its blade contacts
-(:mod:`rubdiag.simulate.idle_contacts`) — and with ``Reduction(keep_idle_contacts=True)``.
+(:mod:`rubdiag.simulation._idle_contacts`) — and with ``Reduction(keep_idle_contacts=True)``.
 The rubbing runs are the same runs in both; the others (30 runs) differ only by the
 reduced basis. Both are measured with the same noise draw
-(:func:`rubdiag.dataset.ids.noise_id`).
+(:func:`rubdiag.dataset._ids.noise_id`).
 
 Per family of quantities, over the runs without rub, as the step study: the change
 (median over runs of |left out − kept|) against max(scatter between start histories,

@@ -9,7 +9,7 @@ macro-F1 with its 95 % interval, beside the baselines on the same folds, on the 
 Every cell uses the estimator of the cell on all six shaft probes (``channels="shaft"``, as
 when the table was made: the default channel set of ``rubdiag train`` now leaves out the
 bearing probes, which carry only their noise floor), the default order-normalised features
-and :func:`rubdiag.learn.evaluate`'s other defaults (1000 bootstrap draws over design
+and :func:`rubdiag.learn._evaluate`'s other defaults (1000 bootstrap draws over design
 points, seed 0). The targets the issue sets (:data:`GOALS`) are checked by
 ``tests/learn/test_learn_table.py`` against the stored CSV.
 """

@@ -5,7 +5,7 @@ OpenBLAS kernels they were made with:
 
 * ``short`` — case 1 serious (g0 = 1.9 mm) at a fixed 10-µs step for 30 ms, the gap closed
   over the first 10 ms so that the blades touch, with the default sensors: every array of its
-  :class:`~rubdiag.simulate.result.SystemResult` (short and not
+  :class:`~rubdiag.simulation._result.SystemResult` (short and not
   chaotic), as SHA-256 digests;
 * ``portable`` — the same rig and case through ``simulate_system`` directly, on inputs that
   no LAPACK routine computes (Rayleigh α, β as numbers, Ω given, from rest with a0 = 0,
@@ -21,7 +21,7 @@ other bits than the Haswell ones on the same machine, and a znver3 and a rocketl
 the same bits with the same kernels (``rubdiag/_blas.py`` pins Haswell). The CPU a reference
 was made on is stored, and not compared.
 
-``tests/simulate/test_presplit_reference.py`` asks the current code for the same bits when
+``tests/simulation/test_presplit_reference.py`` asks the current code for the same bits when
 the versions and kernels match and, otherwise, for the portable run to 1e-12 of each array's
 largest magnitude.
 
@@ -50,8 +50,8 @@ OUT = ROOT / "data" / "presplit"
 
 def short_run():
     from rubdiag.model import paper_rig
-    from rubdiag.simulate import Run
-    from rubdiag.simulate.sensors import default_sensors
+    from rubdiag.simulation import Run
+    from rubdiag.simulation._sensors import default_sensors
 
     rig = paper_rig()
     return Run.paper_case(1, 1.9, rig=rig, duration_s=0.03, discard_s=0.02, gap_ramp_s=0.01,
@@ -68,7 +68,7 @@ def portable_run():
     """The ``portable`` run's SystemResult (module docstring)."""
     from rubdiag.assembly import assemble
     from rubdiag.model import paper_rig
-    from rubdiag.simulate import Contacts, HarmonicForce, simulate_system
+    from rubdiag.simulation import Contacts, HarmonicForce, simulate_system
 
     rig = paper_rig()
     model = assemble(rig)
@@ -92,8 +92,8 @@ def portable_run():
 
 def cell_run():
     from rubdiag.model import paper_rig
-    from rubdiag.simulate import Run
-    from rubdiag.simulate.sensors import default_sensors
+    from rubdiag.simulation import Run
+    from rubdiag.simulation._sensors import default_sensors
 
     rig = paper_rig()
     return Run.paper_case(2, 1.9, rig=rig, sensors=default_sensors(rig))
@@ -161,7 +161,7 @@ def main(argv=None) -> int:
     p.add_argument("--out", type=Path, default=OUT)
     args = p.parse_args(argv)
     from rubdiag import __version__
-    from rubdiag.simulate import simulate
+    from rubdiag.simulation import simulate
 
     args.out.mkdir(parents=True, exist_ok=True)
     short = arrays(simulate(short_run()).system)

@@ -3,7 +3,7 @@
 itself as the control (issue 13, point 4).
 
 Issue 13 asks that the reduced model's median over the five default start histories of each
-study cell (:data:`rubdiag.paper.ensemble.GAP_RAMPS_S`, gap ramp 0.1 s ± 2 %) lies within the
+study cell (:data:`rubdiag.paper._ensemble.GAP_RAMPS_S`, gap ramp 0.1 s ± 2 %) lies within the
 full model's min–max over the same five, for the contact-1 maximum force, the casing maximum
 and the sticking share: 12 checks. Rub is chaotic, so how often can a *perfect* model pass?
 The control answers it: the full model run on other start histories from the same ±2 % range
@@ -39,8 +39,8 @@ import numpy as np
 import pandas as pd
 
 from rubdiag.paper import ensemble
-from rubdiag.paper.ensemble import GAP_RAMPS_S
-from rubdiag.paper.table2 import CASES
+from rubdiag.paper._ensemble import GAP_RAMPS_S
+from rubdiag.paper._table2 import CASES
 from rubdiag.reduce import Reduction
 
 ROOT = Path(__file__).resolve().parents[1]

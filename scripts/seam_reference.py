@@ -2,7 +2,7 @@
 
 Runs that reach every path of the contact code, made by the code *before* the element seam
 and stored as SHA-256 digests of every array of their
-:class:`~rubdiag.simulate.result.SystemResult`, with the library versions and OpenBLAS
+:class:`~rubdiag.simulation._result.SystemResult`, with the library versions and OpenBLAS
 kernels they were made with (see ``scripts/presplit_reference.py`` for why the bits depend on
 those and not on the CPU):
 
@@ -18,7 +18,7 @@ those and not on the CPU):
 * ``profile`` — a speed run-up (stretches of step operators, the load's order factors);
 * ``reduced`` — Table 2's case 2 cell on the reduced model for 60 ms.
 
-``tests/simulate/test_seam_reference.py`` asks the current code for the same bits when the
+``tests/simulation/test_seam_reference.py`` asks the current code for the same bits when the
 versions and kernels match.
 
     python scripts/seam_reference.py   # -> data/seam/reference-<kernels>.json
@@ -61,7 +61,7 @@ def _lumped(**options):
 
 def _annular(ts, amplitude, share: float):
     """An annular clearance at the disc, ``share`` of its linear orbit radius."""
-    from rubdiag.simulate import Contacts
+    from rubdiag.simulation import Contacts
 
     y, z = ts.disc_dofs
     radius = float(max(amplitude[y], amplitude[z]))
@@ -69,7 +69,7 @@ def _annular(ts, amplitude, share: float):
 
 
 def _run(ts, contacts, q0, v0, **options):
-    from rubdiag.simulate import simulate_system
+    from rubdiag.simulation import simulate_system
 
     options = {"duration": 0.04, "dt": 1e-5, "output_dt": 1e-4, "omega": ts.speed} | options
     return simulate_system(ts.M, ts.C, ts.K, ts.force, contacts, q0, v0,
@@ -79,7 +79,7 @@ def _run(ts, contacts, q0, v0, **options):
 def runs() -> dict:
     """Every reference run's SystemResult, by name (module docstring)."""
     from rubdiag.reduce import Reduction
-    from rubdiag.simulate import Run, SpeedProfile, simulate
+    from rubdiag.simulation import Run, SpeedProfile, simulate
 
     ts, (q0, v0), amplitude = _lumped(gap=30e-6)
     annular, radius = _annular(ts, amplitude, 0.7)

@@ -3,7 +3,7 @@
 
 One knob at a time around the default (the paper rig preset: mu = 0.4, pure penalty,
 distributed casing support; dt = 1e-5 s, 2.3 s simulated with the first 0.3 s discarded),
-every setting runs all four Table 2 cases through :func:`rubdiag.paper.table2`
+every setting runs all four Table 2 cases through :func:`rubdiag.paper._table2`
 (``figures=False``):
 
 =============================  =====================================================
@@ -212,7 +212,7 @@ def _row_from_features(base: dict, feat: dict, table_row: dict | None, paper: di
         for key in TABLE_METRICS:
             row[key] = table_row[key]
         row["spectrum"] = table_row["shaft_blade_spectrum_features"]
-    else:   # same definitions as table2 (rubdiag/paper/table2.py)
+    else:   # same definitions as table2 (rubdiag/paper/_table2.py)
         row["rotor_max_y_mm"] = feat.get("_rotor_max_y_mm", math.nan)
         row["casing_max_y_um"] = feat["casing_max_y_m"] * 1e6
         for key in TABLE_METRICS[2:]:
@@ -260,7 +260,7 @@ def _rows_from_table(setting: Setting, table: pd.DataFrame, wall: float) -> list
 def _simulate_case(run, path: str) -> dict:
     """Worker for the case-by-case retry: never raises (exceptions are reported as data, so
     that a worker's failure, whatever it is, becomes a row with its message)."""
-    from rubdiag.simulate import SimulationDiverged, simulate
+    from rubdiag.simulation import SimulationDiverged, simulate
 
     start = time.perf_counter()
     try:
@@ -286,9 +286,9 @@ def _simulate_case(run, path: str) -> dict:
 def _rows_case_by_case(setting: Setting, out_dir: Path, jobs: int, first_error: str
                        ) -> list[dict]:
     """The retry after table2 raised: run each case on its own, keep what runs."""
-    from rubdiag.paper.table2 import _cached
+    from rubdiag.paper._table2 import _cached
     from rubdiag.runs import run_features
-    from rubdiag.simulate import Run
+    from rubdiag.simulation import Run
 
     rig, contact = setting.rig(), setting.contact()
     run_dir = out_dir / "runs"
@@ -422,7 +422,7 @@ def load(out: Path) -> pd.DataFrame:
 # the study's findings, per setting
 # ------------------------------------------------------------------------------------------
 #: a broadband peak stands this many times above the levels around 3× and 5×
-#: (the same factor as rubdiag.paper.describe.BROADBAND_FACTOR)
+#: (the same factor as rubdiag.paper._describe.BROADBAND_FACTOR)
 HUMP_FACTOR = 5.0
 
 

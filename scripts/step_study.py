@@ -5,7 +5,7 @@ against the scatter between start histories.
 Two small ensembles, each made twice — at 10 µs (``step_error = 0``) and with long steps
 at a tolerance — with three start histories (replicates: gap ramps of 0.1 s ∓ 1 %) per
 design point and the default measurement noise (a run and its twin at 10 µs are measured
-with the same noise draw: :func:`rubdiag.dataset.ids.noise_id`):
+with the same noise draw: :func:`rubdiag.dataset._ids.noise_id`):
 
 * ``rub``: the paper rig, reduced model, both cases, 0.8–1.2 of the critical speed, gaps
   0.5–4 mm, μ 0.1–0.5 (LHS, 16 points): runs without rub, light and serious rub;
@@ -189,7 +189,7 @@ def _scatter(values: pd.Series, angle: bool) -> pd.Series:
 
 
 def _factors(rows: pd.DataFrame) -> set[str]:
-    from rubdiag.dataset.factors import FACTORS
+    from rubdiag.dataset._factors import FACTORS
 
     return set(FACTORS) & set(rows.columns)
 
@@ -256,7 +256,7 @@ def main(argv=None) -> int:
     if args.table:
         print(markdown(pd.read_csv(CSV)))
         return 0
-    from rubdiag.dataset.design import DEFAULT_STEP_ERROR
+    from rubdiag.dataset._design import DEFAULT_STEP_ERROR
 
     tolerances = args.step_error or [DEFAULT_STEP_ERROR]
     base = generate(args.out, 0.0, args.jobs, args.ensembles)

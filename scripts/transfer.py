@@ -15,7 +15,7 @@ Each is scored (``evaluate_model``: evaluation only, nothing here is ever traine
 
 * its held-out band (a level of a model-uncertainty factor, a speed band, a case);
 * ``--other`` datasets (another rig preset, another design) with the same channels;
-* textbook records (:mod:`rubdiag.learn.textbook`, made here with the model's channels, its
+* textbook records (:mod:`rubdiag.learn._textbook`, made here with the model's channels, its
   window and sampling rate): every kind, strength and precession, at the speeds of the
   10th, 50th and 90th percentiles of the training runs, on the bin grid and midway between
   two bins; the 1× at the median 1× amplitude of the first channel over the training runs
@@ -46,11 +46,11 @@ import numpy as np
 import pandas as pd
 
 from rubdiag.learn import read_dataset, train
-from rubdiag.learn.confusers import calls_rub
-from rubdiag.learn.metrics import wilson_interval
-from rubdiag.learn.records import read_records
-from rubdiag.learn.textbook import KINDS, textbook_records, write_records
-from rubdiag.learn.train import evaluate_model
+from rubdiag.learn._confusers import calls_rub
+from rubdiag.learn._metrics import wilson_interval
+from rubdiag.learn._records import read_records
+from rubdiag.learn._textbook import KINDS, textbook_records, write_records
+from rubdiag.learn._train import evaluate_model
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 CSV, PREDICTIONS = DATA / "transfer.csv", DATA / "transfer_predictions.csv"

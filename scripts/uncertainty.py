@@ -3,7 +3,7 @@
 multi-fault design does to the rig, one factor at a time.
 
 For the design ``data/designs/faults_journal.toml`` (rig ``paper-journal``), each factor of
-:data:`rubdiag.dataset.rig_factors.RIG_FACTORS` is set to each of its levels in the design,
+:data:`rubdiag.dataset._rig_factors.RIG_FACTORS` is set to each of its levels in the design,
 the others at their nominal value (1, or the rig's ξ = 0.04), and the linear rig is
 measured: the case's critical speeds (the critical speed map with the films), the
 threshold of instability (where whirl begins) and the blades' largest linear approach in
@@ -43,7 +43,7 @@ def design():
 
 def variants(d) -> list[tuple[str, float]]:
     """(factor, value) for every level of every rig factor of the design, nominal first."""
-    from rubdiag.dataset.rig_factors import RIG_FACTORS
+    from rubdiag.dataset._rig_factors import RIG_FACTORS
 
     out = [("nominal", math.nan)]
     for f in d.factors:
@@ -54,7 +54,7 @@ def variants(d) -> list[tuple[str, float]]:
 
 def measure(d, factor: str, value: float) -> dict:
     """The row of one variant (module docstring)."""
-    from rubdiag.dataset.approach import sweep_linear_approach_m
+    from rubdiag.dataset._approach import sweep_linear_approach_m
 
     base = {} if factor == "nominal" else {factor: value}
     row = {"factor": factor, "value": value}

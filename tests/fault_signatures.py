@@ -1,6 +1,6 @@
 """Short runs of one fault on the multi-fault rig, and the lines its probes show: shared by
 the tests that check each fault model's signature against its source
-(tests/simulate/test_*_signature.py).
+(tests/simulation/test_*_signature.py).
 
 The rig is the preset ``paper-journal`` under gravity, as in the shipped fault designs;
 the runs use the reduced model, last ``DURATION_S`` and discard their first half (the
@@ -16,10 +16,10 @@ import numpy as np
 
 from rubdiag.model import preset_rig
 from rubdiag.reduce import Reduction
-from rubdiag.signal.fullspectrum import full_spectrum_lines
-from rubdiag.simulate import Run, Sensor, critical_speed_for_case, simulate
-from rubdiag.simulate.faults import Faults
-from rubdiag.simulate.static_load import StaticLoad
+from rubdiag.signal._fullspectrum import full_spectrum_lines
+from rubdiag.simulation import Run, Sensor, critical_speed_for_case, simulate
+from rubdiag.simulation._faults import Faults
+from rubdiag.simulation._static_load import StaticLoad
 
 DURATION_S = 1.6
 #: the probes read: the drive-end journal (shaft 4, on the pedestal), the bladed disc
@@ -34,7 +34,7 @@ def rig():
 
 def fault_run(speed_ratio: float, case: int = 1, **faults):
     """The result of a run of case ``case`` at ``speed_ratio`` times the case's critical
-    speed on :func:`rig`, carrying ``faults`` (:class:`~rubdiag.simulate.faults.Faults`
+    speed on :func:`rig`, carrying ``faults`` (:class:`~rubdiag.simulation._faults.Faults`
     fields)."""
     speed = speed_ratio * critical_speed_for_case(rig(), case)
     sensors = tuple(Sensor(p, d) for p in POINTS for d in ("y", "z"))

@@ -1,6 +1,6 @@
 """A kind of nonlinear element that exists only in the tests: a linear spring and dashpot from
 one DOF to ground, added through the element seam by the recipe of
-:mod:`rubdiag.kernels.elements` and :mod:`rubdiag.simulate.elements` — to prove that recipe.
+:mod:`rubdiag._kernels.elements` and :mod:`rubdiag.simulation._elements` — to prove that recipe.
 
 Law: one local coordinate x = q[dof]; ``p = -k x - c ẋ`` with ẋ from the Newmark relation
 ``ẋ_1 = cv (x - x_n) + cvv ẋ_n + cva ẍ_n`` (records.PROGRESS), so ``dp/dx = -k - c cv``.
@@ -19,8 +19,8 @@ import numba
 import numpy as np
 
 from rubdiag import _check
-from rubdiag.kernels.records import D_NEW, P_NEW, SLIDING, X_N, XA_N, XV_N
-from rubdiag.simulate.elements import Packed
+from rubdiag._kernels.records import D_NEW, P_NEW, SLIDING, X_N, XA_N, XV_N
+from rubdiag.simulation._elements import Packed
 
 KIND = 101
 N_LOCAL = 1

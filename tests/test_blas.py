@@ -3,7 +3,7 @@ on the CPU; the command line and a dataset's local workers call it, ``import rub
 
 Each case runs in a fresh interpreter: OpenBLAS reads its kernel choice once, when loaded.
 That the pinned kernels give the same bits on different CPUs is what
-``tests/simulate/test_presplit_reference.py`` checks (its reference was made on another CPU).
+``tests/simulation/test_presplit_reference.py`` checks (its reference was made on another CPU).
 """
 
 from __future__ import annotations
@@ -58,7 +58,7 @@ def test_the_command_line_pins_them_before_numpy_loads():
 def test_a_local_worker_started_afresh_pins_them(tmp_path):
     """A worker spawned (not forked) by a parent that pinned nothing loads the kernels."""
     code = ("import json, multiprocessing, concurrent.futures as cf\n"
-            "from rubdiag.dataset.workers import start_local_worker\n"
+            "from rubdiag.dataset._workers import start_local_worker\n"
             "from rubdiag._blas import kernels_in_use\n"
             "def report():\n"
             "    import numpy\n"

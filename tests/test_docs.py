@@ -40,7 +40,7 @@ def test_every_command_has_its_help_on_the_command_line_page():
 
 
 def test_the_feature_page_lists_every_pattern_with_its_unit():
-    from rubdiag.signal.glossary import GLOSSARY
+    from rubdiag.signal._glossary import GLOSSARY
 
     page = generate.features_page()
     for entry in GLOSSARY:
@@ -212,8 +212,8 @@ def test_the_tables_show_the_values_of_their_data_files():
 
 
 def test_prose_states_the_library_constants():
-    """The reduced model's tolerances, as its page states them, are rubdiag.reduce.check's."""
-    check = importlib.import_module("rubdiag.reduce.check")    # the module, not the function
+    """The reduced model's tolerances, as its page states them, are rubdiag.reduce._check's."""
+    check = importlib.import_module("rubdiag.reduce._check")    # the module, not the function
     values = generate.substitutions()
     assert values["reduce_frequency_tolerance"] == f"{100 * check.FREQUENCY_TOLERANCE:g} %"
     assert values["reduce_response_tolerance"] == f"{100 * check.RESPONSE_TOLERANCE:g} %"

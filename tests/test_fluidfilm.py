@@ -1,4 +1,4 @@
-"""rubdiag.fluidfilm: the short-bearing π-film force against its closed forms.
+"""rubdiag._fluidfilm: the short-bearing π-film force against its closed forms.
 
 The static forces, the load and the attitude angle are those of the short π-film bearing;
 the linearised stiffness and damping, which rubdiag takes from the Jacobian of the same
@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from rubdiag import fluidfilm as ff
+from rubdiag import _fluidfilm as ff
 from rubdiag._numba import njit
 
 MU, R, L, C, OMEGA = 0.02, 0.02, 0.01, 50e-6, 300.0     # Pa s, m, m, m, rad/s

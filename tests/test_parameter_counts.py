@@ -1,4 +1,4 @@
-"""Narrow interfaces in the simulator (issue 25): no function of rubdiag.kernels or
+"""Narrow interfaces in the simulator (issue 25): no function of rubdiag._kernels or
 rubdiag.simulate takes more than :data:`LIMIT` parameters unless it is allowed below, with
 the measured reason narrowing it would cost. Same-typed arrays passed by position are what a
 long signature invites swapping: a swapped pair still compiles and computes wrong results."""

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from rubdiag.simulate.system import Contacts, HarmonicForce
+from rubdiag.simulation._system import Contacts, HarmonicForce
 
 __all__ = ["TestSystem", "bladed_rotor_casing", "linear_response", "tip_casing_system"]
 

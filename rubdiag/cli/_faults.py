@@ -51,9 +51,9 @@ def add_fault_options(p) -> None:
 def run_options(args) -> dict:
     """The Run fields the fault options give: ``static_load`` and ``faults`` (only those
     asked for)."""
-    from rubdiag.simulate.faults import Crack, Faults, Looseness
-    from rubdiag.simulate.misalignment import Misalignment
-    from rubdiag.simulate.static_load import StaticLoad
+    from rubdiag.simulation._faults import Crack, Faults, Looseness
+    from rubdiag.simulation._misalignment import Misalignment
+    from rubdiag.simulation._static_load import StaticLoad
 
     out = {}
     if args.gravity_m_s2 is not None:

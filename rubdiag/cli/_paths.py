@@ -99,7 +99,7 @@ def load_result(path, option: str | None = None):
     import zipfile
     import zlib
 
-    from rubdiag.simulate import load_result
+    from rubdiag.simulation import load_result
 
     path = input_file(path, option, "a result file")
     if not zipfile.is_zipfile(path):

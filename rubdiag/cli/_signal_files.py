@@ -16,7 +16,7 @@ def unit_of(path, args) -> str | None:
     waveforms' own unit when all the analysed channels (``--column``, else all) share one;
     else None (unknown). ``--unit`` other than the file's own is refused (one line)."""
     from rubdiag.runs import is_result
-    from rubdiag.signal.io import stored_units
+    from rubdiag.signal._io import stored_units
 
     if args.unit is not None and not args.unit.strip():
         raise ValueError(f"--unit {args.unit!r} names no unit (allowed: the unit of the "
@@ -90,8 +90,8 @@ def channels_and_features(path, args, keep_flat: bool = False):
 def _named(path):
     """A guessed speed's refusal and ambiguity warning name the file ``path`` (``compare``
     reads two)."""
-    from rubdiag.signal.speed import SpeedAmbiguous
-    from rubdiag.signal.speedvote import SpeedNotFound
+    from rubdiag.signal._speed import SpeedAmbiguous
+    from rubdiag.signal._speedvote import SpeedNotFound
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -124,7 +124,7 @@ def pair_row(table, frame, fs, args, path) -> dict:
     ``table``): named ``Y+iZ``, at the speed of Y's row of the table, with ``--rotation``.
     Refused in one line: no speed, a name that is not a channel of ``path``, with
     ``--revs-per-bin``."""
-    from rubdiag.signal.fullspectrum import pair_features
+    from rubdiag.signal._fullspectrum import pair_features
 
     if args.revs_per_bin is not None:
         raise ValueError("--pair works at one speed, not with --revs-per-bin")

@@ -108,7 +108,7 @@ def _spectra_figure(args, loaded, rows, unit: str) -> None:
 
     from rubdiag._figures import new_figure
     from rubdiag.plotting import save_figure
-    from rubdiag.plotting.spectra import plot_order_spectra
+    from rubdiag.plotting._spectra import plot_order_spectra
     from rubdiag.signal import amplitude_spectrum
 
     fig = new_figure(figsize=(9.0, 4.2 * len(rows)), layout="constrained")

@@ -48,7 +48,7 @@ def _dataset(args) -> int:
     if args.dry_run:
         return _dry_run(args, input_file(args.design, None, "a design TOML file"))
     from rubdiag.dataset import Design, generate
-    from rubdiag.dataset.store import DatasetFolder
+    from rubdiag.dataset._store import DatasetFolder
 
     design = Design.from_toml(input_file(args.design, None, "a design TOML file"))
     DatasetFolder(args.out).check_writable(design.to_toml())
@@ -118,11 +118,11 @@ def _dry_run(args, path: Path) -> int:
     expands the design, and scales its CPU time to the whole run."""
     from collections import Counter
 
-    from rubdiag.dataset.design import Design, describe_point
+    from rubdiag.dataset._design import Design, describe_point
 
     design = Design.from_toml(path)
     if args.out is not None:
-        from rubdiag.dataset.store import DatasetFolder
+        from rubdiag.dataset._store import DatasetFolder
 
         DatasetFolder(args.out).check_writable(design.to_toml())
     with _Calibration(design) as calibration:
@@ -142,7 +142,7 @@ def _dry_run(args, path: Path) -> int:
             print(f"unreadable, to be moved into {args.out / 'broken'} (their runs are counted "
                   f"to run): {', '.join(str(exc.path) for exc in unreadable)}")
         if "fault" in example.point:
-            from rubdiag.dataset.fault_levels import FAULT_LEVELS
+            from rubdiag.dataset._fault_levels import FAULT_LEVELS
 
             counts = Counter(item.point["fault"] for item in runs)
             print("runs per fault level: " + ", ".join(f"{k} {counts[k]}"
@@ -203,7 +203,7 @@ class _Calibration:
 
 
 def _calibration_process(design, share: float, send) -> None:
-    from rubdiag.dataset.workers import start_local_worker
+    from rubdiag.dataset._workers import start_local_worker
 
     start_local_worker()
     try:
@@ -224,7 +224,7 @@ def _calibrate(run, share: float) -> tuple[str, float, float]:
     import time
     import warnings
 
-    from rubdiag.simulate import GapRampInWindow, SimulationDiverged, simulate
+    from rubdiag.simulation import GapRampInWindow, SimulationDiverged, simulate
 
     def first(duration: float):
         with warnings.catch_warnings():     # a shorter window: the gap ramp may reach into it

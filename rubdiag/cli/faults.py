@@ -47,8 +47,8 @@ def register(sub) -> None:
 def _faults(args) -> int:
     from rubdiag.cli._paths import output_folder
     from rubdiag.plotting import save_figure
-    from rubdiag.plotting.faults import PREDICTED, faults_figure
-    from rubdiag.runs.faults import FIGURE_FAULTS, fault_runs, line_amplitudes, whirl_runs
+    from rubdiag.plotting._faults import PREDICTED, faults_figure
+    from rubdiag.runs._faults import FIGURE_FAULTS, fault_runs, line_amplitudes, whirl_runs
 
     runs = fault_runs(speed_rpm=args.speed_rpm, interference=args.interference,
                       crack_depth=args.crack_depth,
@@ -93,7 +93,7 @@ def _simulated(groups: list[dict], progress: bool) -> list[dict]:
     """Each group of runs (name -> Run) simulated one run after the other, as name ->
     result, under one bar over their simulated seconds."""
     from rubdiag import _progress
-    from rubdiag.simulate import simulate
+    from rubdiag.simulation import simulate
 
     total = sum(run.duration_s for runs in groups for run in runs.values())
     done, out = 0.0, []

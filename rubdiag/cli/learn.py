@@ -15,7 +15,7 @@ from rubdiag.cli._quiet import add_quiet_option
 
 _TARGETS = ("rub", "rub_state", "severity", "fault")  # rubdiag.learn.TARGETS
 _ESTIMATORS = ("rf", "hgb", "svm", "logreg")         # rubdiag.learn.ESTIMATORS
-_CHANNEL_SETS = ("auto", "shaft", "all")             # rubdiag.learn.channel_choice
+_CHANNEL_SETS = ("auto", "shaft", "all")             # rubdiag.learn._channel_choice
 
 
 def register(sub) -> None:
@@ -178,13 +178,13 @@ def _band(text: str | None, option: str):
 
 
 def _train(args) -> int:
-    from rubdiag.learn.train import check_out
+    from rubdiag.learn._train import check_out
 
     out = check_out(args.out, args.overwrite, option="--out")   # before any work
     if args.n_splits < 2:
         raise ValueError(f"--n-splits = {args.n_splits} is out of range (allowed: >= 2)")
-    from rubdiag.learn.features import DEFAULT_FAMILIES
-    from rubdiag.learn.train import train
+    from rubdiag.learn._features import DEFAULT_FAMILIES
+    from rubdiag.learn._train import train
 
     channels = args.channels if args.channels in _CHANNEL_SETS else _names(
         args.channels, "--channels")
@@ -203,7 +203,7 @@ def _train(args) -> int:
           f"{meta['split']}")
     left_out = meta.get("channels_left_out") or {}
     if left_out:
-        from rubdiag.learn.channel_choice import NOISE_MARGIN_DB, decibels
+        from rubdiag.learn._channel_choice import NOISE_MARGIN_DB, decibels
 
         shown = ", ".join(f"{c} {decibels(db)}" if db is not None else f"{c} (reads 0)"
                           for c, db in left_out.items())
@@ -212,7 +212,7 @@ def _train(args) -> int:
     if meta.get("confusers"):
         import pandas as pd
 
-        from rubdiag.learn.confusers import confuser_lines
+        from rubdiag.learn._confusers import confuser_lines
 
         table = pd.DataFrame(meta["confusers"]).astype({"rate": float, "lo": float, "hi": float})
         print("held out, rub against the faults that look like it (rate [95 % interval]):")
@@ -228,8 +228,8 @@ def _train(args) -> int:
 def _evaluate(args) -> int:
     band = _band(args.band, "--band")          # before any work
     from rubdiag import _progress
-    from rubdiag.learn.persist import load_model
-    from rubdiag.learn.train import evaluate_model
+    from rubdiag.learn._persist import load_model
+    from rubdiag.learn._train import evaluate_model
 
     with _progress.bar(1, "evaluate", "step", not args.quiet) as bar:   # and its own steps
         _progress.label(bar, "reading the model")
@@ -259,9 +259,9 @@ def _predict(args) -> int:
         raise ValueError("--speeds and --speed-rpm exclude each other (allowed: one of them; "
                          "a file whose speed_rpm is empty in --speeds takes its tacho or the "
                          "estimate)")
-    from rubdiag.learn.inputs import expand_inputs, read_speeds
-    from rubdiag.learn.persist import load_model
-    from rubdiag.learn.predict import predict
+    from rubdiag.learn._inputs import expand_inputs, read_speeds
+    from rubdiag.learn._persist import load_model
+    from rubdiag.learn._predict import predict
 
     speeds = None if args.speeds is None else read_speeds(args.speeds)
     left_out = [p for p in (args.speeds, out) if p is not None]
@@ -338,7 +338,7 @@ def _write_table(table, path: Path) -> None:
 def _fault_verdicts(table) -> list[str]:
     """A fault model's verdict per input (its "all" row; a dataset's runs one by one): the
     most likely fault, P(rub), and where rub is likely the most likely fault without it."""
-    from rubdiag.learn.predict import RUB_LIKELY
+    from rubdiag.learn._predict import RUB_LIKELY
 
     whole = set(table.loc[table["window"] == "all", "input"])
     lines = []

@@ -143,7 +143,7 @@ def _campbell(args) -> int:
     from rubdiag.cli._paths import output_folder
     from rubdiag.modal import campbell
     from rubdiag.plotting import save_figure
-    from rubdiag.plotting.modal import campbell_figure
+    from rubdiag.plotting._modal import campbell_figure
 
     _positive("--max-speed-rpm", args.max_speed_rpm)
     _positive("--n-speeds", args.n_speeds)
@@ -175,7 +175,7 @@ def _unbalance(args) -> int:
     from rubdiag.cli._paths import output_folder
     from rubdiag.modal import critical_speeds, harmonic_response, unbalance_response
     from rubdiag.plotting import save_figure
-    from rubdiag.plotting.modal import deflection_figure, unbalance_figure
+    from rubdiag.plotting._modal import deflection_figure, unbalance_figure
 
     _positive("--max-speed-rpm", args.max_speed_rpm)
     _positive("--n-speeds", args.n_speeds)

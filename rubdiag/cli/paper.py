@@ -47,7 +47,7 @@ def _table2(args) -> int:
 
     from rubdiag.cli._paths import load_rig, output_folder
     from rubdiag.paper import table2
-    from rubdiag.simulate import SimulationDiverged
+    from rubdiag.simulation import SimulationDiverged
 
     if args.jobs is not None and args.jobs < 1:
         raise ValueError(f"--jobs = {args.jobs} is out of range (allowed: >= 1)")
@@ -72,7 +72,7 @@ def _table2(args) -> int:
 
 def _plot(args) -> int:
     from rubdiag.cli._paths import input_file, load_result, output_folder
-    from rubdiag.plotting.run import save_run_figures
+    from rubdiag.plotting._run import save_run_figures
 
     input_file(args.result, None, "a result file")   # a typo must not leave a new folder
     output_folder(args.out)

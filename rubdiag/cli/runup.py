@@ -60,8 +60,8 @@ def _runup(args) -> int:
     import dataclasses
 
     from rubdiag.cli._paths import load_rig
-    from rubdiag.runs.runup import linear_response, ramp_run, runup_orders, runup_summary
-    from rubdiag.simulate import SimulationDiverged
+    from rubdiag.runs._runup import linear_response, ramp_run, runup_orders, runup_summary
+    from rubdiag.simulation import SimulationDiverged
 
     if args.gap_mm is not None and not 0.0 < args.gap_mm <= 100.0:
         raise ValueError(f"--gap-mm = {args.gap_mm:g} is out of range (allowed: > 0 and "
@@ -119,7 +119,7 @@ def _simulated(run, path: Path, name: str, progress: bool = True):
     is there (a rerun after a crash or with other figures resumes), else simulated (with a
     progress bar) and saved (atomically)."""
     from rubdiag import _progress
-    from rubdiag.simulate import load_result, simulate
+    from rubdiag.simulation import load_result, simulate
 
     if path.exists():
         try:
@@ -164,12 +164,12 @@ def _write_csv(table, path: Path) -> None:
 
 def _figures(tracks: dict, linear, args) -> list[Path]:
     """Bode, polar and rub-order figures of every direction together, and a waterfall and
-    order map of each (:mod:`rubdiag.plotting.runup`), written into ``args.out``."""
+    order map of each (:mod:`rubdiag.plotting._runup`), written into ``args.out``."""
     import numpy as np
 
     from rubdiag.assembly import assemble
     from rubdiag.modal import critical_speeds
-    from rubdiag.plotting.runup import save_runup_figures
+    from rubdiag.plotting._runup import save_runup_figures
     from rubdiag.signal import rpm_order_map, waterfall
 
     words = {"runup": "run-up", "coastdown": "coast-down"}

@@ -218,9 +218,9 @@ def across_speed_lines(table, revs_per_bin: int, summary_only: bool = False,
 
 def summary_lines(table) -> list[str]:
     """A few lines per row of a feature table, in words: the rub signatures found
-    (:func:`rubdiag.paper.describe.describe_spectrum`), the 1× line and the RMS; for a
+    (:func:`rubdiag.paper._describe.describe_spectrum`), the 1× line and the RMS; for a
     simulation result also its contact statistics."""
-    from rubdiag.paper.describe import describe_spectrum
+    from rubdiag.paper._describe import describe_spectrum
 
     lines = []
     for row in table.to_dict(orient="records"):

@@ -61,7 +61,7 @@ def _simulate(args) -> int:
     no_threads_in_this_process()    # one run: OpenBLAS's idle threads would only cost time
 
     from rubdiag.cli._paths import load_rig, output_file
-    from rubdiag.simulate import Run, SimulationDiverged, response_points, simulate
+    from rubdiag.simulation import Run, SimulationDiverged, response_points, simulate
 
     out = None
     if args.out is not None:   # before any work: a long run must not end in "no such folder"

@@ -3,7 +3,7 @@
 :class:`Design` (frozen, picklable, from TOML) says which runs to make; ``Design.runs()``
 builds them, each with the design point, its replicate (start history) and two ids:
 ``point_id`` (the point, shared by its replicates) and ``run_id`` (the simulation), stable
-across processes, machines and Python versions (:mod:`rubdiag.dataset.ids`).
+across processes, machines and Python versions (:mod:`rubdiag.dataset._ids`).
 
 This layer sits above :mod:`rubdiag.runs` (features of simulated runs); nothing below
 imports it. Its names are imported on first use (PEP 562), so that reading a stored
@@ -33,7 +33,7 @@ __all__ = sorted(_WHERE)
 def __getattr__(name: str):
     if name not in _WHERE:
         raise AttributeError(f"module 'rubdiag.dataset' has no attribute {name!r}")
-    value = getattr(importlib.import_module(f"rubdiag.dataset.{_WHERE[name]}"), name)
+    value = getattr(importlib.import_module(f"rubdiag.dataset._{_WHERE[name]}"), name)
     globals()[name] = value      # the next access is a plain lookup
     return value
 

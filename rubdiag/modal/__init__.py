@@ -45,23 +45,23 @@ damping ratio there:
 0.6207 mm, formula 0.6207 mm
 """
 
-from rubdiag.modal.calibrate import KNOBS, Calibration, calibrate
-from rubdiag.modal.campbell import Campbell, campbell
-from rubdiag.modal.critical import (
+from rubdiag.modal._calibrate import KNOBS, Calibration, calibrate
+from rubdiag.modal._campbell import Campbell, campbell
+from rubdiag.modal._critical import (
     CriticalSpeeds,
     critical_speeds,
     direct_film_stiffness,
     synchronous_modes,
     with_rayleigh,
 )
-from rubdiag.modal.eigen import Modes, modes
-from rubdiag.modal.harmonic import (
+from rubdiag.modal._eigen import Modes, modes
+from rubdiag.modal._harmonic import (
     HarmonicResponse,
     UnbalanceResponse,
     harmonic_response,
     unbalance_response,
 )
-from rubdiag.modal.stability import StabilityThreshold, stability_threshold, whirl_threshold
+from rubdiag.modal._stability import StabilityThreshold, stability_threshold, whirl_threshold
 
 __all__ = [
     "KNOBS",

@@ -1,8 +1,7 @@
 """Model description layer: what the rig is, in frozen SI dataclasses, and its TOML files."""
 
-from rubdiag.model.io import load_rig, paper_rig, rig_from_dict, rig_to_dict, save_rig
-from rubdiag.model.presets import PRESETS, preset_rig
-from rubdiag.model.rig import (
+from rubdiag.model._io import load_rig, paper_rig, rig_from_dict, rig_to_dict, save_rig
+from rubdiag.model._rig import (
     Bearing,
     BladeContact,
     Blades,
@@ -18,6 +17,7 @@ from rubdiag.model.rig import (
     StatorContact,
     Unbalance,
 )
+from rubdiag.model.presets import PRESETS, preset_rig
 
 __all__ = [
     "PRESETS",

@@ -1,8 +1,8 @@
 """The study's reproduction: Table 2 and Figures 5-10, beside the study's own values."""
 
-from rubdiag.paper.describe import describe_spectrum
-from rubdiag.paper.ensemble import GAP_RAMPS_S, ensemble
-from rubdiag.paper.table2 import CASES, PaperCase, paper_values, reproduce, table2
+from rubdiag.paper._describe import describe_spectrum
+from rubdiag.paper._ensemble import GAP_RAMPS_S, ensemble
+from rubdiag.paper._table2 import CASES, PaperCase, paper_values, reproduce, table2
 
 __all__ = [
     "CASES",

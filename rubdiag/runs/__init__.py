@@ -6,20 +6,20 @@
   shaft, blade tip and casing, contact statistics.
 * :func:`contact_statistics` — contact statistics of one run, from its event logs.
 * :func:`ramp_run`, :func:`runup_orders`, :func:`linear_response`, :func:`runup_summary` —
-  run-ups and coast-downs (:mod:`rubdiag.runs.runup`).
+  run-ups and coast-downs (:mod:`rubdiag.runs._runup`).
 * :func:`fault_runs`, :func:`whirl_runs`, :func:`line_amplitudes` — each fault that looks
-  like rub beside rub (:mod:`rubdiag.runs.faults`).
+  like rub beside rub (:mod:`rubdiag.runs._faults`).
 * :func:`pair_rows` — the full spectrum and orbit of every recorded probe pair
-  (:mod:`rubdiag.runs.pairs`).
+  (:mod:`rubdiag.runs._pairs`).
 """
 
 from __future__ import annotations
 
-from rubdiag.runs.contact_stats import CONTACT_STAT_NAMES, contact_statistics
-from rubdiag.runs.faults import FIGURE_FAULTS, fault_runs, line_amplitudes, whirl_runs
-from rubdiag.runs.features import features, is_result, run_features, run_points, run_signals
-from rubdiag.runs.pairs import pair_rows, recorded_pairs
-from rubdiag.runs.runup import linear_response, ramp_run, runup_orders, runup_summary
+from rubdiag.runs._contact_stats import CONTACT_STAT_NAMES, contact_statistics
+from rubdiag.runs._faults import FIGURE_FAULTS, fault_runs, line_amplitudes, whirl_runs
+from rubdiag.runs._features import features, is_result, run_features, run_points, run_signals
+from rubdiag.runs._pairs import pair_rows, recorded_pairs
+from rubdiag.runs._runup import linear_response, ramp_run, runup_orders, runup_summary
 
 __all__ = ["CONTACT_STAT_NAMES", "FIGURE_FAULTS", "contact_statistics", "fault_runs",
            "features", "is_result", "line_amplitudes", "linear_response", "pair_rows",

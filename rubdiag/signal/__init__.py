@@ -29,36 +29,36 @@ Public API (all frequencies in Hz, speeds in rpm, amplitudes in the signal's uni
 This layer imports nothing else of rubdiag: measured signals never need the simulator.
 Simulated runs are turned into rows by :mod:`rubdiag.runs`.
 
-See :mod:`rubdiag.signal.table` for the column names and the meaning of 0 and NaN.
+See :mod:`rubdiag.signal._table` for the column names and the meaning of 0 and NaN.
 """
 
 from __future__ import annotations
 
-from rubdiag.signal.combinations import CombinationPair, combination_pairs
-from rubdiag.signal.io import read_signals
-from rubdiag.signal.leakage import tracking_leakage
-from rubdiag.signal.lines import spectral_lines
-from rubdiag.signal.orders import order_label
-from rubdiag.signal.ordertrack import (
+from rubdiag.signal._combinations import CombinationPair, combination_pairs
+from rubdiag.signal._io import read_signals
+from rubdiag.signal._leakage import tracking_leakage
+from rubdiag.signal._lines import spectral_lines
+from rubdiag.signal._orders import order_label
+from rubdiag.signal._ordertrack import (
     order_spectrum,
     order_track,
     resample_to_angle,
     rpm_order_map,
 )
-from rubdiag.signal.spectrum import amplitude_spectrum
-from rubdiag.signal.speed import SpeedAmbiguous, dominant_speed, tacho_speed
-from rubdiag.signal.speedtable import REVOLUTION_FEATURE_NAMES, features_by_revolution
-from rubdiag.signal.speedvote import voted_speed
-from rubdiag.signal.table import (
+from rubdiag.signal._spectrum import amplitude_spectrum
+from rubdiag.signal._speed import SpeedAmbiguous, dominant_speed, tacho_speed
+from rubdiag.signal._speedtable import REVOLUTION_FEATURE_NAMES, features_by_revolution
+from rubdiag.signal._speedvote import voted_speed
+from rubdiag.signal._table import (
     FEATURE_NAMES,
     feature_matrix,
     feature_names,
     features,
     prefixed_features,
 )
-from rubdiag.signal.tacho import angle_from_rpm, tacho_angle, tacho_rpm
-from rubdiag.signal.transformer import RubFeatures
-from rubdiag.signal.waterfall import waterfall
+from rubdiag.signal._tacho import angle_from_rpm, tacho_angle, tacho_rpm
+from rubdiag.signal._transformer import RubFeatures
+from rubdiag.signal._waterfall import waterfall
 
 __all__ = [
     "FEATURE_NAMES",

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 import scipy.linalg as sla
 
-from rubdiag.assembly.elements import (
+from rubdiag.assembly._elements import (
     circular_section,
     disc_matrices,
     frame_element,

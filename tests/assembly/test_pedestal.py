@@ -1,4 +1,4 @@
-"""Bearings on pedestals (rubdiag.model.rig.Pedestal): the assembled two-mass support."""
+"""Bearings on pedestals (rubdiag.model._rig.Pedestal): the assembled two-mass support."""
 
 from __future__ import annotations
 

@@ -26,7 +26,7 @@ SIM = ["simulate", "--case", "1", "--speed-rpm", "1500", "--duration-s", "0.02",
 def d(tmp_path_factory):
     """A folder of bad (and a few good) input files."""
     from rubdiag.model import paper_rig, save_rig
-    from rubdiag.simulate import Run, simulate
+    from rubdiag.simulation import Run, simulate
 
     d = tmp_path_factory.mktemp("inputs")
     t = np.arange(4000) / FS
@@ -88,7 +88,7 @@ def d(tmp_path_factory):
                                             'direction = "y"\n')):
         (d / f"{name}.toml").write_text(text)
     from rubdiag.dataset import Design
-    from rubdiag.dataset.store import DatasetFolder
+    from rubdiag.dataset._store import DatasetFolder
 
     other = Design.from_toml(DESIGN.format(factors="gap_mm = [2.3]"))
     DatasetFolder(d / "other_dataset").create(other.to_toml())
@@ -108,9 +108,9 @@ def _learn_inputs(d, t, x):
     from sklearn.neighbors import KNeighborsClassifier
 
     from rubdiag.learn import make_pipeline
-    from rubdiag.learn.persist import MODEL_FILE, save_model
-    from rubdiag.learn.train import model_meta
-    from rubdiag.signal.table import prefixed_features
+    from rubdiag.learn._persist import MODEL_FILE, save_model
+    from rubdiag.learn._train import model_meta
+    from rubdiag.signal._table import prefixed_features
 
     window = t < 1.0
     rng = np.random.default_rng(1)
@@ -443,11 +443,11 @@ BEFORE_WORK = {"simulate-out-missing-folder", "simulate-out-folder",
                "simulate-duration-huge", *(c[0] for c in CATALOGUE if c[0].startswith("dataset")),
                "train-out-file", "train-out-not-a-model", "train-out-model-exists",
                *(c[0] for c in CATALOGUE if "-cutoff-" in c[0])}
-WORK = [("rubdiag.simulate", "simulate"), ("rubdiag.signal", "features"),
+WORK = [("rubdiag.simulation", "simulate"), ("rubdiag.signal", "features"),
         ("rubdiag.runs", "run_features"), ("rubdiag.modal", "calibrate"),
         ("rubdiag.modal", "campbell"), ("rubdiag.paper", "table2"),
-        ("rubdiag.plotting.run", "save_run_figures"), ("rubdiag.dataset", "generate"),
-        ("rubdiag.dataset.rows", "make_row"), ("rubdiag.learn.train", "train")]
+        ("rubdiag.plotting._run", "save_run_figures"), ("rubdiag.dataset", "generate"),
+        ("rubdiag.dataset._rows", "make_row"), ("rubdiag.learn._train", "train")]
 
 
 def run_main(argv):

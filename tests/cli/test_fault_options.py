@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from rubdiag.cli import main
-from rubdiag.simulate import load_result
+from rubdiag.simulation import load_result
 
 RUN = ["simulate", "--case", "1", "--speed-rpm", "750", "--duration-s", "0.3",
        "--discard-s", "0.1"]
@@ -94,7 +94,7 @@ def test_the_faults_figures_show_each_fault_s_lines_beside_rub(tmp_path, capsys)
 def test_the_faults_rub_runs_take_their_gap_from_the_interference():
     """The rub run's gap is its linear blade-tip approach over ``interference``; bad
     input: the CLI's one line, exit 2."""
-    from rubdiag.dataset.approach import sweep_linear_approach_m
+    from rubdiag.dataset._approach import sweep_linear_approach_m
     from rubdiag.runs import fault_runs
 
     made = fault_runs(interference=2.0, duration_s=1.0)
@@ -140,7 +140,7 @@ def test_a_pedestal_loose_across_gravity_on_the_preset_rig(tmp_path):
     """--rig paper-pedestal --loose-direction z: gravity along y no longer presses the seat,
     so 0.2 N lets it lift at 750 rpm (the 1x bearing force is about 0.5 N); along y the
     pedestal's weight holds it."""
-    from rubdiag.kernels import pedestal
+    from rubdiag._kernels import pedestal
 
     def lifted(direction):
         out = tmp_path / f"loose-{direction}.npz"

@@ -74,7 +74,7 @@ def test_csv_and_json_are_the_feature_table_only(signals, tmp_path, capsys):
 @pytest.fixture(scope="module")
 def simulated(tmp_path_factory):
     """A rubbing case-2 run (shaft, blade and casing move) and its saved result file."""
-    from rubdiag.simulate import Run, simulate
+    from rubdiag.simulation import Run, simulate
 
     result = simulate(Run.paper_case(2, 1.9, speed_rpm=5700, duration_s=0.5, discard_s=0.2))
     return result, result.save(tmp_path_factory.mktemp("simulated") / "c2.npz")
@@ -90,7 +90,7 @@ def test_summary_of_a_simulation_result(simulated, capsys):
                         "dt = 1e-05 s")
     assert [ln.split(":")[0] for ln in lines[1:]] == [
         "  1× (RMS)", "  shaft and blade tip", "  casing", "  contact 1", "  all contacts"]
-    from rubdiag.paper.describe import describe_spectrum
+    from rubdiag.paper._describe import describe_spectrum
 
     assert lines[1].startswith(f"  1× (RMS): shaft {row.shaft_amp_1x * 1e6:.4g} um "
                                f"({row.shaft_rms * 1e6:.4g} um), blade tip ")
@@ -299,7 +299,7 @@ def test_a_result_read_as_a_record_of_sensors_says_what_it_is(simulated):
 def test_compare_keeps_a_casing_that_moves_in_one_result_only(simulated, tmp_path, capsys):
     """A run without rub (its casing never moves) against a rubbing one: the casing — the
     largest difference — is compared too (it was left out, unsaid); flat in both, it is not."""
-    from rubdiag.simulate import Run, simulate
+    from rubdiag.simulation import Run, simulate
 
     _, rubbing = simulated
     quiet = simulate(Run.paper_case(2, 5.0, speed_rpm=5700, duration_s=0.5, discard_s=0.2))

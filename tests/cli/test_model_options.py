@@ -8,7 +8,7 @@ import warnings
 import pytest
 
 import rubdiag.paper
-import rubdiag.simulate
+import rubdiag.simulation
 from rubdiag.cli import build_parser, main
 from rubdiag.reduce import DEFAULT_CUTOFF_HZ, Reduction
 
@@ -28,7 +28,7 @@ def given_run(monkeypatch):
         runs.append(run)
         raise Stop
 
-    monkeypatch.setattr(rubdiag.simulate, "simulate", fake)
+    monkeypatch.setattr(rubdiag.simulation, "simulate", fake)
     return runs
 
 

@@ -8,8 +8,8 @@ import numpy as np
 import pandas as pd
 
 from rubdiag.cli import main
-from rubdiag.plotting.run import DPI, FIGSIZE, STATUS_COLOURS
-from rubdiag.simulate import Run, simulate
+from rubdiag.plotting._run import DPI, FIGSIZE, STATUS_COLOURS
+from rubdiag.simulation import Run, simulate
 
 
 def test_table2_short_without_figures(tmp_path, capsys):
@@ -48,7 +48,7 @@ FLOAT_NOISE = re.compile(r"\d\.\d*(0{6,}|9{6,})\d")
 def test_csv_files_have_no_float_noise(tmp_path):
     """Written tables carry meaningful digits only (0.8 - 0.3 s is 0.5000000000000001 in
     floating point, 19 entries / 0.5 s is 37.99999999999999), and are not over-rounded."""
-    from rubdiag.paper.table2 import write_csv
+    from rubdiag.paper._table2 import write_csv
 
     noisy = pd.DataFrame({"window_s": [0.8 - 0.3, 2.0000000000000004],
                           "entries_per_s": [19 / (0.8 - 0.3), 18.999999999999996],

@@ -8,7 +8,7 @@ import numpy as np
 from fake_terminal import as_terminal, counts
 
 from rubdiag.cli import main
-from rubdiag.simulate import Run, simulate
+from rubdiag.simulation import Run, simulate
 
 SIM = ["simulate", "--case", "1", "--gap-mm", "2.3", "--duration-s", "0.1",
        "--discard-s", "0.05"]
@@ -78,7 +78,7 @@ def test_a_runup_leg_s_bar_and_its_reuse(monkeypatch, tmp_path):
     terminal = as_terminal(monkeypatch)
     from rubdiag.cli.runup import _simulated
     from rubdiag.reduce import Reduction
-    from rubdiag.runs.runup import ramp_run
+    from rubdiag.runs._runup import ramp_run
 
     run = ramp_run(1, 1000.0, 1100.0, 1000.0, 2.3, reduction=Reduction())
     _simulated(run, tmp_path / "runup.npz", "runup")
@@ -112,7 +112,7 @@ def test_table2_counts_its_cases_as_they_finish(tmp_path, monkeypatch):
     """The four cases in two processes: a bar over them, counted as they finish, and the
     log lines above it; with --quiet (the cases reused) only the closing line."""
     terminal = as_terminal(monkeypatch)
-    from rubdiag.paper.table2 import reproduce
+    from rubdiag.paper._table2 import reproduce
     from rubdiag.reduce import Reduction
 
     window = {"duration_s": 0.55, "discard_s": 0.1}      # 11 revolutions of case 1
@@ -134,7 +134,7 @@ def test_campbell_counts_its_speeds(tmp_path, monkeypatch):
 
 
 def test_an_ensemble_counts_its_runs_as_they_finish(monkeypatch):
-    from rubdiag.paper.ensemble import ensemble
+    from rubdiag.paper._ensemble import ensemble
 
     terminal = as_terminal(monkeypatch)
     rows = ensemble([(2, 2.3)], gap_ramps_s=(0.099, 0.1), jobs=2, progress=True,

@@ -5,7 +5,7 @@ import json
 import pytest
 
 from rubdiag.cli import main
-from rubdiag.simulate import load_result
+from rubdiag.simulation import load_result
 
 
 def test_simulate_json_and_saved_result(capsys, tmp_path):

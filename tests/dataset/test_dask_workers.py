@@ -1,4 +1,4 @@
-"""rubdiag.dataset.workers: a worker computes a row with what this process computes it with.
+"""rubdiag.dataset._workers: a worker computes a row with what this process computes it with.
 
 Local workers run every BLAS and OpenMP library on one thread, also those they load later.
 Dask workers whose BLAS kernels differ from this process's (as workers started by
@@ -16,7 +16,7 @@ import pytest
 
 from rubdiag._blas import kernels_in_use
 from rubdiag.dataset import Design, generate, load
-from rubdiag.dataset import workers as w
+from rubdiag.dataset import _workers as w
 
 TOML = """
 [base]

@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 
 from rubdiag.dataset import Design, Factor, gap_ramps_s
-from rubdiag.dataset import design as design_module
+from rubdiag.dataset import _design as design_module
 from rubdiag.model import save_rig
-from rubdiag.simulate import Run
+from rubdiag.simulation import Run
 
 # issue 11, point 1, as written
 ISSUE_TOML = """
@@ -102,7 +102,7 @@ def test_rub_lhs200_toml_with_replicates(issue_design):
 
 
 def test_critical_speeds_are_the_cases_forward_critical_speeds(issue_design, paper_rig):
-    from rubdiag.simulate import critical_speed_for_case
+    from rubdiag.simulation import critical_speed_for_case
 
     assert issue_design.critical_speeds_rad_s == (critical_speed_for_case(paper_rig, 1),
                                                   critical_speed_for_case(paper_rig, 2))
@@ -115,8 +115,8 @@ def test_study_cell_is_the_paper_run(paper_rig):
     default sensors and the design's step tolerance: same Run (but for the label), same
     run_id; with ``step_error = 0`` the study's run itself."""
     from rubdiag.dataset import run_id
-    from rubdiag.dataset.design import DEFAULT_STEP_ERROR
-    from rubdiag.simulate import default_sensors
+    from rubdiag.dataset._design import DEFAULT_STEP_ERROR
+    from rubdiag.simulation import default_sensors
 
     for case, step_error in ((1, DEFAULT_STEP_ERROR), (2, DEFAULT_STEP_ERROR), (1, 0.0)):
         design = Design.from_dict({"base": {"step_error": step_error},
@@ -210,7 +210,7 @@ def test_grid_is_the_product_of_the_levels_times_the_replicates():
 
 # --- replicates -------------------------------------------------------------------------------
 def test_five_replicates_are_the_papers_ensemble():
-    from rubdiag.paper.ensemble import GAP_RAMPS_S
+    from rubdiag.paper._ensemble import GAP_RAMPS_S
 
     ramps = gap_ramps_s(5, 2.3)
     assert ramps == (0.1, 0.099, 0.101, 0.098, 0.102)

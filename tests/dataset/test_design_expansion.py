@@ -98,9 +98,9 @@ def test_a_point_that_fails_is_named_as_it_was():
 def test_a_threshold_read_from_the_disk_cache_is_the_one_searched(tmp_path, monkeypatch):
     from rubdiag import _cache
     from rubdiag._blas import one_thread
-    from rubdiag.modal import stability
+    from rubdiag.modal import _stability as stability
     from rubdiag.model import preset_rig
-    from rubdiag.simulate.rig_cache import forward_critical_speeds, whirl_threshold_speed
+    from rubdiag.simulation._rig_cache import forward_critical_speeds, whirl_threshold_speed
 
     monkeypatch.setenv(_cache.ENV, str(tmp_path))
     rig = preset_rig("paper-journal")

@@ -1,5 +1,5 @@
 """The ``fault`` factor of dataset designs and the labels each fault's element gives
-(issue 26, parts 5 and 6: rubdiag.dataset.faults)."""
+(issue 26, parts 5 and 6: rubdiag.dataset._faults)."""
 
 from __future__ import annotations
 
@@ -11,24 +11,24 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from rubdiag._kernels import pedestal
+from rubdiag._kernels.records import OPEN
 from rubdiag.cli import main
 from rubdiag.dataset import Design
-from rubdiag.dataset.factors import Factor
-from rubdiag.dataset.faults import (
+from rubdiag.dataset._factors import Factor
+from rubdiag.dataset._faults import (
     FAULT_LEVELS,
     NO_RUB_GAP_M,
     SEVERITY_FACTORS,
     fault_labels,
 )
-from rubdiag.dataset.labels import label_run
-from rubdiag.kernels import pedestal
-from rubdiag.kernels.records import OPEN
+from rubdiag.dataset._labels import label_run
 from rubdiag.model import preset_rig
 from rubdiag.reduce import Reduction
-from rubdiag.simulate import Run, simulate
-from rubdiag.simulate.faults import Crack, Faults, Looseness
-from rubdiag.simulate.misalignment import Misalignment
-from rubdiag.simulate.static_load import StaticLoad
+from rubdiag.simulation import Run, simulate
+from rubdiag.simulation._faults import Crack, Faults, Looseness
+from rubdiag.simulation._misalignment import Misalignment
+from rubdiag.simulation._static_load import StaticLoad
 
 DESIGNS = Path(__file__).parents[2] / "data" / "designs"
 SMALL = DESIGNS / "faults_small.toml"
@@ -187,7 +187,7 @@ def test_the_misalignment_label_is_the_coupling_models_2x_force():
                             angle_rad=0.01)
     result = simulate(quick_run(faults=Faults(misalignment=coupling)))
     labels = fault_labels(result, rub=False)
-    # small angles: the 2× force ≈ T α₀ / (2 L) (rubdiag.dataset.faults)
+    # small angles: the 2× force ≈ T α₀ / (2 L) (rubdiag.dataset._faults)
     assert labels["misalignment_2x_force_n"] == pytest.approx(20.0 * 0.01 / 0.1, rel=0.01)
     assert labels["fault_misalignment"] is True and labels["faults"] == "misalignment"
     weak = dataclasses.replace(coupling, angle_rad=1e-3)     # 0.2 N: under the threshold
@@ -243,7 +243,7 @@ def test_in_the_shipped_design_each_level_s_faults_act():
     near the critical speeds), the no-rub levels do not, the loose pedestal lifts and the
     coupling's 2x force is over its threshold. (The crack may stay closed: near a critical
     the shaft whirls synchronously and a Gasch crack keeps the state the whirl gives it.)"""
-    from rubdiag.dataset.rows import make_row
+    from rubdiag.dataset._rows import make_row
 
     design = Design.from_toml(SMALL)
     first = {}

@@ -25,8 +25,8 @@ import pyarrow.parquet as pq
 import pytest
 
 from rubdiag.dataset import Design, generate, load, load_waveforms
-from rubdiag.dataset.labels import LABELS, MEASURES
-from rubdiag.dataset.rows import ID_COLUMNS, PROVENANCE
+from rubdiag.dataset._labels import LABELS, MEASURES
+from rubdiag.dataset._rows import ID_COLUMNS, PROVENANCE
 
 TOML = """
 [base]
@@ -64,7 +64,7 @@ generate(design, Path({out!r}), jobs=1, progress=False, chunk_rows=1, waveforms=
 # before or just after the real rename; each call's target is printed first
 KILL_IN_REPLACE = """
 import os, signal
-import rubdiag.dataset.store as store
+import rubdiag.dataset._store as store
 real_replace = store.os.replace
 calls = 0
 def replace(src, dst):

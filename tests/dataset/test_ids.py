@@ -11,14 +11,14 @@ import sys
 import pytest
 
 from rubdiag.dataset import SCHEMA_VERSION, Design, canonical_run, point_id, run_id
-from rubdiag.dataset import ids as ids_module
+from rubdiag.dataset import _ids as ids_module
 from rubdiag.model import Unbalance
 from rubdiag.reduce import Reduction
-from rubdiag.simulate import Run, Sensor
-from rubdiag.simulate.faults import Crack, Faults
-from rubdiag.simulate.simulation import run_to_dict
-from rubdiag.simulate.speed_profile import SpeedProfile
-from rubdiag.simulate.static_load import StaticLoad
+from rubdiag.simulation import Run, Sensor
+from rubdiag.simulation._faults import Crack, Faults
+from rubdiag.simulation._simulation import run_to_dict
+from rubdiag.simulation._speed_profile import SpeedProfile
+from rubdiag.simulation._static_load import StaticLoad
 
 DESIGN = """
 [base]
@@ -135,7 +135,7 @@ def test_seal_clearance_changes_the_run_id(run):
 def test_step_settings_change_the_run_id_not_the_noise(run):
     """A run with long steps is another run (another id) measured with the noise of its
     twin at 10 µs; a run without long steps draws its noise from its run id."""
-    from rubdiag.dataset.ids import noise_id
+    from rubdiag.dataset._ids import noise_id
 
     long = dataclasses.replace(run, step_error=1e-5)
     longer = dataclasses.replace(long, dt_max_s=8 * run.dt_s)
@@ -166,7 +166,7 @@ def test_equal_runs_have_equal_ids(run):
 
 
 def test_canonical_run_is_the_result_files_description(run):
-    from rubdiag.simulate.simulation import run_to_dict
+    from rubdiag.simulation._simulation import run_to_dict
 
     stored = run_to_dict(run)
     canonical = canonical_run(run)
@@ -184,7 +184,7 @@ def test_schema_version_is_part_of_the_id(run, monkeypatch):
 
 
 def test_a_run_read_back_from_a_result_file_keeps_its_id(run):
-    from rubdiag.simulate.simulation import run_from_dict, run_to_dict
+    from rubdiag.simulation._simulation import run_from_dict, run_to_dict
 
     for other in (run, dataclasses.replace(run, contact=dataclasses.replace(
             run.rig.contact, friction_coefficient=0.25), gap_ramp_s=0.101)):

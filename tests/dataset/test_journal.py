@@ -16,9 +16,9 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from rubdiag.dataset.chunks import row_schema
-from rubdiag.dataset.generation import _Progress, _Writer
-from rubdiag.dataset.store import DatasetFolder, load
+from rubdiag.dataset._chunks import row_schema
+from rubdiag.dataset._generation import _Progress, _Writer
+from rubdiag.dataset._store import DatasetFolder, load
 
 
 class Killed(BaseException):
@@ -207,7 +207,7 @@ def test_load_beside_a_compaction_sees_every_row(tmp_path, monkeypatch, moment):
     """A reader beside a running job: the job moves the journal into a chunk while load
     reads a journal row, or between load's listing of one kind of file and of the other
     (whichever it lists first); load still returns every run once."""
-    import rubdiag.dataset.store as store
+    import rubdiag.dataset._store as store
 
     folder = new_folder(tmp_path / "d")
     folder.write_chunk([row("a", 1.0)], row_schema(row("a", 0.0)))

@@ -1,4 +1,4 @@
-"""Labels from what a run did (rubdiag.dataset.labels): the study's four cells get the
+"""Labels from what a run did (rubdiag.dataset._labels): the study's four cells get the
 study's severities, the measures follow their definitions, the rules their thresholds."""
 
 from __future__ import annotations
@@ -11,9 +11,9 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from rubdiag.dataset import labels as L
-from rubdiag.simulate import Run, simulate
-from rubdiag.simulate.result import EpisodeLog
+from rubdiag.dataset import _labels as L
+from rubdiag.simulation import Run, simulate
+from rubdiag.simulation._result import EpisodeLog
 
 CELLS = {(1, 2.3): "light", (1, 1.9): "serious", (2, 2.3): "light", (2, 1.9): "serious"}
 

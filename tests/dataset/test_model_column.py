@@ -9,12 +9,12 @@ import pandas as pd
 import pyarrow as pa
 import pytest
 
-import rubdiag.simulate
+import rubdiag.simulation
 from rubdiag.dataset import Design, load
-from rubdiag.dataset.card import card_text, column_map
-from rubdiag.dataset.rows import make_row
-from rubdiag.dataset.schema import MODEL_COLUMN, MODEL_KINDS
-from rubdiag.dataset.store import DatasetFolder
+from rubdiag.dataset._card import card_text, column_map
+from rubdiag.dataset._rows import make_row
+from rubdiag.dataset._schema import MODEL_COLUMN, MODEL_KINDS
+from rubdiag.dataset._store import DatasetFolder
 
 TOML = """
 [base]
@@ -47,7 +47,7 @@ def test_a_row_says_its_model_also_when_the_run_fails(model, kind):
         seen.append(run)
         raise Boom("no simulation here")
 
-    with mock.patch.object(rubdiag.simulate, "simulate", fake):
+    with mock.patch.object(rubdiag.simulation, "simulate", fake):
         row = make_row(item)
     assert seen == [item.run]                 # the design's run, reduction and all
     assert row["status"] == "error" and "Boom" in row["message"]

@@ -16,14 +16,14 @@ import pandas as pd
 import pytest
 
 from rubdiag.dataset import Design, generate, load, load_waveforms
-from rubdiag.dataset.approach import sweep_linear_approach_m
-from rubdiag.dataset.ids import noise_id
-from rubdiag.dataset.labels import LABELS, MEASURES
-from rubdiag.dataset.noise import add_noise, noise_seed
-from rubdiag.dataset.ramp import SpeedRamp
-from rubdiag.dataset.rows import PROVENANCE, RAMP_COLUMNS
-from rubdiag.dataset.store import acquisition
-from rubdiag.runs.features import max_tracked_rpm, order_tracked, order_tracked_features
+from rubdiag.dataset._approach import sweep_linear_approach_m
+from rubdiag.dataset._ids import noise_id
+from rubdiag.dataset._labels import LABELS, MEASURES
+from rubdiag.dataset._noise import add_noise, noise_seed
+from rubdiag.dataset._ramp import SpeedRamp
+from rubdiag.dataset._rows import PROVENANCE, RAMP_COLUMNS
+from rubdiag.dataset._store import acquisition
+from rubdiag.runs._features import max_tracked_rpm, order_tracked, order_tracked_features
 from rubdiag.signal import prefixed_features, resample_to_angle
 
 DATA = Path(__file__).resolve().parents[2] / "data"
@@ -275,7 +275,7 @@ def generated(run_design, tmp_path_factory):
 
 def _by_hand(item, design):
     """The spectral features of a ramp run, assembled here from the signal layer."""
-    from rubdiag.simulate import simulate
+    from rubdiag.simulation import simulate
 
     result = simulate(item.run)
     measured = add_noise(result.sensor_signals(),
@@ -335,7 +335,7 @@ def test_rows_hold_the_order_tracked_features_and_the_sweeps_labels(run_design, 
 
 def test_the_sweeps_approach_is_the_peak_of_a_fine_grid(run_design):
     from rubdiag.assembly import assemble
-    from rubdiag.dataset.approach import _approach, window_speed_range
+    from rubdiag.dataset._approach import _approach, window_speed_range
     from rubdiag.modal import with_rayleigh
 
     run = run_design.runs()[0].run

@@ -1,4 +1,4 @@
-"""Model-uncertainty factors (rubdiag.dataset.rig_factors) and the gap set by
+"""Model-uncertainty factors (rubdiag.dataset._rig_factors) and the gap set by
 interference_ratio: each changes what it names, the speed follows the run's own rig, and
 a rub run's gap is its linear approach over the ratio."""
 
@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from rubdiag.dataset import Design
-from rubdiag.dataset.rig_factors import bearing_loads_n, varied_rig
+from rubdiag.dataset._rig_factors import bearing_loads_n, varied_rig
 from rubdiag.model import preset_rig
 
 G = 9.81
@@ -94,8 +94,8 @@ def test_a_journal_factor_on_a_rig_without_journals_is_refused():
 
 
 def test_speed_follows_each_run_s_own_rig(design):
-    from rubdiag.dataset.faults import whirl_threshold_rad_s
-    from rubdiag.simulate import critical_speed_for_case
+    from rubdiag.dataset._faults import whirl_threshold_rad_s
+    from rubdiag.simulation import critical_speed_for_case
 
     for item in design.runs():
         p = item.point
@@ -113,7 +113,7 @@ def test_speed_follows_each_run_s_own_rig(design):
 
 
 def test_a_rub_run_s_gap_is_its_linear_approach_over_the_ratio(design):
-    from rubdiag.dataset.approach import sweep_linear_approach_m
+    from rubdiag.dataset._approach import sweep_linear_approach_m
 
     runs = [r for r in design.runs() if r.point["fault"] == "rub"]
     assert runs

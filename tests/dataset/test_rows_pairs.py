@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 
 from rubdiag.dataset import Design
-from rubdiag.dataset.card import column_map
-from rubdiag.dataset.noise import NoiseFloors
-from rubdiag.dataset.rows import make_row, sensor_pairs
-from rubdiag.dataset.schema import PAIR_FEATURES, pair_channel, pair_probes
-from rubdiag.simulate.sensors import Sensor
+from rubdiag.dataset._card import column_map
+from rubdiag.dataset._noise import NoiseFloors
+from rubdiag.dataset._rows import make_row, sensor_pairs
+from rubdiag.dataset._schema import PAIR_FEATURES, pair_channel, pair_probes
+from rubdiag.simulation._sensors import Sensor
 
 # one linear run (the gap is wider than the orbit): 0.2 s analysed, 19 revolutions
 TOML = """

@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 from rubdiag.dataset import Design, generate, load
-from rubdiag.dataset.fault_levels import NO_RUB_GAP_M
-from rubdiag.dataset.rig_factors import (
+from rubdiag.dataset._fault_levels import NO_RUB_GAP_M
+from rubdiag.dataset._rig_factors import (
     bearing_loads_n,
     blade_set,
     blade_set_of,
@@ -25,7 +25,7 @@ from rubdiag.dataset.rig_factors import (
     with_rubbing_blades,
 )
 from rubdiag.model import preset_rig
-from rubdiag.simulate import simulate
+from rubdiag.simulation import simulate
 
 JOURNAL = preset_rig("paper-journal")
 BASE = {"rig": "paper-journal", "duration_s": 2.5, "discard_s": 1.2, "reduced": True,
@@ -86,7 +86,7 @@ def test_the_films_carry_the_blades_weight():
 def _semi_major_m(rig, run, node):
     """The semi-major axis of the linear orbit of ``node`` (its static state apart)."""
     from rubdiag.modal import harmonic_response
-    from rubdiag.simulate.rig_cache import damped_model
+    from rubdiag.simulation._rig_cache import damped_model
 
     model = damped_model(rig)
     q = harmonic_response(model, run.speed_rad_s, run.unbalance).amplitudes

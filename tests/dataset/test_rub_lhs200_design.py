@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from rubdiag.dataset import Design, generate, labels_from_measures, load
-from rubdiag.dataset.labels import LABELS, MEASURES
+from rubdiag.dataset._labels import LABELS, MEASURES
 
 DESIGN = Path(__file__).resolve().parents[2] / "data" / "designs" / "rub_lhs200.toml"
 

@@ -10,7 +10,7 @@ import pytest
 from docs_tables import table as shown
 from scripts_loader import load_script
 
-from rubdiag.dataset.design import DEFAULT_STEP_ERROR
+from rubdiag.dataset._design import DEFAULT_STEP_ERROR
 
 study = load_script("step_study")
 

@@ -1,6 +1,6 @@
 """Damaged dataset files (issue 24): an empty, truncated, garbled or bit-flipped chunk, or a
 truncated journal row, is one line naming the file — from ``load``, ``rubdiag train`` and
-``rubdiag.learn.evaluate`` (and, in a slow test, ``rubdiag evaluate`` and ``rubdiag predict
+``rubdiag.learn._evaluate`` (and, in a slow test, ``rubdiag evaluate`` and ``rubdiag predict
 MODEL DATA``) — never a traceback, and the command that line names
 (``rubdiag dataset DIR/design.toml --out DIR``) moves the file into ``DIR/broken/``
 (kept, byte for byte) and runs again exactly the runs it held: every run ends up once, with
@@ -19,7 +19,7 @@ import pytest
 
 from rubdiag.cli import main
 from rubdiag.dataset import Design, generate, load
-from rubdiag.dataset.rows import PROVENANCE
+from rubdiag.dataset._rows import PROVENANCE
 from rubdiag.learn import evaluate
 
 TOML = """

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 from rubdiag.dataset import Design, acquisition, generate, load, load_waveforms
-from rubdiag.dataset.noise import NoiseFloors, add_noise, noise_seed
-from rubdiag.signal.table import prefixed_features
+from rubdiag.dataset._noise import NoiseFloors, add_noise, noise_seed
+from rubdiag.signal._table import prefixed_features
 
 TOML = """
 [base]
@@ -152,9 +152,9 @@ def test_reading_a_dataset_imports_no_simulator(dataset):
     folder = dataset[1]
     code = ("import sys; from rubdiag.dataset import load, load_waveforms, acquisition; "
             f"load({str(folder)!r}); acquisition({str(folder)!r}); "
-            "from rubdiag.dataset.noise import add_noise; "
-            "print(sorted(m for m in sys.modules if m.startswith(('rubdiag.simulate', "
-            "'rubdiag.kernels', 'rubdiag.model', 'numba'))))")
+            "from rubdiag.dataset._noise import add_noise; "
+            "print(sorted(m for m in sys.modules if m.startswith(('rubdiag.simulation', "
+            "'rubdiag._kernels', 'rubdiag.model', 'numba'))))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True)
     assert out.stdout.strip() == "[]"

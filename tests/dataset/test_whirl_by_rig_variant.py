@@ -19,9 +19,9 @@ import math
 import pytest
 
 from rubdiag.dataset import Design
-from rubdiag.dataset.faults import whirl_threshold_rad_s
-from rubdiag.dataset.rig_factors import varied_rig
-from rubdiag.dataset.rows import make_row
+from rubdiag.dataset._faults import whirl_threshold_rad_s
+from rubdiag.dataset._rig_factors import varied_rig
+from rubdiag.dataset._rows import make_row
 
 # the nominal second critical speed of paper-journal: 4474 rpm
 TOML = """

@@ -9,10 +9,10 @@ import math
 import pytest
 
 from rubdiag.dataset import Design
-from rubdiag.dataset.faults import fault_labels, whirl_threshold_rad_s
-from rubdiag.dataset.labels import label_run
+from rubdiag.dataset._faults import fault_labels, whirl_threshold_rad_s
+from rubdiag.dataset._labels import label_run
 from rubdiag.model import preset_rig
-from rubdiag.simulate import simulate
+from rubdiag.simulation import simulate
 
 TOML = """
 [base]
@@ -78,8 +78,8 @@ def test_the_shipped_journal_design_has_every_level_on_paper_journal():
     from collections import Counter
     from pathlib import Path
 
-    from rubdiag.dataset.fault_levels import FAULT_LEVELS
-    from rubdiag.dataset.rig_factors import varied_rig
+    from rubdiag.dataset._fault_levels import FAULT_LEVELS
+    from rubdiag.dataset._rig_factors import varied_rig
 
     path = Path(__file__).parents[2] / "data" / "designs" / "faults_journal.toml"
     design = Design.from_toml(path)

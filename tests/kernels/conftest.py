@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 from testsystems import linear_response, tip_casing_system
 
-from rubdiag.kernels import ensure_fresh_cache
-from rubdiag.simulate import simulate_system
+from rubdiag._kernels import ensure_fresh_cache
+from rubdiag.simulation import simulate_system
 
 
 def rub_run(mu=0.5, k_n=1e7, duration=0.04, dt=1e-5, **kw):

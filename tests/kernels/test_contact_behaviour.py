@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from rubdiag.simulate import Contacts, HarmonicForce, simulate_system
+from rubdiag.simulation import Contacts, HarmonicForce, simulate_system
 
 OPEN, SLIDING, STICKING = 1, 2, 3
 

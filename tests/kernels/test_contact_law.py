@@ -5,9 +5,9 @@ import pytest
 import scipy.optimize as so
 import scipy.sparse as sp
 
-from rubdiag.kernels import annular_contact, point_contact
-from rubdiag.kernels.records import OPEN, SLIDING, STICKING
-from rubdiag.simulate import Contacts, HarmonicForce, simulate_system
+from rubdiag._kernels import annular_contact, point_contact
+from rubdiag._kernels.records import OPEN, SLIDING, STICKING
+from rubdiag.simulation import Contacts, HarmonicForce, simulate_system
 
 KN, KT = 1e7, 5e6
 

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from rubdiag.simulate import Contacts, HarmonicForce, SimulationDiverged, simulate_system
+from rubdiag.simulation import Contacts, HarmonicForce, SimulationDiverged, simulate_system
 
 
 def _base():

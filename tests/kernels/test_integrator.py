@@ -5,7 +5,7 @@ import pytest
 import scipy.linalg as sl
 import scipy.sparse as sp
 
-from rubdiag.simulate import Contacts, HarmonicForce, simulate_system
+from rubdiag.simulation import Contacts, HarmonicForce, simulate_system
 
 
 def _chain(n=6, m=0.5, k=2e5, c_alpha=0.0, c_beta=0.0):

@@ -1,4 +1,4 @@
-"""The kernel's per-step parts do no reference counting (rubdiag.kernels.newmark's docstring).
+"""The kernel's per-step parts do no reference counting (rubdiag._kernels.newmark's docstring).
 
 Numba reference-counts an array argument with two atomic operations per call unless it can
 prove them unneeded; the parts are written so that it can, and that was worth 0.3-1.0 µs per
@@ -56,9 +56,9 @@ SOLVE_MAX = 17
 COUNT = """
 import json
 import numpy as np
-import rubdiag.kernels.newmark as nm
-from rubdiag.kernels import annular_contact, elements, point_contact
-from rubdiag.simulate import Contacts, HarmonicForce, simulate_system
+import rubdiag._kernels.newmark as nm
+from rubdiag._kernels import annular_contact, elements, point_contact
+from rubdiag.simulation import Contacts, HarmonicForce, simulate_system
 
 M, K = np.eye(2), np.diag([100.0, 400.0])
 c = Contacts.point(np.array([[0, 1]]), np.array([[-1, -1]]), np.array([[1.0, 0.0]]),

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from testsystems import bladed_rotor_casing, linear_response
 
-from rubdiag.simulate import simulate_system
+from rubdiag.simulation import simulate_system
 
 
 @pytest.mark.slow

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from testsystems import linear_response, tip_casing_system
 
-from rubdiag.simulate import simulate_system
+from rubdiag.simulation import simulate_system
 
 # stated tolerance of the energy balance: |W_ext + W_drive - ΔE - D_visc - D_fric| over the
 # run, relative to the largest mechanical energy of the run

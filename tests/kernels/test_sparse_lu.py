@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from rubdiag.kernels.sparse_lu import csr_matvec, factorize, lu_solve
+from rubdiag._kernels.sparse_lu import csr_matvec, factorize, lu_solve
 
 
 def _random_sparse(n, density, seed, symmetric=False):

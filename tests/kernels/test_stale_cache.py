@@ -32,9 +32,9 @@ def test_importing_the_kernels_touches_no_cache():
         "import rubdiag._numba as nb\n"
         "calls = []\n"
         "nb.drop_stale_cache = lambda package: calls.append(package)\n"
-        "import rubdiag.kernels, rubdiag.kernels.newmark, rubdiag.simulate\n"
+        "import rubdiag._kernels, rubdiag._kernels.newmark, rubdiag.simulation\n"
         "assert calls == [], calls\n"
-        "rubdiag.kernels.ensure_fresh_cache(); rubdiag.kernels.ensure_fresh_cache()\n"
+        "rubdiag._kernels.ensure_fresh_cache(); rubdiag._kernels.ensure_fresh_cache()\n"
         "assert len(calls) == 1, calls\n"
     )
     subprocess.run([sys.executable, "-c", code], check=True)

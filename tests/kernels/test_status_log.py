@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from rubdiag.kernels.records import OPEN
+from rubdiag._kernels.records import OPEN
 
 
 def _segments_of(seg, k):

@@ -16,10 +16,10 @@ import pytest
 from rubdiag.cli import main
 from rubdiag.dataset import load_waveforms
 from rubdiag.learn import evaluate
-from rubdiag.learn.caveats import MIN_RUNS_PER_CLASS, training_warnings
-from rubdiag.learn.columns import LINE_FEATURES
-from rubdiag.learn.metrics import Score
-from rubdiag.learn.train import evaluate_model, train
+from rubdiag.learn._caveats import MIN_RUNS_PER_CLASS, training_warnings
+from rubdiag.learn._columns import LINE_FEATURES
+from rubdiag.learn._metrics import Score
+from rubdiag.learn._train import evaluate_model, train
 
 NAN = math.nan
 
@@ -170,7 +170,7 @@ def few(small_rows):
 def degenerate(few, tmp_path_factory, monkeypatch_module):
     """The default model (rf, importances and baselines; audit off, one shuffle to keep
     it short) trained on ``few``; the importance figure train drew."""
-    import rubdiag.learn.figures as figures
+    import rubdiag.learn._figures as figures
 
     drawn = {}
     real = figures.importances_figure

@@ -7,10 +7,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from rubdiag.learn.channel_choice import NOISE_MARGIN_DB, choose_channels, decibels
-from rubdiag.learn.channel_choice import power_over_floor_db as db_of
-from rubdiag.learn.columns import LINE_FEATURES
-from rubdiag.learn.evaluate import resolve_channels
+from rubdiag.learn._channel_choice import NOISE_MARGIN_DB, choose_channels, decibels
+from rubdiag.learn._channel_choice import power_over_floor_db as db_of
+from rubdiag.learn._columns import LINE_FEATURES
+from rubdiag.learn._evaluate import resolve_channels
 
 FLOOR = 1e-6
 
@@ -125,7 +125,7 @@ def test_train_and_evaluate_say_what_was_left_out(tiny_dataset, tmp_path,
     """The report, metrics.json and model.json of a model trained with the default set."""
     import json
 
-    from rubdiag.learn.train import train
+    from rubdiag.learn._train import train
 
     expected = {c for c, v in power_over_floor_db(tiny_dataset).items()
                 if c.startswith("shaft") and v < NOISE_MARGIN_DB}

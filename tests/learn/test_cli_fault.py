@@ -17,7 +17,7 @@ import pytest
 from rubdiag.cli import main
 from rubdiag.dataset import load
 
-TRAIN = importlib.import_module("rubdiag.learn.train")
+TRAIN = importlib.import_module("rubdiag.learn._train")
 
 #: The repository's small multi-fault design cut down to 24 runs of 0.8 s (about 15 s on
 #: one core): healthy, rub, a misaligned coupling and both, near the critical speeds.

@@ -19,9 +19,9 @@ import pytest
 from rubdiag.cli import main
 from rubdiag.dataset import load_waveforms
 
-TRAIN = importlib.import_module("rubdiag.learn.train")
+TRAIN = importlib.import_module("rubdiag.learn._train")
 
-SIMULATOR = ("rubdiag.simulate", "rubdiag.runs", "rubdiag.kernels", "rubdiag.model",
+SIMULATOR = ("rubdiag.simulation", "rubdiag.runs", "rubdiag._kernels", "rubdiag.model",
              "rubdiag.modal", "rubdiag.assembly", "numba")
 
 
@@ -155,8 +155,8 @@ def test_predict_column_map_and_units(trained, csv, tmp_path, capsys):
 
 def test_a_fresh_process_predicts_identically(trained, csv):
     out, _ = trained
-    from rubdiag.learn.persist import load_model
-    from rubdiag.learn.predict import predict
+    from rubdiag.learn._persist import load_model
+    from rubdiag.learn._predict import predict
 
     here = predict(load_model(out), csv)
     result = subprocess.run([sys.executable, "-m", "rubdiag", "predict", str(out), str(csv),
@@ -180,7 +180,7 @@ def test_predict_does_not_import_the_simulator(trained, csv):
 def test_cli_choices_are_the_library_s():
     from rubdiag.cli import learn as cli
     from rubdiag.learn import ESTIMATORS, TARGETS
-    from rubdiag.learn.channel_choice import CHANNEL_SETS, NOISE_MARGIN_DB
+    from rubdiag.learn._channel_choice import CHANNEL_SETS, NOISE_MARGIN_DB
 
     assert cli._TARGETS == tuple(TARGETS)
     assert cli._ESTIMATORS == tuple(ESTIMATORS)

@@ -12,11 +12,11 @@ import pandas as pd
 import pytest
 
 from rubdiag.learn import evaluate, make_pipeline
-from rubdiag.learn.columns import LINE_FEATURES
-from rubdiag.learn.confusers import CONFUSER_COLUMNS, calls_rub, confuser_table, has_confusers
-from rubdiag.learn.persist import Model
-from rubdiag.learn.predict import fault_columns, predict_rows
-from rubdiag.learn.train import model_meta
+from rubdiag.learn._columns import LINE_FEATURES
+from rubdiag.learn._confusers import CONFUSER_COLUMNS, calls_rub, confuser_table, has_confusers
+from rubdiag.learn._persist import Model
+from rubdiag.learn._predict import fault_columns, predict_rows
+from rubdiag.learn._train import model_meta
 
 # --- the table, counted by hand --------------------------------------------------------
 

@@ -19,14 +19,14 @@ from sklearn.model_selection import KFold
 from threadpoolctl import threadpool_limits
 
 from rubdiag.learn import audit_columns, evaluate, folds, make_pipeline
-from rubdiag.learn.evaluate import allowed_outside, target_values
-from rubdiag.learn.metrics import null_interval
-from rubdiag.learn.splits import Fold
-from rubdiag.signal.orders import HARMONICS
-from rubdiag.signal.table import still_features
+from rubdiag.learn._evaluate import allowed_outside, target_values
+from rubdiag.learn._metrics import null_interval
+from rubdiag.learn._splits import Fold
+from rubdiag.signal._orders import HARMONICS
+from rubdiag.signal._table import still_features
 
-# the module (rubdiag.learn.evaluate is the function, re-exported by the package)
-evaluate_module = sys.modules["rubdiag.learn.evaluate"]
+# the module (rubdiag.learn._evaluate is the function, re-exported by the package)
+evaluate_module = sys.modules["rubdiag.learn._evaluate"]
 # Small settings: the tests compare scores with intervals far apart, not interval ends.
 FAST = {"n_bootstrap": 200, "n_null": 200}
 # The part of evaluate under test, without the costly extras.

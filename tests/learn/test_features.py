@@ -1,6 +1,6 @@
 """OrderFeatures and the pipelines, on feature tables of synthetic signals with known lines.
 
-Every table here comes from ``rubdiag.signal.table.prefixed_features`` on sums of cosines
+Every table here comes from ``rubdiag.signal._table.prefixed_features`` on sums of cosines
 whose amplitudes and frequencies are set in this file, so the expected classifier inputs
 follow from the signal, not from the code under test.
 """
@@ -24,8 +24,8 @@ from rubdiag.learn import (
     SelectColumns,
     make_pipeline,
 )
-from rubdiag.signal.orders import HALF_ORDERS, HARMONICS, THIRD_ORDERS, order_label
-from rubdiag.signal.table import prefixed_features
+from rubdiag.signal._orders import HALF_ORDERS, HARMONICS, THIRD_ORDERS, order_label
+from rubdiag.signal._table import prefixed_features
 
 FS = 2000.0
 DURATION_S = 4.0
@@ -41,7 +41,7 @@ LINES = [(1.0, A), (1.52, B), (1.8, 0.05), (2.2, 0.03), (0.41, 0.10), (1.59, 0.0
 # RMS of the record: the sum of cosines (a²/2 each) plus the noise variance (the lines lie
 # on whole periods of the 4-s record closely enough that the detrending removes nothing).
 RMS = np.sqrt(sum(a * a for _, a in LINES) / 2 + NOISE**2)
-# The channel's level, which the ratios divide by (rubdiag.learn.features): the RMS within
+# The channel's level, which the ratios divide by (rubdiag.learn._features): the RMS within
 # the searched orders — the order lines (1×, 1.52× in the 1.5× band) and the broadband
 # n× ± 0.25× around each harmonic, which holds the two sidebands of 2×. The combination
 # lines 0.41× and 1.59× lie in no searched band. The noise in the eight 0.5×-wide bands

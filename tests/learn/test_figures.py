@@ -9,8 +9,8 @@ import pandas as pd
 import pytest
 
 from rubdiag.learn import evaluate, make_pipeline
-from rubdiag.learn.columns import LINE_FEATURES
-from rubdiag.learn.figures import confusion_figure, importances_figure, noise_curve_figure
+from rubdiag.learn._columns import LINE_FEATURES
+from rubdiag.learn._figures import confusion_figure, importances_figure, noise_curve_figure
 
 CHANNELS = ("shaft11_y_disp", "shaft11_z_disp", "bearing2_y_acc")
 CLASSES = ("full", "none", "partial")

@@ -18,7 +18,7 @@ from sklearn.metrics import (
     recall_score,
 )
 
-from rubdiag.learn.metrics import (
+from rubdiag.learn._metrics import (
     confusion,
     group_permutations,
     macro_f1,

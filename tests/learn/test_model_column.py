@@ -5,11 +5,11 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from rubdiag.dataset.schema import MODEL_COLUMN
+from rubdiag.dataset._schema import MODEL_COLUMN
 from rubdiag.learn import make_pipeline
-from rubdiag.learn.columns import channels_of, factor_columns
-from rubdiag.learn.features import FAMILIES, OrderFeatures
-from rubdiag.signal.table import prefixed_features
+from rubdiag.learn._columns import channels_of, factor_columns
+from rubdiag.learn._features import FAMILIES, OrderFeatures
+from rubdiag.signal._table import prefixed_features
 
 FS = 2000.0
 

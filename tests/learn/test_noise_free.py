@@ -9,11 +9,11 @@ import pandas as pd
 import pytest
 from data_tolerances import TOLERANCES
 
-from rubdiag.dataset.noise import NoiseFloors
-from rubdiag.learn.features import OrderFeatures
-from rubdiag.signal.bandfloor import MIN_FLOOR_OF_LEVEL
-from rubdiag.signal.orders import HARMONICS
-from rubdiag.signal.table import prefixed_features
+from rubdiag.dataset._noise import NoiseFloors
+from rubdiag.learn._features import OrderFeatures
+from rubdiag.signal._bandfloor import MIN_FLOOR_OF_LEVEL
+from rubdiag.signal._orders import HARMONICS
+from rubdiag.signal._table import prefixed_features
 
 FS, RPM = 2000.0, 1500.0
 F1 = RPM / 60.0
@@ -141,8 +141,8 @@ def test_the_clean_runs_are_the_noisy_runs_without_their_noise(datasets):
 @pytest.mark.parametrize("channels", [None, ["shaft11_y_disp"]], ids=["default", "mid-span"])
 def test_noise_free_records_are_predicted_as_their_noisy_ones(datasets, tmp_path, channels):
     """``rubdiag train`` with its default channels, and the issue's one-probe model."""
-    from rubdiag.learn.predict import predict
-    from rubdiag.learn.train import train
+    from rubdiag.learn._predict import predict
+    from rubdiag.learn._train import train
 
     chosen = {} if channels is None else {"channels": channels}
     model = train(datasets["train"], tmp_path / "model", importances=False, baselines=False,

@@ -10,11 +10,11 @@ import pytest
 from sklearn.metrics import f1_score
 from sklearn.model_selection import StratifiedKFold, cross_val_predict
 
-from rubdiag.dataset.card import column_map
-from rubdiag.dataset.schema import PAIR_FEATURES
+from rubdiag.dataset._card import column_map
+from rubdiag.dataset._schema import PAIR_FEATURES
 from rubdiag.learn import OrderFeatures, make_pipeline
-from rubdiag.learn.columns import LINE_FEATURES
-from rubdiag.simulate.sensors import Sensor
+from rubdiag.learn._columns import LINE_FEATURES
+from rubdiag.simulation._sensors import Sensor
 
 SENSORS = (Sensor("shaft 11", "y"), Sensor("shaft 11", "z"), Sensor("shaft 4", "y"))
 PAIR = "shaft11_yz_disp"

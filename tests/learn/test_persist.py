@@ -17,8 +17,8 @@ from sklearn.preprocessing import StandardScaler
 from threadpoolctl import threadpool_limits
 
 from rubdiag.learn import ESTIMATORS, OrderFeatures, baseline_pipeline, make_pipeline
-from rubdiag.learn.columns import shaft_channels
-from rubdiag.learn.persist import (
+from rubdiag.learn._columns import shaft_channels
+from rubdiag.learn._persist import (
     META_FILE,
     MODEL_FILE,
     TRUSTED_TYPES,

@@ -15,9 +15,9 @@ from scipy.signal import resample_poly
 from rubdiag.cli import main
 from rubdiag.dataset import load_waveforms
 from rubdiag.learn import make_pipeline, shaft_channels
-from rubdiag.learn.persist import load_model, save_model
-from rubdiag.learn.predict import predict, unit_factor
-from rubdiag.learn.train import model_meta, train
+from rubdiag.learn._persist import load_model, save_model
+from rubdiag.learn._predict import predict, unit_factor
+from rubdiag.learn._train import model_meta, train
 
 FS_STORED = 10_000.0
 FS = 5_000.0          # the "measurement": stored waveforms resampled 10 kHz -> 5 kHz

@@ -21,9 +21,9 @@ import pytest
 from rubdiag.cli import build_parser, main
 from rubdiag.dataset import Design, generate, load_waveforms
 from rubdiag.learn import predict, read_dataset
-from rubdiag.learn.persist import load_model
-from rubdiag.learn.predict import UNITS
-from rubdiag.learn.train import train
+from rubdiag.learn._persist import load_model
+from rubdiag.learn._predict import UNITS
+from rubdiag.learn._train import train
 
 ROOT = Path(__file__).resolve().parents[2]
 CHANNEL_SETS = ("auto", "shaft", "all")
@@ -222,8 +222,8 @@ def test_the_documentation_states_the_constants():
     """The explanation's prose takes the constants from the library when it is built."""
     from docs_tables import generate
 
-    from rubdiag.learn.caveats import MIN_RUNS_PER_CLASS
-    from rubdiag.learn.channel_choice import NOISE_MARGIN_DB
+    from rubdiag.learn._caveats import MIN_RUNS_PER_CLASS
+    from rubdiag.learn._channel_choice import NOISE_MARGIN_DB
 
     values = generate.substitutions()
     assert values["noise_margin_db"] == f"{NOISE_MARGIN_DB:g}"

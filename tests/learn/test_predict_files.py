@@ -16,11 +16,11 @@ import pytest
 
 from rubdiag.cli import main
 from rubdiag.learn import make_pipeline
-from rubdiag.learn.inputs import read_speeds
-from rubdiag.learn.persist import load_model, save_model
-from rubdiag.learn.predict import predict
-from rubdiag.learn.train import model_meta
-from rubdiag.signal.table import prefixed_features
+from rubdiag.learn._inputs import read_speeds
+from rubdiag.learn._persist import load_model, save_model
+from rubdiag.learn._predict import predict
+from rubdiag.learn._train import model_meta
+from rubdiag.signal._table import prefixed_features
 
 FS, WINDOW_S = 2000.0, 1.0
 CHANNELS = (("probe", "shaft 4", 10e-6), ("shaft", "shaft 11", 50e-6))
@@ -148,7 +148,7 @@ def test_a_range_warning_names_the_features_with_values_and_ranges(model, plant)
     """Swapped speeds: the warning names at most NAMED_FEATURES features, each with the
     value the window read and the model's training range, which it lies outside; a band
     at the noise floor (1) is never among them."""
-    from rubdiag.learn.predict import NAMED_FEATURES
+    from rubdiag.learn._predict import NAMED_FEATURES
 
     folder, _ = plant
     table = predict(model, [folder / "a_slow.csv"], speed_rpm=[1700.0])

@@ -9,10 +9,10 @@ import pandas as pd
 import pytest
 
 from rubdiag.dataset import load_waveforms
-from rubdiag.dataset.schema import PAIR_FEATURES, SEPARATOR
-from rubdiag.learn.persist import load_model
-from rubdiag.learn.predict import pair_columns, predict
-from rubdiag.learn.train import train
+from rubdiag.dataset._schema import PAIR_FEATURES, SEPARATOR
+from rubdiag.learn._persist import load_model
+from rubdiag.learn._predict import pair_columns, predict
+from rubdiag.learn._train import train
 
 Y, Z, PAIR = "shaft11_y_disp", "shaft11_z_disp", "shaft11_yz_disp"
 LENGTHS = {n for n in PAIR_FEATURES if n.startswith(("fwd_", "rev_"))} | {
@@ -88,7 +88,7 @@ def test_a_csv_of_the_two_probes_predicts_as_the_stored_rows(model, windows, sma
 def test_the_noise_curves_recompute_the_pair_columns(small_dataset, small_rows):
     """The noise curves' features of the stored windows (no noise added) hold every pair
     column, within 1e-4 of the rows' as above; with noise added they move."""
-    from rubdiag.learn.robustness import (
+    from rubdiag.learn._robustness import (
         analysis_windows,
         noisy_windows,
         reference_power,

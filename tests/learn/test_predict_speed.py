@@ -1,5 +1,5 @@
 """predict guesses a window's speed as rubdiag features does: the channels' strongest lines
-vote (rubdiag.signal.speedvote), so a noise-only probe first in the file spoils nothing."""
+vote (rubdiag.signal._speedvote), so a noise-only probe first in the file spoils nothing."""
 
 from __future__ import annotations
 
@@ -8,11 +8,11 @@ import pandas as pd
 import pytest
 
 from rubdiag.learn import make_pipeline
-from rubdiag.learn.persist import load_model, save_model
-from rubdiag.learn.predict import predict
-from rubdiag.learn.train import model_meta
+from rubdiag.learn._persist import load_model, save_model
+from rubdiag.learn._predict import predict
+from rubdiag.learn._train import model_meta
 from rubdiag.signal import SpeedAmbiguous, features
-from rubdiag.signal.table import prefixed_features
+from rubdiag.signal._table import prefixed_features
 
 FS, WINDOW_S, RPM = 2000.0, 2.0, 1500.0
 N = round(FS * WINDOW_S)

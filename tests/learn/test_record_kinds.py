@@ -5,7 +5,7 @@ keeps its own kind whatever its design point."""
 import numpy as np
 import pandas as pd
 
-from rubdiag.learn.train import record_kinds
+from rubdiag.learn._train import record_kinds
 
 
 def test_rubs_are_split_by_what_rubbed():

@@ -15,11 +15,11 @@ from scipy.stats import binomtest
 
 from rubdiag.cli import main
 from rubdiag.learn import read_dataset
-from rubdiag.learn.confusers import kind_table
-from rubdiag.learn.metrics import wilson_interval
-from rubdiag.learn.predict import predict
-from rubdiag.learn.records import read_records
-from rubdiag.learn.textbook import textbook_records, write_records
+from rubdiag.learn._confusers import kind_table
+from rubdiag.learn._metrics import wilson_interval
+from rubdiag.learn._predict import predict
+from rubdiag.learn._records import read_records
+from rubdiag.learn._textbook import textbook_records, write_records
 
 
 def run(argv, capsys):

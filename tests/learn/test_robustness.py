@@ -12,9 +12,9 @@ import pytest
 
 from rubdiag.dataset import load_waveforms
 from rubdiag.learn import channels_of, evaluate, make_pipeline, shaft_channels
-from rubdiag.learn.columns import LINE_FEATURES
-from rubdiag.learn.figures import noise_curve_figure
-from rubdiag.learn.robustness import (
+from rubdiag.learn._columns import LINE_FEATURES
+from rubdiag.learn._figures import noise_curve_figure
+from rubdiag.learn._robustness import (
     analysis_windows,
     noise_curve,
     noisy_windows,

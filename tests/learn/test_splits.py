@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from rubdiag.learn.splits import folds, split_names
+from rubdiag.learn._splits import folds, split_names
 
 
 def design_rows(values: dict, replicates, seed=0):

@@ -65,7 +65,7 @@ def _make(design, out: Path, name: str) -> None:
 @pytest.mark.slow
 def test_new_step_defaults_keep_the_default_classifiers_score(tmp_path):
     from rubdiag.dataset import Design, load
-    from rubdiag.dataset.design import DEFAULT_STEP_ERROR
+    from rubdiag.dataset._design import DEFAULT_STEP_ERROR
     from rubdiag.learn import evaluate, read_dataset
 
     root = Path(os.environ.get(STUDY_ENV) or tmp_path)

@@ -1,4 +1,4 @@
-"""Textbook records (rubdiag.learn.textbook): the lines they state are the lines rubdiag's
+"""Textbook records (rubdiag.learn._textbook): the lines they state are the lines rubdiag's
 own spectral features read, on the bin grid and between two bins; pairs precess as stated;
 the same seed gives the same records; bad input is refused naming the parameter."""
 
@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from rubdiag.learn.textbook import (
+from rubdiag.learn._textbook import (
     AMPLITUDE_TOLERANCE,
     ELLIPTICITY,
     KINDS,
@@ -17,9 +17,9 @@ from rubdiag.learn.textbook import (
     textbook_records,
     write_records,
 )
-from rubdiag.signal.fullspectrum import full_spectrum_lines
-from rubdiag.signal.orders import order_label
-from rubdiag.signal.table import prefixed_features
+from rubdiag.signal._fullspectrum import full_spectrum_lines
+from rubdiag.signal._orders import order_label
+from rubdiag.signal._table import prefixed_features
 
 FS, WINDOW_S, NOISE = 10_000.0, 1.3, 1e-6
 CHANNELS = ("shaft11_y_disp", "shaft11_z_disp", "probe")

@@ -13,10 +13,10 @@ import pytest
 from sklearn.metrics import balanced_accuracy_score, f1_score
 
 from rubdiag import __version__
-from rubdiag.learn.channel_choice import NOISE_MARGIN_DB
-from rubdiag.learn.persist import META_FILE, MODEL_FILE, load_model
-from rubdiag.learn.train import evaluate_model, order_reach, train
-from rubdiag.signal.table import features
+from rubdiag.learn._channel_choice import NOISE_MARGIN_DB
+from rubdiag.learn._persist import META_FILE, MODEL_FILE, load_model
+from rubdiag.learn._train import evaluate_model, order_reach, train
+from rubdiag.signal._table import features
 
 # logreg: the cheapest estimator with every part of the evaluation (importances,
 # baselines, audit), so that every file of a model folder is written
@@ -128,7 +128,7 @@ def test_a_fresh_process_predicts_identically(trained, small_dataset, small_rows
     model, out = trained
     here = model.pipeline.predict_proba(small_rows)     # the pipeline train fitted
     code = ("import json, sys; from rubdiag.learn import read_dataset; "
-            "from rubdiag.learn.persist import load_model; "
+            "from rubdiag.learn._persist import load_model; "
             "m = load_model(sys.argv[1]); "
             "print(json.dumps(m.pipeline.predict_proba(read_dataset(sys.argv[2])).tolist()))")
     result = subprocess.run([sys.executable, "-c", code, str(out), str(small_dataset)],
@@ -145,12 +145,12 @@ class TestWriting:
         import importlib
 
         # the module, not the function rubdiag.learn exports under the same name
-        module = importlib.import_module("rubdiag.learn.train")
+        module = importlib.import_module("rubdiag.learn._train")
 
         evaluation = {}
 
         def evaluate(data, target, *args, **kwargs):
-            from rubdiag.learn.evaluate import evaluate as real
+            from rubdiag.learn._evaluate import evaluate as real
 
             if target not in evaluation:
                 evaluation[target] = real(data, target, *args, importances=False,
@@ -191,7 +191,7 @@ class TestWriting:
                                           monkeypatch):
         import shutil
 
-        import rubdiag.learn.figures as figures
+        import rubdiag.learn._figures as figures
 
         def broken(*args, **kwargs):
             raise RuntimeError("disk full")

@@ -14,8 +14,8 @@ import pandas as pd
 import pytest
 
 from rubdiag.cli import main
-from rubdiag.learn.caveats import small_class_warnings
-from rubdiag.signal.table import prefixed_features
+from rubdiag.learn._caveats import small_class_warnings
+from rubdiag.signal._table import prefixed_features
 
 FS, WINDOW_S = 2000.0, 2.0
 N = round(FS * WINDOW_S)
@@ -67,7 +67,7 @@ def trained(tmp_path_factory):
     out = tmp_path_factory.mktemp("warnings") / "model"
     stdout, stderr = io.StringIO(), io.StringIO()
     with pytest.MonkeyPatch.context() as mp:     # the rows instead of a dataset folder
-        mp.setattr(importlib.import_module("rubdiag.learn.train"), "read_dataset",
+        mp.setattr(importlib.import_module("rubdiag.learn._train"), "read_dataset",
                    lambda _: data)
         with contextlib.redirect_stdout(stdout), contextlib.redirect_stderr(stderr):
             code = main(["train", "rows", "--out", str(out), "--estimator", "logreg",

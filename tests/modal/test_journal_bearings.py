@@ -5,7 +5,7 @@ critical speed map and the threshold of instability.
 The test rotor (tests/journal_rig.py): a practically rigid shaft with a 20 kg disc at
 mid-span on two identical short bearings, each carrying 98.1 N. Its cylindrical mode is the rigid
 rotor of half the mass on one bearing, whose threshold the film's own 2-DOF linearisation
-gives (the same as tests/simulate/test_journal_bearing.py: 1122.45 rad/s).
+gives (the same as tests/simulation/test_journal_bearing.py: 1122.45 rad/s).
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ import pytest
 from journal_rig import FILM, LOAD, MASS, rig
 from scipy.optimize import brentq
 
-from rubdiag import fluidfilm as ff
+from rubdiag import _fluidfilm as ff
 from rubdiag.assembly import assemble
 from rubdiag.modal import (
     critical_speeds,

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from rubdiag.assembly import assemble, rayleigh_coefficients
-from rubdiag.assembly.elements import circular_section
+from rubdiag.assembly._elements import circular_section
 from rubdiag.modal import (
     calibrate,
     campbell,

@@ -11,7 +11,8 @@ from scipy.optimize import brentq
 
 from rubdiag._blas import one_thread
 from rubdiag.assembly import assemble
-from rubdiag.modal import critical_speeds, modes, stability, with_rayleigh
+from rubdiag.modal import _stability as stability
+from rubdiag.modal import critical_speeds, modes, with_rayleigh
 from rubdiag.model import preset_rig
 
 

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from rubdiag.model import PRESETS, paper_rig, preset_rig
-from rubdiag.simulate.rig_cache import forward_critical_speeds
+from rubdiag.simulation._rig_cache import forward_critical_speeds
 
 
 def test_paper_is_the_study_rig():
@@ -63,7 +63,7 @@ def test_the_journal_preset_s_loads_are_the_rotor_weight_each_bearing_carries():
 
     from rubdiag.assembly import assemble
     from rubdiag.model.presets import JOURNAL_LOADS_N
-    from rubdiag.simulate.static_load import StaticLoad
+    from rubdiag.simulation._static_load import StaticLoad
 
     rig = paper_rig()
     model = assemble(rig)
@@ -100,10 +100,10 @@ def test_the_journal_preset_s_journals_start_inside_their_clearance(journal_mode
     """At the edges of each case's range the linear start keeps both journals inside their
     clearance (rig_system refuses a run otherwise)."""
     from rubdiag.modal import critical_speeds
-    from rubdiag.simulate import Run
-    from rubdiag.simulate.rig_cache import damped_model
-    from rubdiag.simulate.rig_system import rig_system
-    from rubdiag.simulate.static_load import StaticLoad
+    from rubdiag.simulation import Run
+    from rubdiag.simulation._rig_cache import damped_model
+    from rubdiag.simulation._rig_system import rig_system
+    from rubdiag.simulation._static_load import StaticLoad
 
     critical = critical_speeds(journal_model, n=2)[case - 1]
     rig = preset_rig("paper-journal")
@@ -120,9 +120,9 @@ def test_the_journal_preset_whips_in_case_2_above_its_threshold(rpm, whips):
     0.02 at 4250 rpm, 0.95 at 4600 rpm, the disc at 22.7 Hz, the first mode; journals at
     0.17 c or more from the wall)."""
     from rubdiag.reduce import Reduction
-    from rubdiag.simulate import Run, simulate
-    from rubdiag.simulate.films import subsynchronous_share
-    from rubdiag.simulate.static_load import StaticLoad
+    from rubdiag.simulation import Run, simulate
+    from rubdiag.simulation._films import subsynchronous_share
+    from rubdiag.simulation._static_load import StaticLoad
 
     result = simulate(Run.paper_case(2, None, speed_rpm=rpm, duration_s=3.0, discard_s=1.5,
                                      rig=preset_rig("paper-journal"),

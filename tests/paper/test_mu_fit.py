@@ -17,7 +17,7 @@ from scripts_loader import load_script
 
 from rubdiag.model import paper_rig
 from rubdiag.paper import paper_values
-from rubdiag.paper.ensemble import GAP_RAMPS_S
+from rubdiag.paper._ensemble import GAP_RAMPS_S
 
 script = load_script("fit_mu")
 

@@ -24,8 +24,8 @@ from matplotlib.image import imread
 from scripts_loader import load_script
 
 from rubdiag.paper import GAP_RAMPS_S, ensemble, paper_values, reproduce, table2
-from rubdiag.plotting.run import DPI, FIGSIZE
-from rubdiag.simulate import Run
+from rubdiag.plotting._run import DPI, FIGSIZE
+from rubdiag.simulation import Run
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = ROOT / "data"

@@ -12,12 +12,12 @@ from concurrent.futures import ThreadPoolExecutor
 import pandas as pd
 import pytest
 
-import rubdiag.simulate
+import rubdiag.simulation
 from rubdiag.paper import reproduce, table2
 from rubdiag.reduce import Reduction
-from rubdiag.simulate import Run, simulate
+from rubdiag.simulation import Run, simulate
 
-table2_module = importlib.import_module("rubdiag.paper.table2")
+table2_module = importlib.import_module("rubdiag.paper._table2")
 
 WINDOW = {"duration_s": 0.7, "discard_s": 0.2}   # 12.5 revolutions at 1500 rpm
 
@@ -36,7 +36,7 @@ def simulated(monkeypatch, template):
         runs.append(run)
         return dataclasses.replace(template, run=run)
 
-    monkeypatch.setattr(rubdiag.simulate, "simulate", fake)
+    monkeypatch.setattr(rubdiag.simulation, "simulate", fake)
     monkeypatch.setattr(table2_module, "ProcessPoolExecutor", ThreadPoolExecutor)
     return runs
 

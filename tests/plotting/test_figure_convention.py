@@ -14,11 +14,11 @@ import pytest
 from matplotlib.figure import Figure
 from matplotlib.image import imread
 
-from rubdiag.learn.figures import noise_curve_figure
+from rubdiag.learn._figures import noise_curve_figure
 from rubdiag.plotting import save_figure
-from rubdiag.plotting.faults import full_spectrum_figure
-from rubdiag.plotting.modal import campbell_figure, unbalance_figure
-from rubdiag.plotting.runup import (
+from rubdiag.plotting._faults import full_spectrum_figure
+from rubdiag.plotting._modal import campbell_figure, unbalance_figure
+from rubdiag.plotting._runup import (
     RUB_ORDERS,
     bode_figure,
     order_map_figure,
@@ -27,7 +27,7 @@ from rubdiag.plotting.runup import (
     save_runup_figures,
     waterfall_figure,
 )
-from rubdiag.plotting.spectra import plot_order_spectra
+from rubdiag.plotting._spectra import plot_order_spectra
 from rubdiag.signal import order_label
 
 RPM = np.linspace(1000.0, 2000.0, 21)

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 from matplotlib.colors import to_rgb
 
-from rubdiag.plotting.modal import _BACKWARD, _FORWARD, campbell_figure, deflection_figure
-from rubdiag.plotting.spectra import MARKERS, plot_order_spectra
+from rubdiag.plotting._modal import _BACKWARD, _FORWARD, campbell_figure, deflection_figure
+from rubdiag.plotting._spectra import MARKERS, plot_order_spectra
 
 
 def _row(**extra):
@@ -82,6 +82,6 @@ def test_deflection_legend_names_bearings_and_discs(paper_model):
 @pytest.mark.parametrize("value, text", [(1e-2, "10⁻²"), (1.0, "10⁰"), (1e3, "10³"),
                                          (3e2, ""), (0.0, "")])
 def test_decade_labels_are_plain_text(value, text):
-    from rubdiag.plotting._ticks import _decade
+    from rubdiag.plotting.__ticks import _decade
 
     assert _decade(value) == text

@@ -4,10 +4,10 @@ after the other here, pixel for pixel, each run in its own file."""
 import numpy as np
 from matplotlib.image import imread
 
-from rubdiag.paper.figures import write_figures
-from rubdiag.plotting.run import save_run_figures
+from rubdiag.paper._figures import write_figures
+from rubdiag.plotting._run import save_run_figures
 from rubdiag.runs import run_features
-from rubdiag.simulate import Run, simulate
+from rubdiag.simulation import Run, simulate
 
 
 def test_parallel_figures_are_the_sequential_ones(tmp_path):

@@ -11,8 +11,8 @@ from matplotlib.colors import to_rgb
 from matplotlib.image import imread
 
 from rubdiag.cli import main
-from rubdiag.plotting.run import DPI, FIGSIZE, STATUS_COLOURS, ZOOM_REVOLUTIONS, run_figure
-from rubdiag.simulate import Run, simulate
+from rubdiag.plotting._run import DPI, FIGSIZE, STATUS_COLOURS, ZOOM_REVOLUTIONS, run_figure
+from rubdiag.simulation import Run, simulate
 
 LANE = {2: 0.2, 3: -0.2}        # sliding above, sticking below the element's row centre
 
@@ -128,7 +128,7 @@ def test_every_segment_of_the_log_and_nothing_else_is_drawn(result, png):
 def test_segments_are_never_narrower_than_a_pixel_at_any_dpi():
     import matplotlib.pyplot as plt
 
-    from rubdiag.plotting.run import SegmentBars
+    from rubdiag.plotting._run import SegmentBars
 
     for dpi in (40, 110, 300):
         fig, ax = plt.subplots(figsize=(4, 2), dpi=dpi)

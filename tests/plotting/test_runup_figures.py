@@ -10,8 +10,8 @@ import pandas as pd
 import pytest
 from matplotlib.image import imread
 
-from rubdiag.plotting.run import DPI
-from rubdiag.plotting.runup import (
+from rubdiag.plotting._run import DPI
+from rubdiag.plotting._runup import (
     ORDERS,
     RUB_ORDERS,
     bode_figure,
@@ -263,7 +263,7 @@ def test_rub_orders_draw_the_trackings_leakage(sweeps):
     """Dashed in each track's colour: what its changing 1× leaks into each order
     (tracking_leakage, tested against the analytic level in tests/signal/test_leakage.py),
     named in the legend; only where the bin length is known."""
-    from rubdiag.signal.leakage import tracking_leakage
+    from rubdiag.signal._leakage import tracking_leakage
 
     fig = rub_orders_figure(sweeps, revs_per_bin=8)
     for ax, k in zip(fig.axes, RUB_ORDERS, strict=True):

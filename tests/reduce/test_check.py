@@ -1,4 +1,4 @@
-"""The reduced paper rig against the full one (``rubdiag.reduce.check``): the tolerances are
+"""The reduced paper rig against the full one (``rubdiag.reduce._check``): the tolerances are
 the module's constants, which README's "Reduced model" section quotes."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ import pytest
 
 from rubdiag.model import paper_rig
 from rubdiag.reduce import check, reduced_model
-from rubdiag.reduce.check import FREQUENCY_TOLERANCE, RESPONSE_TOLERANCE, STATIC_TOLERANCE
+from rubdiag.reduce._check import FREQUENCY_TOLERANCE, RESPONSE_TOLERANCE, STATIC_TOLERANCE
 
 
 @pytest.fixture(scope="module")
@@ -44,7 +44,7 @@ def test_a_model_too_coarse_for_its_band_fails(monkeypatch):
 
     from rubdiag.reduce import Reduction
 
-    check_module = importlib.import_module("rubdiag.reduce.check")   # the module, not check()
+    check_module = importlib.import_module("rubdiag.reduce._check")   # the module, not check()
 
     rig = paper_rig()
     coarse = dataclasses.replace(reduced_model(rig, Reduction(cutoff_hz=300.0)),
@@ -67,8 +67,8 @@ def test_one_reduction_per_rig_and_process():
 def test_sensor_dofs_are_those_of_the_default_sensors():
     # check() sits below rubdiag.simulate, so it names the default sensors' DOFs itself
     from rubdiag.assembly import assemble
-    from rubdiag.reduce.check import _sensor_dofs
-    from rubdiag.simulate import default_sensors
+    from rubdiag.reduce._check import _sensor_dofs
+    from rubdiag.simulation import default_sensors
 
     rig = paper_rig()
     model = assemble(rig)

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 from scipy.stats import ortho_group
 
-from rubdiag.kernels.newmark import _mk_dense
-from rubdiag.simulate.system import _coupled
+from rubdiag._kernels.newmark import _mk_dense
+from rubdiag.simulation._system import _coupled
 
 
 def _craig_bampton_like(n_b: int, n_m: int, seed: int = 0):
@@ -58,7 +58,7 @@ def test_products_equal_the_full_products(n_b):
 def test_a_run_does_not_depend_on_the_coordinates():
     # the same system in coordinates that mix the tail (no exact zeros: the plain dense
     # products) gives the same motion, recovered
-    from rubdiag.simulate import HarmonicForce, simulate_system
+    from rubdiag.simulation import HarmonicForce, simulate_system
 
     M, K = _craig_bampton_like(2, 4, seed=3)
     C = 1e-3 * K + 0.5 * M
@@ -82,7 +82,7 @@ def test_the_paper_rig_reduction_has_an_exact_tail_and_lost_only_round_off():
     from rubdiag.modal import with_rayleigh
     from rubdiag.model import paper_rig
     from rubdiag.reduce import reduced_model
-    from rubdiag.reduce.reduced import _symmetric
+    from rubdiag.reduce._reduced import _symmetric
 
     rig = paper_rig()
     reduced = reduced_model(rig)

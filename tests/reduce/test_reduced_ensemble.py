@@ -28,7 +28,7 @@ import pytest
 from scripts_loader import load_script
 
 from rubdiag.paper import ensemble
-from rubdiag.paper.ensemble import GAP_RAMPS_S
+from rubdiag.paper._ensemble import GAP_RAMPS_S
 from rubdiag.reduce import Reduction
 
 pytestmark = pytest.mark.slow

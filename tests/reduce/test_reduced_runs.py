@@ -7,8 +7,8 @@ import pytest
 
 from rubdiag.model import paper_rig
 from rubdiag.reduce import Reduction
-from rubdiag.reduce.check import RESPONSE_TOLERANCE
-from rubdiag.simulate import Run, default_sensors, simulate
+from rubdiag.reduce._check import RESPONSE_TOLERANCE
+from rubdiag.simulation import Run, default_sensors, simulate
 
 
 def _pair(**options):
@@ -78,7 +78,7 @@ def test_reduced_contact_obeys_the_contact_law(rubbing):
 
 def test_recovery_records_every_physical_dof_by_default():
     # a 2-DOF system integrated in modal coordinates, recovered to 3 "physical" DOFs
-    from rubdiag.simulate import HarmonicForce, simulate_system
+    from rubdiag.simulation import HarmonicForce, simulate_system
 
     T = np.array([[1.0, 0.0], [0.5, 0.5], [0.0, 1.0]])
     M, K = np.eye(2), np.diag([100.0, 400.0])

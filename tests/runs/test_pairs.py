@@ -12,8 +12,8 @@ import pytest
 
 from rubdiag.modal import harmonic_response
 from rubdiag.runs import pair_rows, recorded_pairs
-from rubdiag.simulate import Run, simulate
-from rubdiag.simulate.rig_cache import damped_model
+from rubdiag.simulation import Run, simulate
+from rubdiag.simulation._rig_cache import damped_model
 
 
 @pytest.fixture(scope="module")

@@ -6,7 +6,7 @@ import pytest
 
 import rubdiag
 from rubdiag.runs import contact_statistics
-from rubdiag.simulate import Run, simulate
+from rubdiag.simulation import Run, simulate
 
 
 @pytest.fixture(scope="module")

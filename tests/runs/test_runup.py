@@ -12,8 +12,14 @@ import pytest
 
 from rubdiag.cli import main
 from rubdiag.reduce import Reduction
-from rubdiag.runs.runup import GAP_CLOSING_S, linear_response, ramp_run, runup_orders, runup_summary
-from rubdiag.simulate import load_result, simulate
+from rubdiag.runs._runup import (
+    GAP_CLOSING_S,
+    linear_response,
+    ramp_run,
+    runup_orders,
+    runup_summary,
+)
+from rubdiag.simulation import load_result, simulate
 
 RPM = math.pi / 30
 RATE = 300          # rpm/s

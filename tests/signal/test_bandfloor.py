@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from rubdiag.signal.bandfloor import MIN_FLOOR_OF_LEVEL, channel_floor, over_floor
+from rubdiag.signal._bandfloor import MIN_FLOOR_OF_LEVEL, channel_floor, over_floor
 
 
 def test_the_floor_is_the_quietest_band_above_the_rules_least():

@@ -10,7 +10,7 @@ import pytest
 
 @pytest.mark.parametrize(
     "module",
-    ["rubdiag.signal.spectrum", "rubdiag.signal.table", "rubdiag.signal.transformer"],
+    ["rubdiag.signal._spectrum", "rubdiag.signal._table", "rubdiag.signal._transformer"],
 )
 def test_examples(module):
     result = doctest.testmod(importlib.import_module(module))

@@ -9,7 +9,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-import rubdiag.signal.speedtable
+import rubdiag.signal._speedtable
 from rubdiag.signal import (
     FEATURE_NAMES,
     REVOLUTION_FEATURE_NAMES,
@@ -164,7 +164,7 @@ class TestAgainstConstantSpeed:
             assert row.rpm == pytest.approx(60 * f1, rel=1e-9)
             for name in REVOLUTION_FEATURE_NAMES:
                 got = getattr(row, name)
-                hz = {v: k for k, v in rubdiag.signal.speedtable._HZ_TO_ORDER.items()}
+                hz = {v: k for k, v in rubdiag.signal._speedtable._HZ_TO_ORDER.items()}
                 expected = ref[hz[name]] / f1 if name in hz else ref[name]
                 if name.startswith("phase_"):
                     k = float(name.split("_")[1][:-1].replace("p", "."))
@@ -276,5 +276,5 @@ def test_columns_are_the_feature_columns_in_orders():
 
 
 def test_docstring_example():
-    result = doctest.testmod(rubdiag.signal.speedtable)
+    result = doctest.testmod(rubdiag.signal._speedtable)
     assert result.attempted > 0 and result.failed == 0

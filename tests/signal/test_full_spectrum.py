@@ -1,4 +1,4 @@
-"""rubdiag.signal.fullspectrum: synthetic orbits of known content (issue 28, part 1).
+"""rubdiag.signal._fullspectrum: synthetic orbits of known content (issue 28, part 1).
 
 The convention: y + i z, the shaft turning from y towards z, is forward at positive
 frequencies. A circle turning with the shaft is forward, against it reverse; an ellipse of
@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rubdiag.signal.fullspectrum import NEAR_RADIUS, full_spectrum_lines, orbit_measures
+from rubdiag.signal._fullspectrum import NEAR_RADIUS, full_spectrum_lines, orbit_measures
 
 FS, SPEED = 5000.0, 25.0            # Hz
 T = np.arange(int(2.0 * FS)) / FS    # 2 s: 50 whole revolutions
@@ -94,7 +94,7 @@ def test_bad_input_is_refused_by_name():
 def test_the_full_spectrum_puts_forward_right_and_reverse_left():
     """A forward circle of 3 at 1x and a reverse one of 1 at 2x, both on bins: the
     spectrum reads 3 at +25 Hz and 1 at -50 Hz, and little elsewhere."""
-    from rubdiag.signal.fullspectrum import full_spectrum
+    from rubdiag.signal._fullspectrum import full_spectrum
 
     y = 3.0 * np.cos(W * T) + 1.0 * np.cos(2 * W * T)
     z = 3.0 * np.sin(W * T) - 1.0 * np.sin(2 * W * T)
@@ -111,7 +111,7 @@ def test_the_full_spectrum_puts_forward_right_and_reverse_left():
 def test_the_full_spectrum_figure_is_drawn(tmp_path):
     import matplotlib.image as mpimg
 
-    from rubdiag.plotting.faults import full_spectrum_figure
+    from rubdiag.plotting._faults import full_spectrum_figure
 
     y = 3.0 * np.cos(W * T) + 1.0 * np.cos(2 * W * T)
     z = 3.0 * np.sin(W * T) - 1.0 * np.sin(2 * W * T)
@@ -169,8 +169,8 @@ def test_a_simulation_result_has_no_pair_yet(tmp_path, capsys):
 def test_pairs_of_one_record_share_references_and_keep_every_bit():
     """pairs_features (one set of lock-in references per record length) gives, bit for bit,
     what full_spectrum_lines and orbit_measures give each pair alone."""
-    from rubdiag.signal.fullspectrum import pairs_features
-    from rubdiag.signal.orders import HALF_ORDERS, THIRD_ORDERS, order_label
+    from rubdiag.signal._fullspectrum import pairs_features
+    from rubdiag.signal._orders import HALF_ORDERS, THIRD_ORDERS, order_label
 
     rng = np.random.default_rng(7)
     pairs = {}

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import pytest
 
-from rubdiag.dataset.schema import PAIR_FEATURES
-from rubdiag.signal import glossary
-from rubdiag.signal.table import FEATURE_NAMES
+from rubdiag.dataset._schema import PAIR_FEATURES
+from rubdiag.signal import _glossary as glossary
+from rubdiag.signal._table import FEATURE_NAMES
 
 
 @pytest.mark.parametrize("name", [*FEATURE_NAMES, *PAIR_FEATURES])
@@ -25,8 +25,8 @@ def test_every_entry_is_used():
 def test_units_agree_with_the_dataset_column_map():
     """The dictionary's unit is the one a dataset's columns.csv gives the same column
     (the signal's unit written "signal" here, m there for displacement probes)."""
-    from rubdiag.dataset.card import column_map
-    from rubdiag.simulate.sensors import Sensor
+    from rubdiag.dataset._card import column_map
+    from rubdiag.simulation._sensors import Sensor
 
     sensors = [Sensor("shaft 11", "y"), Sensor("shaft 11", "z")]
     columns = [f"shaft11_y_disp__{n}" for n in FEATURE_NAMES if n not in ("speed_rpm",)]

@@ -32,6 +32,6 @@ def test_features_of_an_array_load_no_simulator():
     _run(
         "import sys, numpy, rubdiag; "
         "rubdiag.features(numpy.random.rand(2, 5000), fs=5000, speed_rpm=1500); "
-        "assert 'numba' not in sys.modules and 'rubdiag.simulate' not in sys.modules, "
+        "assert 'numba' not in sys.modules and 'rubdiag.simulation' not in sys.modules, "
         "sorted(m for m in sys.modules if m.startswith(('numba', 'rubdiag.')))"
     )

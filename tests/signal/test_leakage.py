@@ -17,7 +17,7 @@ import pandas as pd
 import pytest
 
 from rubdiag.signal import order_track
-from rubdiag.signal.leakage import tracking_leakage
+from rubdiag.signal._leakage import tracking_leakage
 
 R = 4
 A0, SLOPE = 1.0, 0.02        # 1× grows by 2 % of A0 per revolution

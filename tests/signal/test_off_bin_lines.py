@@ -14,11 +14,11 @@ import pytest
 import scipy.signal
 from data_tolerances import TOLERANCES
 
-import rubdiag.signal.linefree as linefree
-from rubdiag.learn.features import OrderFeatures
+import rubdiag.signal._linefree as linefree
+from rubdiag.learn._features import OrderFeatures
 from rubdiag.signal import feature_matrix
-from rubdiag.signal.orders import HARMONICS
-from rubdiag.signal.table import FEATURE_NAMES
+from rubdiag.signal._orders import HARMONICS
+from rubdiag.signal._table import FEATURE_NAMES
 
 OFF_BIN_BAND_TOLERANCE = TOLERANCES["off_bin_lines"]["band"]
 OFF_BIN_LINE_TOLERANCE = TOLERANCES["off_bin_lines"]["line"]
@@ -143,7 +143,7 @@ def test_sidebands_beside_a_strong_line_between_bins_read_as_on_a_bin():
 
 
 def test_the_library_states_the_tolerances_of_the_data_file():
-    """rubdiag.signal.linefree's constants and docstring give the bands tested here."""
+    """rubdiag.signal._linefree's constants and docstring give the bands tested here."""
     assert linefree.OFF_BIN_BAND_TOLERANCE == OFF_BIN_BAND_TOLERANCE
     assert linefree.OFF_BIN_LINE_TOLERANCE == OFF_BIN_LINE_TOLERANCE
     text = " ".join(linefree.__doc__.split())

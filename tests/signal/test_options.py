@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from rubdiag.signal import RubFeatures, combination_pairs, features, spectral_lines
-from rubdiag.signal.options import Options
+from rubdiag.signal._options import Options
 
 DEFAULTS = {f.name: f.default for f in dataclasses.fields(Options)}
 

@@ -16,7 +16,7 @@ from rubdiag.signal import (
     rpm_order_map,
     tacho_angle,
 )
-from rubdiag.signal.records import RecordTooShort
+from rubdiag.signal._records import RecordTooShort
 
 FS = 5000.0
 DURATION = 6.0

@@ -1,5 +1,5 @@
 """Which line is 1×: a guessed speed whose strongest line has a line at 1/2 or 1/3 of its
-frequency is flagged ambiguous (rubdiag.signal.speed, "Which line is 1×"), never silently
+frequency is flagged ambiguous (rubdiag.signal._speed, "Which line is 1×"), never silently
 doubled; a record with no line at all is refused, naming it. Synthetic records of stated
 lines and noise, at speeds on and off the frequency bins of a 2-s window."""
 

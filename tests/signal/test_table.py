@@ -17,9 +17,9 @@ from rubdiag.signal import (
     spectral_lines,
     tacho_speed,
 )
-from rubdiag.signal.options import Options
-from rubdiag.signal.speed import MIN_SPEED_CONFIDENCE
-from rubdiag.signal.table import still_features
+from rubdiag.signal._options import Options
+from rubdiag.signal._speed import MIN_SPEED_CONFIDENCE
+from rubdiag.signal._table import still_features
 
 FS = 2000.0
 RPM = 1500.0
@@ -292,7 +292,7 @@ class TestGuessedSpeed:
             features(np.random.default_rng(3).random((2, 5000)), fs=5000)
 
     def test_a_noise_only_first_channel_takes_the_speed_of_the_others(self, synth):
-        """The channels vote (rubdiag.signal.speedvote): a probe that sees only noise,
+        """The channels vote (rubdiag.signal._speedvote): a probe that sees only noise,
         first in the file, gets the record's speed from the channel with the 1× line."""
         good = synth([(F1, 1.0), (2 * F1, 0.3)], FS, 2.0, noise=1e-3)
         noise = np.random.default_rng(4).standard_normal(4000)
@@ -366,7 +366,7 @@ def test_numpy_scalars_are_numbers(channels):
 
 def test_prefixed_feature_row_is_the_frame_s_row(synth):
     """The dict path that dataset rows use holds the one-row frame's values bit for bit."""
-    from rubdiag.signal.table import prefixed_feature_row
+    from rubdiag.signal._table import prefixed_feature_row
 
     shaft = synth([(F1, 2e-3), (0.5 * F1, 4e-4)], FS, 2.0)
     casing = synth([(F1, 5e-5), (3 * F1, 1e-6)], FS, 2.0)

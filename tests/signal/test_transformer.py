@@ -10,7 +10,7 @@ from sklearn.preprocessing import StandardScaler
 from sklearn.utils.estimator_checks import parametrize_with_checks
 
 from rubdiag.signal import RubFeatures, feature_names, features
-from rubdiag.signal.table import still_features
+from rubdiag.signal._table import still_features
 
 FS = 1000.0
 

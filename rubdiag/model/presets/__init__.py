@@ -6,12 +6,12 @@
 ``paper-pedestal``
     The same rig with its drive-end bearing (bearing 0, shaft node 4) on a 20 kg pedestal
     standing on 20 MN/m, 500 N·s/m supports in y and z: the rig of the multi-fault designs,
-    where a loose pedestal (:class:`rubdiag.simulate.faults.Looseness`) is one of the faults.
+    where a loose pedestal (:class:`rubdiag.simulation._faults.Looseness`) is one of the faults.
     The pedestal adds a pedestal mode far above the rotor's (the critical speeds move by
     under 0.1 %: 1499.7 and 5696.6 rpm); the same rig carries every fault level, so that
     the rig never gives the class away.
 ``paper-journal``
-    ``paper-pedestal`` on two plain journal bearings (:class:`~rubdiag.model.rig.JournalFilm`,
+    ``paper-pedestal`` on two plain journal bearings (:class:`~rubdiag.model._rig.JournalFilm`,
     :data:`FILM`): journals of 10 mm radius, 10 mm long (L/D = 0.5, the upper end of the
     short-bearing approximation), 300 µm radial clearance, oil of 0.2 Pa·s (an ISO VG 220
     mineral oil near 40 °C), each carrying its share of the rotor's weight under gravity
@@ -66,8 +66,8 @@ def preset_rig(name: str):
         The preset (cached: the same object each call).
     """
     from rubdiag import _check
-    from rubdiag.model.io import paper_rig
-    from rubdiag.model.rig import Pedestal
+    from rubdiag.model._io import paper_rig
+    from rubdiag.model._rig import Pedestal
 
     _check.choice("rig", name, tuple(PRESETS))
     rig = paper_rig()
@@ -77,7 +77,7 @@ def preset_rig(name: str):
     pedestal = dataclasses.replace(rig, bearings=(drive_end, *rig.bearings[1:]), name=name)
     if name == "paper-pedestal":
         return pedestal
-    from rubdiag.model.rig import Bearing, JournalFilm
+    from rubdiag.model._rig import Bearing, JournalFilm
 
     bearings = tuple(
         Bearing(b.node, 0.0, 0.0, pedestal=b.pedestal, journal=JournalFilm(**FILM, load_n=load))

@@ -1,0 +1,531 @@
+"""Simulate a rig: from a :class:`~rubdiag.simulation._run.Run` to a :class:`SimulationResult`.
+
+``simulate(run)`` assembles the rig (or finds it assembled: :mod:`rubdiag.simulation._rig_cache`),
+starts from the linear harmonic steady state at the running speed (so that the transient is
+short), ramps the gap down to g0 (a linear orbit larger than the gap must not start deep
+inside the casing) and integrates with :func:`~rubdiag.simulation._system.simulate_system`.
+
+Result files (``result.save(path)``, ``load_result(path)``) are NumPy ``.npz`` archives:
+every array of the result under its field name (``system.<field>``, ``episodes.<field>``)
+plus ``meta``, a JSON document with the rubdiag version, the run description (the rig as in
+its TOML file, SI units) and the scalar fields. Written atomically (a temporary file in the
+same folder, then renamed); the folder must exist.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import io
+import itertools
+import json
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from rubdiag import _check
+from rubdiag._atomic import write_bytes
+from rubdiag._blas import one_thread
+from rubdiag._version import __version__
+from rubdiag.model._io import rig_from_dict, rig_to_dict
+from rubdiag.model._rig import BladeContact, Unbalance
+from rubdiag.reduce import Reduction
+from rubdiag.simulation._faults import Crack, Faults, Looseness
+from rubdiag.simulation._idle_contacts import report_open
+from rubdiag.simulation._misalignment import Misalignment
+from rubdiag.simulation._result import EpisodeLog, SimulationDiverged, StatusLog, SystemResult
+from rubdiag.simulation._rig_cache import damped_model
+from rubdiag.simulation._rig_system import rig_system
+from rubdiag.simulation._run import SPEED_TOLERANCE, Run
+from rubdiag.simulation._sensors import Sensor, sensor_dofs, sensor_signals
+from rubdiag.simulation._speed_profile import SpeedProfile
+from rubdiag.simulation._static_load import StaticLoad
+from rubdiag.simulation._system import simulate_system
+
+__all__ = ["SimulationResult", "load_result", "response_points", "simulate"]
+
+_RAMP_MARGIN = 1.1    # the ramp starts 10 % above the largest linear approach
+
+# Version 2: contact elements numbered from 1 in the logs (format 1: from 0); the per-step
+# status-segment log. load_result converts format 1 files.
+FORMAT_VERSION = 2
+_LOGS = {"episodes": EpisodeLog, "status_segments": StatusLog}
+
+
+def response_points(rig) -> tuple[str, ...]:
+    """Recorded DOFs: both directions of every disc node, and with blade contacts the casing
+    node of contact element 1 and the tip of its blade (the study's nodes 11, 1844, 39), and
+    both directions of every bearing pedestal, then of every journal bearing's node (after
+    the others: a rig without pedestals or journal bearings records what it did before they
+    existed).
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig.
+
+    Returns
+    -------
+    tuple of str
+        DOF names such as ``"shaft 11 y"``.
+    """
+    points = [f"shaft {d.node} {x}" for d in rig.discs for x in "yz"]
+    if rig.contact is not None:
+        casing = rig.contact_casing_node(1)
+        tip = f"blade {rig.contact.blades[0]}.{rig.blades.n_elements}"
+        points += [f"casing {casing} {x}" for x in "yz"] + [f"{tip} {x}" for x in "yz"]
+    points += [f"pedestal {k} {x}" for k, b in enumerate(rig.bearings)
+               if b.pedestal is not None for x in "yz"]
+    points += [f"shaft {b.node} {x}" for b in rig.bearings if b.journal is not None
+               for x in "yz" if f"shaft {b.node} {x}" not in points]
+    return tuple(points)
+
+
+def _dof(model, label: str) -> int:
+    node, direction = label.rsplit(" ", 1)
+    return model.dofs.index(node, direction)
+
+
+def simulate(run: Run, progress: Callable[[float, float], None] | None = None,
+             raise_on_failure: bool = True) -> SimulationResult:
+    """Integrate ``run`` and return its :class:`SimulationResult`.
+
+    ``progress(t, duration)`` is called every few thousand steps. A run that cannot go on
+    (no convergence at ``dt_min``, a non-finite state) raises
+    :class:`~rubdiag.simulation._result.SimulationDiverged` whose ``result`` is the
+    :class:`SimulationResult` up to the failure (or, with ``raise_on_failure=False``, that
+    result is returned with ``status != 0``).
+
+    The run's dense linear algebra runs on one BLAS thread (:func:`rubdiag._blas.one_thread`:
+    threads spin against other work on busy cores, and their sums would make a reduced
+    run's bits depend on the core count); what depends on the rig alone is cached
+    (:mod:`rubdiag.simulation._rig_cache`, :func:`rubdiag.reduce.reduced_model`).
+
+    Parameters
+    ----------
+    run : Run
+        What to simulate.
+    progress : callable or None
+        ``progress(t, duration)`` (s, s), called every few thousand steps.
+    raise_on_failure : bool
+        Raise :class:`SimulationDiverged` when the run fails (False: return the partial result).
+
+    Returns
+    -------
+    SimulationResult
+        The run's waveforms, contact forces and status, event log and outcome.
+    """
+    if not isinstance(run, Run):
+        raise _check.wrong_type("run", run, "a Run, e.g. Run.paper_case(1, 2.0)")
+    with one_thread():
+        return _simulate(run, progress, raise_on_failure)
+
+
+def _simulate(run: Run, progress, raise_on_failure: bool) -> SimulationResult:
+    start_time = time.perf_counter()
+    model = damped_model(run.rig)
+    speed = run.speed_rad_s
+    rs = rig_system(run, model)
+    gap_ramp = None
+    if len(rs.contacts) and run.gap_ramp_s > 0:
+        g0 = rs.contacts.gap
+        # the approach is over each gap's static shift (zero unless gaps are "loaded")
+        g_start = np.maximum(g0, rs.gap_shift + _RAMP_MARGIN * rs.approach)
+        # the fault elements and films have no gap: their entries are not read
+        g_start = np.r_[g_start, np.full(len(rs.fault_elements), np.nan)]
+        gap_ramp = (run.gap_ramp_s, g_start if rs.fault_elements else g_start[: len(g0)])
+    elements = rs.contacts.elements() + rs.fault_elements if rs.fault_elements else rs.contacts
+    points = response_points(run.rig)
+    record = [_dof(model, p) for p in points]
+    idle = rs.idle
+    if len(idle):       # their tips and casing nodes too, for their gaps and slips
+        record += [*idle.dof_a.ravel(), *idle.dof_b.ravel()]
+    info = {"linear_approach_m": rs.approach, "model": rs.model, **rs.extra}
+    try:
+        profile = run.speed_profile
+        varying = {} if profile is None else {
+            "gyroscopic": rs.G, "speed_profile": profile, "speed_tolerance": SPEED_TOLERANCE}
+        system = simulate_system(
+            rs.M, rs.C if profile else rs.damping(speed), rs.K, rs.force, elements,
+            rs.x0, rs.v0,
+            duration=run.duration_s, dt=run.dt_s, dt_min=run.dt_min_s,
+            fixed_step=run.fixed_step, output_dt=run.output_dt_s, record_dofs=record,
+            dt_max=run.dt_max_s, step_error=run.step_error,
+            sensor_dofs=sensor_dofs(run), gap_ramp=gap_ramp, omega=speed,
+            linear_solver=rs.linear_solver, recovery=rs.recovery,
+            progress=progress, raise_on_failure=True, **varying)
+        if len(idle):
+            system = report_open(system, idle, len(points))
+    except SimulationDiverged as exc:
+        failed = exc.result
+        if len(idle) and "idle_contacts" not in failed.extra:
+            failed = report_open(failed, idle, len(points), check=False)
+        failed.extra.update(info)
+        partial = SimulationResult(run, points, failed, time.perf_counter() - start_time)
+        if raise_on_failure:
+            raise SimulationDiverged(str(exc), partial) from None
+        return partial
+    system.extra.update(info)
+    return SimulationResult(run, points, system, time.perf_counter() - start_time)
+
+
+@dataclass(frozen=True)
+class SimulationResult:
+    """A simulated run: its description, waveforms, contact forces/status and event log.
+
+    Parameters
+    ----------
+    run : Run
+        What was simulated.
+    points : tuple of str
+        Names of the recorded displacements, e.g. ``"shaft 11 y"``, ``"casing 1 y"``.
+    system : SystemResult
+        Everything the integrator computed: samples ``t`` (s), ``q`` (m, columns =
+        ``points``), ``contact_fn``/``contact_ft`` (N) and ``contact_status`` (1 open,
+        2 sliding, 3 sticking) per element, the per-step event log ``episodes``, step-size
+        history, Newton counts, the energy ledger, ``status`` and ``message``.
+    wall_s : float
+        Wall-clock time of ``simulate`` (s).
+    version : str
+        rubdiag version that produced it.
+    """
+
+    run: Run
+    points: tuple[str, ...]
+    system: SystemResult
+    wall_s: float
+    version: str = __version__
+
+    # --- convenient views ----------------------------------------------------------------
+    @property
+    def t(self) -> np.ndarray:
+        return self.system.t
+
+    @property
+    def fs(self) -> float:
+        """Sampling rate of the waveforms (Hz)."""
+        return 1.0 / self.run.output_dt_s
+
+    @property
+    def status(self) -> int:
+        return self.system.status
+
+    @property
+    def message(self) -> str:
+        return self.system.message
+
+    @property
+    def success(self) -> bool:
+        return self.system.status == 0
+
+    @property
+    def window(self) -> np.ndarray:
+        """Boolean mask of the samples in the analysis window (t >= discard_s)."""
+        return self.t >= self.run.discard_s - 1e-12
+
+    def displacement(self, point: str, windowed: bool = False) -> np.ndarray:
+        """Recorded displacement (m) of a point such as ``"shaft 11 y"``."""
+        try:
+            j = self.points.index(point)
+        except ValueError:
+            raise ValueError(f"no recorded point {point!r} (recorded: "
+                             f"{', '.join(self.points)})") from None
+        q = self.system.q[:, j]
+        return q[self.window] if windowed else q
+
+    @property
+    def angle_rad(self) -> np.ndarray:
+        """The shaft angle φ (rad) at the samples ``t``: ∫ Ω dt from 0, exact."""
+        return self.run.angle_at(self.t)
+
+    @property
+    def tacho(self) -> np.ndarray:
+        """A once-per-revolution pulse channel at the samples ``t``, as a key-phasor gives
+        it: 1 over the first 5 % of each revolution (φ mod 2π < 0.1 π), else 0 — the input
+        of ``rubdiag.signal``'s tacho functions for simulated runs, as for measured ones."""
+        return (np.mod(self.angle_rad, 2 * np.pi) < 0.1 * np.pi).astype(float)
+
+    def sensor_signals(self, windowed: bool = False) -> dict[str, np.ndarray]:
+        """The run's sensors (``run.sensors``), anti-alias filtered and sampled at the
+        output rate (:mod:`rubdiag.simulation._sensors`): name -> values at ``t`` (SI: m, m/s,
+        m/s², N); only the analysis window with ``windowed``."""
+        signals = sensor_signals(self.run, self.system)
+        if windowed:
+            return {k: v[self.window] for k, v in signals.items()}
+        return signals
+
+    @property
+    def linear_approach_m(self) -> float:
+        """The largest radial approach of the linear (contact-free) unbalance response over
+        all contact elements (m): where the gap ramp starts, and, over g0, how deep the
+        rotor would reach into the casing if nothing stopped it. NaN for results saved
+        before it was recorded."""
+        return float(self.system.extra.get("linear_approach_m", float("nan")))
+
+    @property
+    def n_contacts(self) -> int:
+        """How many of the run's nonlinear elements are contacts (numbered first, from 1);
+        the fault elements (a breathing crack, a loose pedestal) and the journal bearings'
+        films follow them."""
+        faults = self.run.faults
+        n_faults = 0 if faults is None else len(faults.elements(self.run.rig))
+        n_films = sum(b.journal is not None for b in self.run.rig.bearings)
+        return self.system.contact_fn.shape[1] - n_faults - n_films
+
+    def contact_episodes(self) -> EpisodeLog:
+        """The episodes of the contact elements (not those of fault elements)."""
+        ep = self.system.episodes
+        keep = ep.element <= self.n_contacts
+        return EpisodeLog(**{f.name: getattr(ep, f.name)[keep]
+                             for f in dataclasses.fields(EpisodeLog)})
+
+    def window_episodes(self) -> EpisodeLog:
+        """Contact episodes that start inside the analysis window."""
+        ep = self.contact_episodes()
+        keep = ep.t_start >= self.run.discard_s
+        return EpisodeLog(**{f.name: getattr(ep, f.name)[keep]
+                             for f in dataclasses.fields(EpisodeLog)})
+
+    def summary(self) -> dict:
+        """Headline numbers over the analysis window (SI units), as ``rubdiag simulate
+        --json`` prints them. Forces come from the per-step event log (peaks are shorter
+        than the output interval) over the episodes that start in the window, displacements
+        from the recorded waveforms."""
+        started = self.window_episodes()
+        first = started.element == 1
+        window = self.window
+        out = {
+            "label": self.run.label,
+            "model": self.run.model_kind,
+            "status": self.status,
+            "message": self.message,
+            "speed_rpm": self.run.speed_rpm,
+            "gap_m": self.run.gap_m,
+            "window_s": [self.run.discard_s, float(self.t[-1]) if self.t.size else 0.0],
+            "dt_s": self.run.dt_s,
+            "n_steps": int(self.system.n_steps),
+            "wall_s": self.wall_s,
+            "n_episodes": len(started),
+            "max_contact_force_n": _max(started.peak_normal_force),
+            "contact1_max_force_n": _max(started.peak_normal_force[first]),
+            "contact1_sliding_entries": int(started.n_slide_entries[first].sum()),
+            "contact1_sticking_entries": int(started.n_stick_entries[first].sum()),
+        }
+        for key, prefix in (("shaft", "shaft"), ("casing", "casing")):
+            names = [p for p in self.points if p.startswith(prefix) and p.endswith(" y")]
+            if names and window.any():
+                out[f"{key}_max_y_m"] = float(self.displacement(names[0], True).max())
+        return out
+
+    def to_frame(self):
+        """Waveforms as a DataFrame indexed by time (s): one column per recorded point (m),
+        then ``fn_k``, ``ft_k`` (N) and ``status_k`` for contact element k = 1…; with a
+        speed profile also ``angle_rad`` and ``tacho``."""
+        import pandas as pd
+
+        cols = {p: self.system.q[:, j] for j, p in enumerate(self.points)}
+        for k in range(self.system.contact_fn.shape[1]):
+            cols[f"fn_{k + 1}"] = self.system.contact_fn[:, k]
+            cols[f"ft_{k + 1}"] = self.system.contact_ft[:, k]
+            cols[f"status_{k + 1}"] = self.system.contact_status[:, k]
+        if self.run.speed_profile is not None:    # the measured-signal path needs them
+            cols["angle_rad"] = self.angle_rad
+            cols["tacho"] = self.tacho
+        return pd.DataFrame(cols, index=pd.Index(self.t, name="t_s"))
+
+    # --- files ---------------------------------------------------------------------------
+    def save(self, path: str | Path) -> Path:
+        """Write the result (see the module docstring for the format); returns the path."""
+        path = Path(path)
+        if path.suffix != ".npz":
+            path = path.with_suffix(".npz")
+        arrays, scalars = {}, {}
+        for f in dataclasses.fields(SystemResult):
+            value = getattr(self.system, f.name)
+            if f.name in _LOGS:
+                for g in dataclasses.fields(value):
+                    arrays[f"{f.name}.{g.name}"] = getattr(value, g.name)
+            elif isinstance(value, np.ndarray):
+                arrays[f"system.{f.name}"] = value
+            else:
+                scalars[f.name] = _jsonable(value)
+        meta = {"format": "rubdiag.simulation-result", "format_version": FORMAT_VERSION,
+                "rubdiag_version": self.version, "points": list(self.points),
+                "wall_s": self.wall_s, "run": run_to_dict(self.run), "system": scalars}
+        if path.is_dir():
+            raise IsADirectoryError(f"{path}: is a folder; give a file name")
+        if not path.parent.is_dir():   # say so before writing, naming the file asked for
+            raise FileNotFoundError(f"{path}: the folder {path.parent} does not exist")
+        sink = io.BytesIO()
+        np.savez_compressed(sink, meta=np.array(json.dumps(meta)), **arrays)
+        return write_bytes(path, sink.getvalue())     # a reader never sees half a file
+
+
+def load_result(path: str | Path) -> SimulationResult:
+    """Read a result written by :meth:`SimulationResult.save`.
+
+    Parameters
+    ----------
+    path : str or Path
+        The result file.
+
+    Returns
+    -------
+    SimulationResult
+        The result as saved.
+    """
+    path = Path(path)
+    try:
+        archive = np.load(path, allow_pickle=False)
+    except (OSError, ValueError) as exc:
+        raise ValueError(f"{path}: not a rubdiag result file ({exc})") from None
+    with archive:
+        if "meta" not in archive.files:
+            raise ValueError(f"{path}: not a rubdiag result file (no 'meta' entry)")
+        meta = json.loads(str(archive["meta"]))
+        if meta.get("format") != "rubdiag.simulation-result":
+            raise ValueError(f"{path}: not a rubdiag result file")
+        version = meta.get("format_version", 1)
+        if version > FORMAT_VERSION:
+            raise ValueError(f"{path}: result format {version} is newer than this rubdiag "
+                             f"reads ({FORMAT_VERSION}): upgrade rubdiag")
+        fields = {}
+        for f in dataclasses.fields(SystemResult):
+            if f.name in _LOGS:
+                if f"{f.name}.t_start" in archive.files:
+                    fields[f.name] = _LOGS[f.name](**{
+                        g.name: archive[f"{f.name}.{g.name}"]
+                        for g in dataclasses.fields(_LOGS[f.name])})
+            elif f"system.{f.name}" in archive.files:
+                fields[f.name] = archive[f"system.{f.name}"]
+            else:   # JSON has no NaN: a NaN scalar (e.g. failure_time) was stored as null
+                value = meta["system"][f.name]
+                fields[f.name] = float("nan") if value is None else value
+    if version == 1:
+        fields = _from_format_1(fields, path)
+    return SimulationResult(run=run_from_dict(meta["run"]), points=tuple(meta["points"]),
+                            system=SystemResult(**fields), wall_s=meta["wall_s"],
+                            version=meta["rubdiag_version"])
+
+
+def _from_format_1(fields: dict, path: Path) -> dict:
+    """Format 1 numbered contact elements from 0 and had no status-segment log: renumber,
+    and rebuild the segments from the sampled status (segments shorter than an output
+    interval are missing from such a file; a warning says so)."""
+    import warnings
+
+    episodes = fields["episodes"]
+    fields["episodes"] = dataclasses.replace(episodes, element=episodes.element + 1)
+    failed = int(fields["failure_element"])
+    fields["failure_element"] = failed + 1 if failed >= 0 else 0
+    fields["status_segments"] = _segments_from_samples(fields["t"], fields["contact_status"])
+    warnings.warn(f"{path}: a format-1 result file has no per-step status log; contact "
+                  "status segments were rebuilt from the sampled status (re-run the "
+                  "simulation for every short episode)", stacklevel=3)
+    return fields
+
+
+def _segments_from_samples(t: np.ndarray, status: np.ndarray) -> StatusLog:
+    """Status segments of sampled status: each closed sample stands for the interval up
+    to the next sample."""
+    rows = []
+    for e in range(status.shape[1]):
+        s = np.r_[1, status[:, e], 1]
+        change = np.flatnonzero(np.diff(s)) + 1        # indices into s where a run starts
+        for a, b in itertools.pairwise(change):
+            if s[a] != 1:
+                rows.append((e + 1, s[a], t[a - 1], t[min(b - 1, t.size - 1)]))
+    rows.sort(key=lambda r: r[3])
+    cols = list(zip(*rows, strict=True)) if rows else [(), (), (), ()]
+    return StatusLog(element=np.array(cols[0], np.int64), status=np.array(cols[1], np.int8),
+                     t_start=np.array(cols[2], float), t_end=np.array(cols[3], float))
+
+
+def _max(values: np.ndarray) -> float:
+    return float(values.max()) if values.size else 0.0
+
+
+def _jsonable(value):
+    if isinstance(value, dict):
+        return {k: _jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, float) and not np.isfinite(value):
+        return None if np.isnan(value) else str(value)
+    return value
+
+
+def run_to_dict(run: Run) -> dict:
+    """``run`` as plain JSON-ready data (the rig as in its TOML file, SI units): what result
+    files store and run ids hash; :func:`run_from_dict` reads it back.
+
+    ``reduction`` is written only when set (``{"cutoff_hz": …, "tip_rotations": …}``): a
+    run of the full model
+    has the description it had before reductions existed, so its run id and its result
+    files stay as they were."""
+    out = {}
+    for f in dataclasses.fields(Run):
+        value = getattr(run, f.name)
+        if f.name == "reduction":
+            if value is not None:
+                out[f.name] = value.description()
+            continue
+        if f.name == "speed_profile":    # written only when set, like the reduction
+            if value is not None:
+                out[f.name] = {"times_s": list(value.times_s),
+                               "speeds_rad_s": list(value.speeds_rad_s)}
+            continue
+        if f.name in ("step_error", "dt_max_s", "seal_clearance_m"):  # only when set
+            if value is not None:
+                out[f.name] = value
+            continue
+        if f.name in ("static_load", "faults"):     # written only when set, like the reduction
+            if value is not None:
+                out[f.name] = dataclasses.asdict(value)
+                if f.name == "faults" and value.looseness is None:
+                    del out[f.name]["looseness"]    # a field added later: ids unchanged
+            continue
+        if f.name == "rig":
+            value = rig_to_dict(value)
+        elif f.name == "sensors":
+            value = [dataclasses.asdict(s) for s in value]
+        elif dataclasses.is_dataclass(value):
+            value = {k: (list(v) if isinstance(v, tuple) else v)
+                     for k, v in dataclasses.asdict(value).items()}
+        out[f.name] = value
+    return out
+
+
+def _faults_from_dict(data: dict) -> Faults:
+    parts = {"misalignment": Misalignment, "crack": Crack, "looseness": Looseness}
+    return Faults(**{name: None if data.get(name) is None else kind(**data[name])
+                     for name, kind in parts.items()})
+
+
+def run_from_dict(data: dict) -> Run:
+    """The :class:`Run` of :func:`run_to_dict`'s data (no ``reduction``: the full model; a
+    reduction without ``tip_rotations`` was saved before the option, which it lacked)."""
+    data = dict(data)
+    if data.get("reduction") is not None:
+        data["reduction"] = Reduction(**{"tip_rotations": False, **data["reduction"]})
+    if data.get("speed_profile") is not None:
+        data["speed_profile"] = SpeedProfile(**data["speed_profile"])
+    if data.get("static_load") is not None:
+        data["static_load"] = StaticLoad(**data["static_load"])
+    if data.get("faults") is not None:
+        data["faults"] = _faults_from_dict(data["faults"])
+    data["sensors"] = tuple(Sensor(**s) for s in data.get("sensors", ()))
+    data["rig"] = rig_from_dict(data["rig"])
+    u = data["unbalance"]
+    data["unbalance"] = Unbalance(tuple(u["magnitudes_kg_m"]), tuple(u["phases_rad"]))
+    if data.get("contact") is not None:
+        c = dict(data["contact"])
+        c["blades"] = tuple(c["blades"])
+        data["contact"] = BladeContact(**c)
+    return Run(**data)
