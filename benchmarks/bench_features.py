@@ -2,7 +2,7 @@
 
 Builds ``--n`` synthetic rub-like signals (1×, 2×, 3×/2, 4× ± 5 Hz sidebands, a combination
 pair and white noise; speeds spread over 1500 … 5700 rpm) of ``--duration`` seconds at
-``--fs`` Hz, then times :func:`rubdiag.features` on the whole 2-D array (rows are signals).
+``--fs`` Hz, then times :func:`rubdiag.signal_features` on the whole 2-D array (rows are signals).
 
 Usage::
 
@@ -46,11 +46,11 @@ def main() -> None:
     args = ap.parse_args()
 
     X, rpm = make_signals(args.n, args.fs, args.duration)
-    table = rubdiag.features(X[:2], args.fs, rpm[:2])  # warm-up (window tables)
+    table = rubdiag.signal_features(X[:2], args.fs, rpm[:2])  # warm-up (window tables)
     times = []
     for _ in range(args.repeat):
         t0 = time.perf_counter()
-        table = rubdiag.features(X, args.fs, rpm)
+        table = rubdiag.signal_features(X, args.fs, rpm)
         times.append(time.perf_counter() - t0)
     median = statistics.median(times)
     found = float(np.isfinite(table["sb_4x_delta_hz"]).mean())

@@ -28,7 +28,7 @@ DATA = ROOT / "data"
 
 #: the public subpackages, in the order a user meets them (the layers, bottom up)
 SUBPACKAGES = ("model", "assembly", "modal", "simulation", "reduce", "runs", "signal",
-               "dataset", "learn", "paper")
+               "dataset", "learn", "paper", "plotting")
 
 
 def version() -> str:

@@ -22,7 +22,7 @@ def main() -> None:
     matplotlib.use("Agg")
     from PIL import Image
 
-    from rubdiag.plotting._run import run_figure
+    from rubdiag.plotting import run_figure
     from rubdiag.simulation import Run, simulate
 
     figure = run_figure(simulate(Run.paper_case(1, gap_mm=1.9)))

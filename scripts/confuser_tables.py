@@ -99,11 +99,11 @@ def _channels_and_features(data):
 
 
 def goals_cell(data, target: str, split: str) -> tuple[dict, pd.DataFrame]:
-    from rubdiag.learn import evaluate
+    from rubdiag.learn import cross_validate
 
     start = time.perf_counter()
     full = split == "group"      # the baselines where they speak (each a cross-prediction)
-    ev = evaluate(data, target=target, split=split, estimator="rf", channels="shaft",
+    ev = cross_validate(data, target=target, split=split, estimator="rf", channels="shaft",
                   families=FAMILIES, importances=False, baselines=full, audit=False,
                   n_shuffles=2 if full else 1)
     s = ev.scores["macro_f1"]

@@ -36,10 +36,10 @@ BASELINES = {"1x level only": "b1x", "speed only": "bspeed", "design factors onl
 
 
 def cell(data, target: str, split: str, estimator: str) -> dict:
-    from rubdiag.learn import evaluate
+    from rubdiag.learn import cross_validate
 
     start = time.perf_counter()
-    ev = evaluate(data, target=target, split=split, estimator=estimator, channels="shaft",
+    ev = cross_validate(data, target=target, split=split, estimator=estimator, channels="shaft",
                   importances=False)
     row = {"target": target, "split": split, "estimator": estimator, "n_rows": ev.n_rows,
            "classes": " ".join(f"{c}:{n}" for c, n in ev.class_counts.items()),

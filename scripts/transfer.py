@@ -11,7 +11,7 @@ Models (the default of ``rubdiag train``: target rub, a random forest, the shaft
 above their noise floor, the default feature families): ``rub, default`` on every run of
 DATASET, ``rub, one probe (<channel>)`` on its first channel alone, and one default model
 per ``--hold-out`` band trained without that band's runs (``train(..., leave_out=)``).
-Each is scored (``evaluate_model``: evaluation only, nothing here is ever trained on) on:
+Each is scored (``evaluate``: evaluation only, nothing here is ever trained on) on:
 
 * its held-out band (a level of a model-uncertainty factor, a speed band, a case);
 * ``--other`` datasets (another rig preset, another design) with the same channels;
@@ -50,7 +50,7 @@ from rubdiag.learn._confusers import calls_rub
 from rubdiag.learn._metrics import wilson_interval
 from rubdiag.learn._records import read_records
 from rubdiag.learn._textbook import KINDS, textbook_records, write_records
-from rubdiag.learn._train import evaluate_model
+from rubdiag.learn._train import evaluate
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 CSV, PREDICTIONS = DATA / "transfer.csv", DATA / "transfer_predictions.csv"
@@ -110,10 +110,10 @@ def transfer(dataset, work, *, name=None, hold_out=(), other=(), ross=None,
                       **options)
         what = f"{factor} {lo:g}" if lo == hi else f"{factor} {lo:g} to {hi:g}"
         blocks.append((DEFAULT, f"{name} without {what}", f"{name}: {what}",
-                       evaluate_model(model, data, n_bootstrap, seed, band=band)))
+                       evaluate(model, data, n_bootstrap, seed, band=band)))
     for folder in other:
         blocks.append((DEFAULT, name, Path(folder).name,
-                       evaluate_model(default, folder, n_bootstrap, seed)))
+                       evaluate(default, folder, n_bootstrap, seed)))
     floor = _displacement_floor(data)
     level = _median_1x(data, probe)
     for model, label, what, folder in (
@@ -127,11 +127,11 @@ def transfer(dataset, work, *, name=None, hold_out=(), other=(), ross=None,
         listed["kind"] = [f"{r.kind} ({'on' if r.bin_offset == 0 else 'between'} bins)"
                           for r in records]
         blocks.append((label, name, what,
-                       evaluate_model(model, listed, n_bootstrap, seed)))
+                       evaluate(model, listed, n_bootstrap, seed)))
     if ross is not None:
         listed = _with_noise(read_records(ross), floor, work / "ross_noisy", seed)
         blocks.append((DEFAULT, name, "ROSS records, paper shaft",
-                       evaluate_model(default, listed, n_bootstrap, seed)))
+                       evaluate(default, listed, n_bootstrap, seed)))
     tables, predictions = zip(*(_block(*b) for b in blocks), strict=True)
     return (pd.concat(tables, ignore_index=True)[COLUMNS],
             pd.concat(predictions, ignore_index=True))

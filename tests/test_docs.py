@@ -269,3 +269,139 @@ def test_the_built_pages_show_their_figures_and_no_link_is_dead():
         assert page["title"] and page["links"] > 20, page
         assert page["screenshot"].stat().st_size > 20_000, page
     assert seen["_generated/tutorials/02_rub_simulation.html"]["images"] >= 3
+
+
+# ------------------------------------------------------------------------------------------
+# The validation pages state no measured number by hand: their prose takes each one from
+# data/ through a substitution ({{ name }}, docs/prose_values.py)
+# ------------------------------------------------------------------------------------------
+VALIDATION = DOCS / "validation"
+#: what a typed number looks like: a decimal, a count "k of n", a percentage
+TYPED_NUMBER = re.compile(r"(?<![\w.])\d+\.\d+|(?<![\w.])\d+ of \d+\b|(?<![\w.])\d+(?:\.\d+)? ?%")
+
+#: numbers the pages may type: what a study was given (design ranges, durations, steps, rules
+#: and goals), never what it measured
+STATED = {
+    "checked-against.md": {"1 %"},                              # the closed forms' band
+    "claims.md": {"0.1", "15 %", "2 %", "3 of 5", "2 of 5",     # the claims' rules
+                  "2.5"},                                       # the script's duration (min)
+    "classifier-table.md": {"0.8", "1.2", "0.2", "2.0", "0.1", "0.5", "95 %"},   # the design
+    "confusers.md": {"2.5", "0.7", "0.8", "0.45", "0.55", "0.9", "1.1",          # the designs
+                     "95 %", "2 %", "5 %", "10 %"},             # intervals, bands and goals
+    "dt-convergence.md": {"2.5", "2.3", "0.3"},                 # steps and durations
+    "index.md": {"0.3", "0.1", "0.5"},                          # window, ramp, a test's band
+    "model-uncertainty.md": {"0.75"},                           # where the approach is taken
+    "mu-fit.md": {"2.3", "0.3"},                                # Table 2's durations
+    "step-study.md": {"2.3", "95 %"},
+    "table2.md": {"2.3", "1.9", "0.1", "0.3", "2.5", "0.4", "0.5", "4.3"},   # cases, sweep
+}
+#: measured numbers that no file of data/ holds yet: the sensitivity sweep
+#: (scripts/sensitivity.py) writes its rows to out/sensitivity, not to data/
+NOT_STORED = {
+    "index.md": {"3.6", "4.5"},
+    "table2.md": {"3.6", "4.5", "88 %", "1.1", "2.6", "3.4", "5.1", "7.0", "3.5", "6.9", "2.2",
+                  "25 of 28", "0.2", "7 %", "1.03", "1.25", "1.52", "1.87", "5 %", "5.0",
+                  "37 %"},
+}
+
+
+def prose(text: str) -> str:
+    """A page's text without code, generated samples, comments, inline code and
+    substitutions: what a writer types as sentences."""
+    for pattern in (r"```.*?```", r"<!-- sample: .*?<!-- /sample -->", r"<!--.*?-->",
+                    r"`[^`\n]*`", r"\{\{.*?\}\}"):
+        text = re.sub(pattern, " ", text, flags=re.S)
+    return text
+
+
+def test_the_prose_filter_keeps_sentences_and_drops_code_and_substitutions():
+    text = ("Rub 0.970 [0.952, 0.985], 22 of 22, 18 %.\n```python\nx = 0.5\n```\n"
+            "`g0 = 1.9` and {{ rub_kinds_rub_point }} <!-- 0.1 -->")
+    assert TYPED_NUMBER.findall(prose(text)) == ["0.970", "0.952", "0.985", "22 of 22", "18 %"]
+
+
+@pytest.mark.parametrize("page", sorted(p.name for p in VALIDATION.glob("*.md")))
+def test_a_validation_page_types_no_measured_number(page):
+    typed = set(TYPED_NUMBER.findall(prose((VALIDATION / page).read_text(encoding="utf-8"))))
+    allowed = STATED.get(page, set()) | NOT_STORED.get(page, set())
+    assert typed <= allowed, f"typed by hand in {page}: {sorted(typed - allowed)}"
+
+
+def test_every_substitution_a_page_uses_is_defined():
+    values = generate.substitutions()
+    pages = [p for p in DOCS.rglob("*.md") if "_build" not in p.parts]
+    used = {name for p in pages
+            for name in re.findall(r"\{\{\s*(\w+)\s*\}\}", p.read_text(encoding="utf-8"))}
+    assert used and used <= set(values), sorted(used - set(values))
+
+
+def _csv(name: str):
+    import pandas as pd
+
+    return pd.read_csv(generate.DATA / name)
+
+
+def _cell(frame, **where):
+    """The one row of ``frame`` with the values ``where``."""
+    for column, value in where.items():
+        frame = frame[frame[column] == value]
+    (row,) = frame.itertuples()
+    return row
+
+
+def test_the_confuser_substitutions_are_the_csv_cells():
+    """Scores, alarms and recalls of the three confuser studies, read here from the CSVs."""
+    values = generate.substitutions()
+    cells = _csv("rub_kinds_confuser_cells.csv")
+    r = _cell(cells, target="rub", split="group")
+    assert values["rub_kinds_rub_point"] == (
+        f"{r.macro_f1:.3f} [{r.macro_f1_lo:.3f}, {r.macro_f1_hi:.3f}]")
+    r = _cell(_csv("confuser_cells.csv"), target="fault", split="speed_ratio")
+    assert values["journal_fault_band"].startswith(f"{r.macro_f1:.3f} [")
+    rates = _csv("rub_kinds_confuser_rates.csv")
+    r = _cell(rates, measure="rub recall", faults="rub (seal)", target="rub", split="group")
+    assert values["rub_kinds_rub_point_recall_seal"] == f"{r.n_called_rub} of {r.n}"
+    r = _cell(_csv("confuser_rates.csv"), measure="false rub alarm", faults="whirl",
+              target="rub", split="speed_ratio")
+    assert values["journal_rub_band_whirl_alarms"] == f"{r.n_called_rub} of {r.n}"
+    one = _csv("one_vs_one.csv")
+    r = _cell(one, split="group", a="rub", b="crack", family="study")
+    assert values["journal_rub_crack_study"] == f"{r.macro_f1:.3f}"
+
+
+def test_the_transfer_substitutions_count_the_stored_predictions():
+    """The blade rubs found with each blade count held out, counted again from
+    data/transfer_predictions.csv."""
+    predictions = _csv("transfer_predictions.csv")
+    held = predictions[predictions["trained_on"].str.contains("without blade_count")
+                       & (predictions["kind"] == "rub (blade)")]
+    found = held.groupby("scored_on", sort=False)["called_rub"].agg(["sum", "size"])
+    expected = [f"{k} of {n}" for k, n in found.itertuples(index=False)]
+    shown = generate.substitutions()["transfer_blade_rubs"]
+    assert re.findall(r"\d+ of \d+", shown) == expected
+    assert "(8 blades)" in shown
+
+
+def test_the_learn_and_mu_substitutions_are_the_csv_cells():
+    values = generate.substitutions()
+    r = _cell(_csv("learn_table.csv"), target="severity", split="group", estimator="rf")
+    assert values["learn_severity_point_rf_margin3"] == f"{r.margin:+.3f}"
+    assert values["learn_severity_point_short"] == f"{0.10 - r.margin:.3f}"
+    summary = _csv("mu_fit_summary.csv")
+    for split in ("A", "B"):
+        best = summary.loc[summary[f"r_{split}_fit"].idxmin()]
+        assert values[f"mu_{split}_star"] == f"{best.mu:g}"
+        assert values[f"mu_{split}_held_star"] == f"{100 * best[f'r_{split}_held']:.0f}"
+
+
+def test_the_step_and_dt_substitutions_are_the_csv_cells():
+    values = generate.substitutions()
+    r = _cell(_csv("step_study.csv"), ensemble="journal", step_error=1e-5, family="sidebands")
+    assert values["step_journal_sidebands_p95"] == f"{r.ratio_p95:.3f}"
+    assert values["step_time_default_journal"] == f"{r.simulate_s_ratio:.2f}"
+    summary = _csv("dt_convergence.csv")
+    entries = [_cell(summary, quantity=f"contact1_{k}_entries", case=2, intensity="light")
+               for k in ("sliding", "sticking")]
+    assert values["dt_entries_2light"] == " / ".join(f"{e.median_2p5us:.0f}" for e in entries)
+    runs = _csv("dt_convergence_runs.csv")
+    assert values["dt_runs"] == str(len(runs))

@@ -46,7 +46,7 @@ def unit_words(unit: str | None) -> str:
 
 def load(path, args, keep_flat: bool = False):
     """Channels (DataFrame), fs (Hz), the feature table (with ``--revs-per-bin``: the
-    table across speed, :func:`rubdiag.signal.features_by_revolution`) and the unit
+    table across speed, :func:`rubdiag.signal.revolution_features`) and the unit
     (:func:`unit_of`) of one signal file (``keep_flat``: :func:`channels_and_features`)."""
     unit = unit_of(path, args)      # a wrong --unit is refused before any analysis
     frame, fs, table = channels_and_features(path, args, keep_flat)
@@ -58,7 +58,7 @@ def channels_and_features(path, args, keep_flat: bool = False):
     channel that does not move (a casing never touched) is left out unless ``keep_flat``
     or ``--column`` names it."""
     from rubdiag.runs import is_result, run_signals
-    from rubdiag.signal import features, features_by_revolution, read_signals
+    from rubdiag.signal import read_signals, revolution_features, signal_features
 
     speed, angle = args.speed_rpm, args.angle
     if is_result(path):
@@ -78,11 +78,11 @@ def channels_and_features(path, args, keep_flat: bool = False):
     else:
         frame, fs = read_signals(path, args.fs)
     if args.revs_per_bin is not None:
-        table = features_by_revolution(frame, fs, angle, tacho=args.tacho,
+        table = revolution_features(frame, fs, angle, tacho=args.tacho,
                                        revs_per_bin=args.revs_per_bin, columns=args.column)
     else:
         with _named(path):
-            table = features(frame, fs, speed, tacho=args.tacho, columns=args.column)
+            table = signal_features(frame, fs, speed, tacho=args.tacho, columns=args.column)
     return frame, fs, table
 
 
@@ -124,7 +124,7 @@ def pair_row(table, frame, fs, args, path) -> dict:
     ``table``): named ``Y+iZ``, at the speed of Y's row of the table, with ``--rotation``.
     Refused in one line: no speed, a name that is not a channel of ``path``, with
     ``--revs-per-bin``."""
-    from rubdiag.signal._fullspectrum import pair_features
+    from rubdiag.signal._fullspectrum import orbit_features
 
     if args.revs_per_bin is not None:
         raise ValueError("--pair works at one speed, not with --revs-per-bin")
@@ -142,7 +142,7 @@ def pair_row(table, frame, fs, args, path) -> dict:
     if speed is None or not speed > 0.0:
         raise ValueError("--pair needs the running speed (--speed-rpm, or a channel whose "
                          "lines give it)")
-    row = pair_features(frame[names[0]].to_numpy(), frame[names[1]].to_numpy(), fs, speed,
+    row = orbit_features(frame[names[0]].to_numpy(), frame[names[1]].to_numpy(), fs, speed,
                         rotation=args.rotation)
     return {table.columns[0]: f"{names[0]}+i{names[1]}", "speed_rpm": speed, **row}
 

@@ -108,7 +108,7 @@ def _spectra_figure(args, loaded, rows, unit: str) -> None:
 
     from rubdiag._figures import new_figure
     from rubdiag.plotting import save_figure
-    from rubdiag.plotting._spectra import plot_order_spectra
+    from rubdiag.plotting._spectra import order_spectra_figure
     from rubdiag.signal import amplitude_spectrum
 
     fig = new_figure(figsize=(9.0, 4.2 * len(rows)), layout="constrained")
@@ -119,7 +119,7 @@ def _spectra_figure(args, loaded, rows, unit: str) -> None:
             frame, fs = loaded[label][0], loaded[label][1]
             f, amp = amplitude_spectrum(frame[channel].to_numpy(dtype=np.float64), fs)
             curves.append((f"{label}: {path}", f, amp, row))
-        plot_order_spectra(curves, title=f"channel {channel}", ax=ax, unit=unit)
+        order_spectra_figure(curves, title=f"channel {channel}", ax=ax, unit=unit)
     save_figure(fig, args.out, dpi=120)
     print(f"wrote {args.out}")
 

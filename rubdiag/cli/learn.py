@@ -229,13 +229,13 @@ def _evaluate(args) -> int:
     band = _band(args.band, "--band")          # before any work
     from rubdiag import _progress
     from rubdiag.learn._persist import load_model
-    from rubdiag.learn._train import evaluate_model
+    from rubdiag.learn._train import evaluate
 
     with _progress.bar(1, "evaluate", "step", not args.quiet) as bar:   # and its own steps
         _progress.label(bar, "reading the model")
         model = load_model(args.model)
         bar.update()
-        result = evaluate_model(model, args.dataset, progress=bar, band=band)
+        result = evaluate(model, args.dataset, progress=bar, band=band)
     _model_warnings("evaluate", args.model, model.meta.get("warnings", []))
     for w in result.warnings:
         _warn("evaluate", w)

@@ -150,7 +150,7 @@ def _features(args) -> int:
                          "simulation result's channels are y only (allowed: a file of "
                          "measured or exported y and z channels)")
     if is_result(args.input) and args.revs_per_bin is None:
-        # a simulation result: one row for the run, as rubdiag.features(result) gives it
+        # a simulation result: one row for the run, as rubdiag.run_features(result) gives it
         # (shaft_/blade_/casing_ spectra and the contact statistics)
         table = run_features(load_result(args.input))
         table.insert(0, "source", [args.input])

@@ -21,6 +21,7 @@ _WHERE = {
     "canonical_run": "ids", "point_id": "ids", "run_id": "ids",
     "SCHEMA_VERSION": "schema",
     "LabelRules": "labels", "label_run": "labels", "labels_from_measures": "labels",
+    "fault_labels": "faults",
     "NoiseFloors": "noise",
     "SpeedRamp": "ramp",
     "MAX_REPLICATES": "sampling", "gap_ramps_s": "sampling",

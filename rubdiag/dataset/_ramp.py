@@ -1,6 +1,6 @@
 """A design's speed ramp: every run sweeps its speed through the design point's speed.
 
-The ``[ramp]`` table of a design (:mod:`rubdiag.dataset._design`)::
+The ``[ramp]`` table of a design (:mod:`rubdiag.dataset._design_toml`)::
 
     [ramp]
     rate_rpm_s = 300          # how fast the speed changes (rpm/s), > 0

@@ -32,7 +32,7 @@ by :func:`rubdiag.dataset._schema.pair_channel` (``shaft11_y_disp`` and ``shaft1
 make ``shaft11_yz_disp``) and its columns are
 :data:`~rubdiag.dataset._schema.PAIR_FEATURES` in that order — the forward and reverse
 amplitudes at each searched order and the orbit measures of
-:func:`rubdiag.signal._fullspectrum.pair_features`, in m — computed from the same noisy,
+:func:`rubdiag.signal._fullspectrum.orbit_features`, in m — computed from the same noisy,
 windowed channels as the single-channel features, so the noise floor reaches them too.
 Pairs follow the order of their y sensor; a pair of freely named probes whose names do not
 differ by y/z alone gets no columns.
@@ -222,12 +222,12 @@ def _spectral_features(record, fs, speed_rpm) -> dict:
 def _pair_features(sensors, record, fs, speed_rpm) -> dict:
     """``PAIR__FEATURE`` of every probe pair among ``sensors`` (module docstring), the pairs
     sharing the record's lock-in references."""
-    from rubdiag.signal._fullspectrum import pairs_features
+    from rubdiag.signal._fullspectrum import orbit_features_by_pair
 
     pairs = {channel: (record[y], record[z]) for channel, y, z in sensor_pairs(sensors)}
     if not pairs:
         return {}
-    rows = pairs_features(pairs, fs, speed_rpm)
+    rows = orbit_features_by_pair(pairs, fs, speed_rpm)
     return {f"{channel}{SEPARATOR}{n}": row[n] for channel, row in rows.items()
             for n in PAIR_FEATURES}
 

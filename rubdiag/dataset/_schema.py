@@ -65,7 +65,7 @@ def _pair_features() -> tuple[str, ...]:
 
 def __getattr__(name: str):
     """``PAIR_FEATURES``, made on first use (PEP 562): the features of a pair channel, in
-    their column order — those of :func:`rubdiag.signal._fullspectrum.pair_features`
+    their column order — those of :func:`rubdiag.signal._fullspectrum.orbit_features`
     (``fwd_<k>``, ``rev_<k>`` order by order, then the orbit measures). Their names come
     from the signal layer, which the run ids (:data:`SCHEMA_VERSION`) need not import."""
     if name == "PAIR_FEATURES":

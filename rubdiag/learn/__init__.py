@@ -2,7 +2,7 @@
 
 * :func:`make_pipeline` — features (order-normalised, :mod:`rubdiag.learn._features`) →
   scaling → estimator, a plain scikit-learn ``Pipeline``;
-* :func:`evaluate` — cross-validated scores on splits that do not leak
+* :func:`cross_validate` — cross-validated scores on splits that do not leak
   (:mod:`rubdiag.learn._splits`), with intervals, baselines, the shuffled-label control
   and the leakage audit;
 * :func:`read_dataset` — a dataset folder's finished rows;
@@ -16,13 +16,13 @@
 * :func:`confusion_figure`, :func:`importances_figure`, :func:`noise_curve_figure` — PNG
   figures of an evaluation and of a noise curve (:mod:`rubdiag.learn._figures`);
 * :func:`train` — a model folder: the pipeline fitted on every row, its evaluation and
-  what prediction needs (:mod:`rubdiag.learn._train`); :func:`evaluate_model` — a saved
+  what prediction needs (:mod:`rubdiag.learn._train`); :func:`evaluate` — a saved
   model scored on another dataset; :func:`save_model`, :func:`load_model` — skops with an
   explicit allow-list of types (:mod:`rubdiag.learn._persist`);
 * :func:`predict` — a saved model on measured signals, window by window
   (:mod:`rubdiag.learn._predict`);
 * :func:`read_records` — a labelled record list (signal files with their labels) that
-  :func:`evaluate_model` scores (:mod:`rubdiag.learn._records`); :func:`textbook_records` —
+  :func:`evaluate` scores (:mod:`rubdiag.learn._records`); :func:`textbook_records` —
   records of the confusers' textbook signatures made in code, for evaluation only
   (:mod:`rubdiag.learn._textbook`).
 
@@ -39,7 +39,7 @@ from rubdiag.learn._columns import (
     read_dataset,
     shaft_channels,
 )
-from rubdiag.learn._evaluate import Evaluation, audit_columns, cross_predict, evaluate
+from rubdiag.learn._evaluate import Evaluation, audit_columns, cross_predict, cross_validate
 from rubdiag.learn._features import DEFAULT_FAMILIES, FAMILIES, OrderFeatures, SelectColumns
 from rubdiag.learn._figures import confusion_figure, importances_figure, noise_curve_figure
 from rubdiag.learn._metrics import Score
@@ -50,7 +50,7 @@ from rubdiag.learn._records import read_records
 from rubdiag.learn._robustness import noise_curve
 from rubdiag.learn._splits import Fold, folds
 from rubdiag.learn._textbook import textbook_records
-from rubdiag.learn._train import ModelScores, evaluate_model, train
+from rubdiag.learn._train import ModelScores, evaluate, train
 
 __all__ = [
     "DEFAULT_FAMILIES",
@@ -73,8 +73,8 @@ __all__ = [
     "choose_channels",
     "confusion_figure",
     "cross_predict",
+    "cross_validate",
     "evaluate",
-    "evaluate_model",
     "folds",
     "importances_figure",
     "load_model",

@@ -1,6 +1,6 @@
 """Honest evaluation of a rub classifier: held-out scores, the baselines, a leakage audit.
 
-:func:`evaluate` cross-predicts a pipeline over the folds of a split
+:func:`cross_validate` cross-predicts a pipeline over the folds of a split
 (:mod:`rubdiag.learn._splits`) and reports, on the same folds:
 
 * macro-F1 and balanced accuracy with 95 % bootstrap intervals over design points,
@@ -60,7 +60,7 @@ from rubdiag.learn._pipelines import baseline_pipeline, make_pipeline
 from rubdiag.learn._splits import Fold, folds
 
 __all__ = ["CrossPrediction", "Evaluation", "baseline_factors", "condition_factors",
-           "cross_predict", "evaluate", "resolve_channels", "target_values"]
+           "cross_predict", "cross_validate", "resolve_channels", "target_values"]
 
 
 def target_values(data: pd.DataFrame, target: str) -> np.ndarray:
@@ -149,7 +149,7 @@ def cross_predict(pipeline, data: pd.DataFrame, y: np.ndarray, splits: list[Fold
 
 @dataclass
 class Evaluation:
-    """What :func:`evaluate` measured (``to_dict`` for JSON, ``to_markdown`` for people).
+    """What :func:`cross_validate` measured (``to_dict`` for JSON, ``to_markdown`` for people).
 
     Parameters
     ----------
@@ -229,7 +229,7 @@ class Evaluation:
 
 
 @threadpool_limits.wrap(limits=1)
-def evaluate(data, target: str = "rub", split: str = "group", estimator: str = "rf", *,
+def cross_validate(data, target: str = "rub", split: str = "group", estimator: str = "rf", *,
              channels="auto", families=DEFAULT_FAMILIES, pipeline=None, n_splits: int = 5,
              bands: int = 5, n_bootstrap: int = 1000, n_null: int = 1000,
              importances: bool = True, n_repeats: int = 5, baselines: bool = True,

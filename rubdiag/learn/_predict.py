@@ -11,7 +11,7 @@ from a tacho, one given for every file, or the median over the model's channels 
 dominant line (assumed 1×). Every y/z probe pair among the model's channels (named as a
 pair: :func:`rubdiag.dataset._schema.pair_channel`) gets its full-spectrum and orbit
 columns too when the model reads them, as a dataset row's
-(:func:`rubdiag.signal._fullspectrum.pairs_features`), so a model with the
+(:func:`rubdiag.signal._fullspectrum.orbit_features_by_pair`), so a model with the
 ``full_spectrum`` or ``orbit`` family reads a measured file as it read its dataset. A
 dataset folder's stored rows are predicted as they are. The windows of every file of a
 call go through the model in one batch (a row's probabilities do not depend on the rows
@@ -550,11 +550,11 @@ def pair_columns(signals: dict, fs: float, speed_rpm: float) -> dict:
     """``PAIR__FEATURE`` of every y/z probe pair among ``signals`` (channel -> window),
     named as a dataset row names them (:func:`rubdiag.dataset._schema.pair_channel`), from
     the same function; empty without a pair."""
-    from rubdiag.signal._fullspectrum import pairs_features
+    from rubdiag.signal._fullspectrum import orbit_features_by_pair
 
     pairs = {name: (signals[y], signals[z]) for y in signals for z in signals
              if (name := pair_channel(y, z)) is not None}
     if not pairs:
         return {}
-    rows = pairs_features(pairs, fs, speed_rpm)
+    rows = orbit_features_by_pair(pairs, fs, speed_rpm)
     return {f"{name}{SEPARATOR}{n}": row[n] for name, row in rows.items() for n in PAIR_FEATURES}

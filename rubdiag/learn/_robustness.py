@@ -40,7 +40,7 @@ from rubdiag.dataset._schema import SEPARATOR
 from rubdiag.learn._columns import read_dataset
 from rubdiag.learn._evaluate import (
     cross_predict,
-    evaluate,
+    cross_validate,
     fold_of_rows,
     resolve_channels,
     target_values,
@@ -250,7 +250,7 @@ def noise_curve(dataset, target: str = "rub", split: str = "group", estimator: s
         noisy = data.copy()
         noisy[features.columns] = features.to_numpy()
         if train_on == "noisy":
-            ev = evaluate(noisy, target, split, estimator, channels=channels, seed=seed,
+            ev = cross_validate(noisy, target, split, estimator, channels=channels, seed=seed,
                           **options)
             scores, chance = ev.scores, (ev.shuffled["null_lo"], ev.shuffled["null_hi"])
         else:

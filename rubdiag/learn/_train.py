@@ -12,7 +12,7 @@ cross-validated on the chosen split), then fits it on every row and writes
     Its figures and the permutation importances (these two only when computed).
 
 Everything is written into a hidden sibling folder that is renamed into place at the end:
-an interrupted training leaves no half model. :func:`evaluate_model` scores a saved model
+an interrupted training leaves no half model. :func:`evaluate` scores a saved model
 on another dataset.
 
 The default model — target ``rub``, a random forest, split by design point, the shaft
@@ -49,7 +49,7 @@ from rubdiag.learn._confusers import (
     rub_confusers,
     rubbed,
 )
-from rubdiag.learn._evaluate import Evaluation, evaluate, resolve_channels, target_values
+from rubdiag.learn._evaluate import Evaluation, cross_validate, resolve_channels, target_values
 from rubdiag.learn._features import DEFAULT_FAMILIES
 from rubdiag.learn._metrics import Score, confusion, score
 from rubdiag.learn._persist import Model, is_model_dir, load_meta, load_model, save_model
@@ -63,7 +63,7 @@ from rubdiag.signal._options import Options
 from rubdiag.signal._orders import HALF_ORDERS, HARMONICS, THIRD_ORDERS, order_label
 from rubdiag.signal._sidebands import HALF_WIDTH_ORDERS
 
-__all__ = ["ModelScores", "band_rows", "check_out", "evaluate_model", "model_meta",
+__all__ = ["ModelScores", "band_rows", "check_out", "evaluate", "model_meta",
            "order_reach", "record_kinds", "required_fs", "runs_digest", "train",
            "training_runs"]
 
@@ -93,7 +93,7 @@ def train(dataset, out, target: str = "rub", estimator: str = "rf", split: str =
     leave_out : (str, float, float), optional
         ``(factor, lo, hi)``: train without the rows whose design factor lies in ``lo`` …
         ``hi`` (:func:`band_rows`), to score the model on them afterwards
-        (:func:`evaluate_model` with ``band``): a level of a model-uncertainty factor, a
+        (:func:`evaluate` with ``band``): a level of a model-uncertainty factor, a
         speed band, a case.
     **evaluate_options
         Further options of :func:`rubdiag.learn._evaluate` (``n_splits``, ``importances``,
@@ -114,7 +114,7 @@ def train(dataset, out, target: str = "rub", estimator: str = "rf", split: str =
     resolve_channels(data, channels)          # a wrong name fails before the evaluation
     families = list(families)
     with _progress.bar(1, "train", "fit", progress) as bar:    # the evaluation adds its own
-        evaluation = evaluate(data, target, split, estimator, channels=channels,
+        evaluation = cross_validate(data, target, split, estimator, channels=channels,
                               families=families, seed=seed, progress=bar, **evaluate_options)
         channels = evaluation.channels
         pipeline = make_pipeline(estimator, channels=channels, families=families,
@@ -303,7 +303,7 @@ def order_reach(column: str, band: float = Options.band) -> tuple[float, float]:
 
 @dataclass
 class ModelScores:
-    """A saved model scored on a dataset it was not trained on (:func:`evaluate_model`).
+    """A saved model scored on a dataset it was not trained on (:func:`evaluate`).
 
     Parameters
     ----------
@@ -398,8 +398,8 @@ class ModelScores:
         return "\n".join(lines)
 
 
-def evaluate_model(model, dataset, n_bootstrap: int = 1000, seed: int = 0,
-                   progress=False, band=None) -> ModelScores:
+def evaluate(model, dataset, n_bootstrap: int = 1000, seed: int = 0,
+             progress=False, band=None) -> ModelScores:
     """Scores of a saved model on data it was not trained on: a dataset (another rig's,
     another design's, a band of one held out of training) or a labelled record list
     (:mod:`rubdiag.learn._records`: signal files with their labels — another machine's,
@@ -440,6 +440,10 @@ def evaluate_model(model, dataset, n_bootstrap: int = 1000, seed: int = 0,
     ModelScores
         The scores, tables and warnings above.
     """
+    if isinstance(model, pd.DataFrame):
+        raise ValueError("evaluate scores a saved model on a dataset: model = a dataset's rows "
+                         "(allowed: a Model or a model folder); cross_validate(data, ...) "
+                         "cross-validates a dataset")
     from rubdiag.learn._predict import predict_rows
 
     loaded = isinstance(model, Model)
@@ -482,7 +486,7 @@ def band_rows(data: pd.DataFrame, factor: str, lo: float, hi: float, *,
 
 
 def _scores_of(model, data, y, table, n_bootstrap: int, seed: int) -> ModelScores:
-    """:func:`evaluate_model`'s scores of ``model``'s predictions ``table`` of ``data``
+    """:func:`evaluate`'s scores of ``model``'s predictions ``table`` of ``data``
     (whose classes are ``y``)."""
     source = str(data.attrs.get("source", "dataset"))
     band = data.attrs.get("band")

@@ -35,7 +35,7 @@ def describe_spectrum(row, prefixes=("shaft", "blade")) -> str:
     """A short text of the rub signatures in a run's feature row.
 
     ``prefixes`` name the signals whose columns count (``shaft_amp_1x`` …); ``("",)``
-    describes a row of :func:`rubdiag.signal.features`, whose columns have no prefix.
+    describes a row of :func:`rubdiag.signal.signal_features`, whose columns have no prefix.
 
     Lists the dominant order, present harmonics 2×…8×, broadband peaks around n× (the RMS
     level around n× at least :data:`BROADBAND_FACTOR` times that around (n − 1)× and
@@ -61,12 +61,12 @@ def describe_spectrum(row, prefixes=("shaft", "blade")) -> str:
     A measured 25-Hz line at 1500 rpm with a tenth of it at 3× and half that at 1.5×:
 
     >>> import numpy as np
-    >>> from rubdiag.signal import features
+    >>> from rubdiag.signal import signal_features
     >>> fs = 2000.0
     >>> t = np.arange(8000) / fs
     >>> x = (np.cos(2 * np.pi * 25 * t) + 0.1 * np.cos(2 * np.pi * 75 * t)
     ...      + 0.05 * np.cos(2 * np.pi * 37.5 * t))
-    >>> row = features(x, fs, speed_rpm=1500).iloc[0]
+    >>> row = signal_features(x, fs, speed_rpm=1500).iloc[0]
     >>> describe_spectrum(row, prefixes=("",))
     '1× dominant; 3×; 3×/2'
     """

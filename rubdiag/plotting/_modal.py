@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from rubdiag._figures import figure_and_axes, new_figure
-from rubdiag.plotting.__ticks import decade_labels
+from rubdiag.plotting._ticks import decade_labels
 
 __all__ = ["campbell_figure", "deflection_figure", "unbalance_figure"]
 

@@ -23,7 +23,7 @@ from matplotlib.patches import Patch
 from matplotlib.ticker import MaxNLocator
 
 from rubdiag._figures import PNG_OPTIONS, new_figure, save_figure
-from rubdiag.plotting._spectra import plot_order_spectra
+from rubdiag.plotting._spectra import order_spectra_figure
 
 __all__ = ["DPI", "FIGSIZE", "PNG_OPTIONS", "STATUS_COLOURS", "ZOOM_REVOLUTIONS", "run_figure",
            "save_run_figures"]
@@ -203,7 +203,7 @@ def _draw_run(result, row, title, fig):
         ax = fig.add_subplot(cell[i], sharex=first, sharey=first)
         first = first or ax
         f, amp = amplitude_spectrum(signals[prefix], result.fs)
-        plot_order_spectra([(label, f, amp, _unprefixed(row, prefix))], ax=ax, unit="µm",
+        order_spectra_figure([(label, f, amp, _unprefixed(row, prefix))], ax=ax, unit="µm",
                            scale=1e6, colours=("#2471a3",) if i == 0 else ("#c0392b",),
                            title="(d) amplitude spectra (features marked)" if i == 0 else "")
         if i < len(spectra) - 1:

@@ -8,9 +8,9 @@ from matplotlib.lines import Line2D
 from matplotlib.ticker import NullLocator
 
 from rubdiag._figures import figure_and_axes
-from rubdiag.plotting.__ticks import decade_labels
+from rubdiag.plotting._ticks import decade_labels
 
-__all__ = ["MARKERS", "plot_order_spectra"]
+__all__ = ["MARKERS", "order_spectra_figure"]
 
 _COLOURS = ("#2471a3", "#c0392b", "#229954", "#7d3c98")
 _MAX_ORDER = 8.5
@@ -23,7 +23,7 @@ MARKERS = {
 }
 
 
-def plot_order_spectra(curves, title: str = "", max_order: float = _MAX_ORDER, ax=None,
+def order_spectra_figure(curves, title: str = "", max_order: float = _MAX_ORDER, ax=None,
                        unit: str = "signal unit", scale: float = 1.0, colours=_COLOURS,
                        headroom: float = 0.25):
     """Overlay amplitude spectra against order (f / 1×) on a log scale.
@@ -34,7 +34,7 @@ def plot_order_spectra(curves, title: str = "", max_order: float = _MAX_ORDER, a
         ``f`` in Hz and ``amplitude`` (signal unit) as from
         :func:`rubdiag.signal.amplitude_spectrum`; ``row`` is the curve's feature row (a
         mapping with ``speed_rpm``, ``amp_*``/``freq_*_hz``, ``sb_*`` and ``combo_*`` as
-        in :func:`rubdiag.signal.features`). Detected order lines are marked with circles,
+        in :func:`rubdiag.signal.signal_features`). Detected order lines are marked with circles,
         sideband pairs with triangles, a combination pair with squares; the legend names
         each kind drawn (see ``MARKERS``).
     title : str

@@ -4,16 +4,16 @@ The row holds the run's parameters, the spectral features of its shaft, blade-ti
 casing responses over the analysis window (columns prefixed ``shaft_``, ``blade_``,
 ``casing_``) and its contact statistics (:mod:`rubdiag.runs._contact_stats`).
 
-:func:`features` is the public ``rubdiag.features``: a simulation result goes to
-:func:`run_features`, anything else (a measured signal) to :func:`rubdiag.signal.features`
-without loading the simulator.
+:func:`features_of_anything` is what the deprecated ``rubdiag.features`` still does until
+its removal: a simulation result goes to :func:`run_features`, anything else (a measured
+signal) to :func:`rubdiag.signal.signal_features`.
 
 :func:`order_tracked` and :func:`order_tracked_features` give records along a changing speed
 (run-ups, coast-downs) the same columns as constant-speed ones: the record is resampled at
 equal shaft-angle steps (:func:`rubdiag.signal.resample_to_angle`, anti-aliased in the angle
 domain), cut to whole revolutions, and presented as a constant-speed record at its mean
 speed. In that record every order is a steady line, so the features of
-:func:`rubdiag.signal.prefixed_features` apply unchanged, their frequencies in Hz at the
+:func:`rubdiag.signal._table.prefixed_features` apply unchanged, their frequencies in Hz at the
 mean speed (order × mean revolutions per second).
 """
 
@@ -30,15 +30,14 @@ import pandas as pd
 
 from rubdiag import _check
 from rubdiag.runs._contact_stats import contact_statistics
-from rubdiag.signal import features as signal_features
-from rubdiag.signal import resample_to_angle
+from rubdiag.signal import resample_to_angle, signal_features
 from rubdiag.signal._orders import HARMONICS
 from rubdiag.signal._records import RecordTooShort
 from rubdiag.signal._sidebands import HALF_WIDTH_ORDERS
 from rubdiag.signal._speedtable import MAX_FS_FRACTION, SAMPLES_PER_REV
 from rubdiag.signal._table import prefixed_features
 
-__all__ = ["ORDER_TRACK_LOST_REVOLUTIONS", "TOP_FEATURE_ORDER", "features", "is_result",
+__all__ = ["ORDER_TRACK_LOST_REVOLUTIONS", "TOP_FEATURE_ORDER", "is_result",
            "max_tracked_rpm", "order_tracked", "order_tracked_features", "run_features",
            "run_points", "run_signals"]
 
@@ -80,44 +79,34 @@ def is_result(obj) -> bool:
     return False
 
 
-def features(signal, fs: float | None = None, speed_rpm: float | None = None, **options):
-    """Rub-impact features of measured signals or of simulated runs.
+def features_of_anything(signal, fs: float | None = None, speed_rpm: float | None = None,
+                         **options):
+    """Rub-impact features of measured signals or of simulated runs (deprecated).
+
+    Call :func:`rubdiag.signal_features` for measured signals and
+    :func:`rubdiag.run_features` for simulated runs: one function per input kind.
 
     A :class:`~rubdiag.simulation.SimulationResult`, the path of a saved one, or a list of
     them gives one row per run (:func:`run_features`); anything else is a measured signal
-    and gives one row per channel (:func:`rubdiag.signal.features`, whose parameters these
+    and gives one row per channel (:func:`rubdiag.signal.signal_features`, whose parameters these
     are).
 
     Parameters
     ----------
     signal : SimulationResult, path, DataFrame or array_like
         Runs (a result, a saved result's path, or a list of them), or measured signals (as
-        for :func:`rubdiag.signal.features`).
+        for :func:`rubdiag.signal.signal_features`).
     fs : float or None
         Sampling frequency of measured signals (Hz).
     speed_rpm : float or None
         Running speed of measured signals (rpm).
     **options
-        The analysis settings of :func:`rubdiag.signal.features`.
+        The analysis settings of :func:`rubdiag.signal.signal_features`.
 
     Returns
     -------
     pandas.DataFrame
         One row per run, or one per channel.
-
-    Examples
-    --------
-    A 25-Hz line of 2 µm with a third of it at 3×, measured at 1500 rpm:
-
-    >>> import numpy as np
-    >>> fs = 2000.0
-    >>> t = np.arange(8000) / fs
-    >>> x = (2e-6 * np.cos(2 * np.pi * 25 * t)
-    ...      + 0.7e-6 * np.cos(2 * np.pi * 75 * t))
-    >>> row = features(x, fs, speed_rpm=1500).iloc[0]
-    >>> one, three = row["amp_1x"] * 1e6, row["amp_3x"] * 1e6      # um
-    >>> print(f"1x {one:.2f} um, 3x {three:.2f} um")
-    1x 2.00 um, 3x 0.70 um
     """
     if is_result(signal) or (isinstance(signal, list) and signal
                              and all(is_result(s) for s in signal)):
@@ -173,7 +162,7 @@ def run_signals(result) -> dict[str, np.ndarray]:
 def run_features(results, **options) -> pd.DataFrame:
     """One row per simulated run (a SimulationResult, a saved result path, or a list).
 
-    ``options`` are those of :func:`rubdiag.signal.features` (``band``, ``threshold``,
+    ``options`` are those of :func:`rubdiag.signal.signal_features` (``band``, ``threshold``,
     ``window`` …). Columns: ``label``, ``status``, ``speed_rpm``, ``gap_m``,
     ``friction_coefficient``, ``dt_s``, ``model`` ("full" or "reduced"), ``window_s``, then
     ``shaft_…``, ``blade_…``, ``casing_…`` spectral features, then the contact statistics.
@@ -186,7 +175,7 @@ def run_features(results, **options) -> pd.DataFrame:
     results : SimulationResult, str, Path or list of them
         Runs, or paths of saved results.
     **options
-        Settings of :func:`rubdiag.signal.features`.
+        Settings of :func:`rubdiag.signal.signal_features`.
 
     Returns
     -------
@@ -246,7 +235,7 @@ def order_tracked(signals: Mapping[str, object], fs: float, angle,
         exact ``angle_rad``, or :func:`rubdiag.signal.tacho_angle`).
     samples_per_rev : int
         Samples per revolution of the angle record. The default, 32, is
-        :func:`rubdiag.signal.features_by_revolution`'s: the angle-domain anti-alias filter
+        :func:`rubdiag.signal.revolution_features`'s: the angle-domain anti-alias filter
         passes 12.5 orders, above the features' :data:`TOP_FEATURE_ORDER` (8.25×).
 
     Returns
@@ -304,9 +293,9 @@ def order_tracked(signals: Mapping[str, object], fs: float, angle,
 def order_tracked_features(signals: Mapping[str, object], fs: float, angle,
                            separator: str = "_", samples_per_rev: int = SAMPLES_PER_REV,
                            **options) -> pd.DataFrame:
-    """:func:`rubdiag.signal.prefixed_features` of signals recorded along a changing speed:
+    """:func:`rubdiag.signal._table.prefixed_features` of signals recorded along a changing speed:
     one row, ``speed_rpm`` (the record's mean speed) then ``<name><separator><feature>``,
     computed on :func:`order_tracked`'s constant-speed record (frequencies in Hz at the mean
-    speed). ``options`` are those of :func:`rubdiag.signal.features`."""
+    speed). ``options`` are those of :func:`rubdiag.signal.signal_features`."""
     record, fs_equiv, speed_rpm = order_tracked(signals, fs, angle, samples_per_rev)
     return prefixed_features(record, fs_equiv, speed_rpm, separator=separator, **options)

@@ -2,8 +2,8 @@
 
 Every recorded node with both a y and a z displacement (the discs' shaft nodes, the casing
 node and blade tip of contact 1, pedestals, journals: :func:`rubdiag.simulation.response_points`)
-is a pair of orthogonal probes, the shaft turning from y towards z. :func:`pair_rows` gives
-each pair's :func:`rubdiag.signal._fullspectrum.pair_features` over the analysis window at
+is a pair of orthogonal probes, the shaft turning from y towards z. :func:`run_orbit_features` gives
+each pair's :func:`rubdiag.signal._fullspectrum.orbit_features` over the analysis window at
 the run's speed, one row per pair.
 """
 
@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import pandas as pd
 
-__all__ = ["pair_rows", "recorded_pairs"]
+__all__ = ["recorded_pairs", "run_orbit_features"]
 
 
 def recorded_pairs(result) -> tuple[str, ...]:
@@ -31,9 +31,9 @@ def recorded_pairs(result) -> tuple[str, ...]:
     return tuple(n for n in nodes if f"{n} z" in result.points)
 
 
-def pair_rows(result) -> pd.DataFrame:
+def run_orbit_features(result) -> pd.DataFrame:
     """One row per recorded pair of ``result`` (a constant-speed SimulationResult): its
-    ``pair`` (the node), then :func:`~rubdiag.signal._fullspectrum.pair_features` (m) over the
+    ``pair`` (the node), then :func:`~rubdiag.signal._fullspectrum.orbit_features` (m) over the
     analysis window at the run's speed.
 
     Parameters
@@ -46,7 +46,7 @@ def pair_rows(result) -> pd.DataFrame:
     pandas.DataFrame
         One row per recorded node.
     """
-    from rubdiag.signal._fullspectrum import pair_features
+    from rubdiag.signal._fullspectrum import orbit_features
 
     if result.run.speed_profile is not None:
         raise ValueError("a run along a speed profile has no single speed for its full "
@@ -55,5 +55,5 @@ def pair_rows(result) -> pd.DataFrame:
     for node in recorded_pairs(result):
         y = result.displacement(f"{node} y", windowed=True)
         z = result.displacement(f"{node} z", windowed=True)
-        rows.append({"pair": node, **pair_features(y, z, result.fs, result.run.speed_rpm)})
+        rows.append({"pair": node, **orbit_features(y, z, result.fs, result.run.speed_rpm)})
     return pd.DataFrame(rows)

@@ -25,7 +25,7 @@ import pandas as pd
 from rubdiag import _check
 from rubdiag.signal import order_label, order_track
 
-if TYPE_CHECKING:   # the simulator loads on first use: rubdiag.features must not need it
+if TYPE_CHECKING:   # the simulator loads on first use: rubdiag.signal_features must not need it
     from rubdiag.simulation import Run
 
 __all__ = ["DEFAULT_POINT", "RUNUP_ORDERS", "linear_response", "ramp_run", "runup_orders",

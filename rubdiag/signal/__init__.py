@@ -5,7 +5,7 @@ Public API (all frequencies in Hz, speeds in rpm, amplitudes in the signal's uni
 * :func:`amplitude_spectrum` ``(x, fs, …) -> (f, amplitude)`` — peak-amplitude spectrum.
 * :func:`spectral_lines` ``(x, fs, …) -> (f, amplitude, phase_deg)`` — exact lines.
 * :func:`tacho_speed`, :func:`dominant_speed` — running speed in rpm; :func:`voted_speed` —
-  the speed of a record whose channels' strongest lines vote (what :func:`features` and
+  the speed of a record whose channels' strongest lines vote (what :func:`signal_features` and
   ``rubdiag predict`` guess); :class:`SpeedAmbiguous` — the warning of a guess whose 1× may
   be a weaker line at 1/2 or 1/3 of it.
 * :func:`tacho_angle`, :func:`tacho_rpm`, :func:`angle_from_rpm` — shaft angle (rad) and speed
@@ -18,7 +18,7 @@ Public API (all frequencies in Hz, speeds in rpm, amplitudes in the signal's uni
   :func:`tracking_leakage` — what a track's changing 1× leaks onto the orders beside it.
 * :func:`waterfall` ``(x, fs, nperseg, …) -> (f, t, rpm, amplitude)`` — short-time spectra.
 * :func:`features` — one DataFrame row of features per channel (the table).
-* :func:`features_by_revolution` — the same features across speed: one row per bin of whole
+* :func:`revolution_features` — the same features across speed: one row per bin of whole
   revolutions in the angle domain (frequencies in orders) and channel, with its ``rpm``.
 * :func:`feature_names`, :func:`feature_matrix` — the columns; the batch path on a 2-D array.
 * :func:`combination_pairs` — all combination pairs of one signal.
@@ -34,7 +34,9 @@ See :mod:`rubdiag.signal._table` for the column names and the meaning of 0 and N
 
 from __future__ import annotations
 
+from rubdiag._deprecation import moved_names
 from rubdiag.signal._combinations import CombinationPair, combination_pairs
+from rubdiag.signal._fullspectrum import full_spectrum, orbit_features
 from rubdiag.signal._io import read_signals
 from rubdiag.signal._leakage import tracking_leakage
 from rubdiag.signal._lines import spectral_lines
@@ -47,15 +49,9 @@ from rubdiag.signal._ordertrack import (
 )
 from rubdiag.signal._spectrum import amplitude_spectrum
 from rubdiag.signal._speed import SpeedAmbiguous, dominant_speed, tacho_speed
-from rubdiag.signal._speedtable import REVOLUTION_FEATURE_NAMES, features_by_revolution
+from rubdiag.signal._speedtable import REVOLUTION_FEATURE_NAMES, revolution_features
 from rubdiag.signal._speedvote import voted_speed
-from rubdiag.signal._table import (
-    FEATURE_NAMES,
-    feature_matrix,
-    feature_names,
-    features,
-    prefixed_features,
-)
+from rubdiag.signal._table import FEATURE_NAMES, feature_names, signal_features
 from rubdiag.signal._tacho import angle_from_rpm, tacho_angle, tacho_rpm
 from rubdiag.signal._transformer import RubFeatures
 from rubdiag.signal._waterfall import waterfall
@@ -70,17 +66,17 @@ __all__ = [
     "angle_from_rpm",
     "combination_pairs",
     "dominant_speed",
-    "feature_matrix",
     "feature_names",
-    "features",
-    "features_by_revolution",
+    "full_spectrum",
+    "orbit_features",
     "order_label",
     "order_spectrum",
     "order_track",
-    "prefixed_features",
     "read_signals",
     "resample_to_angle",
+    "revolution_features",
     "rpm_order_map",
+    "signal_features",
     "spectral_lines",
     "tacho_angle",
     "tacho_rpm",
@@ -89,3 +85,13 @@ __all__ = [
     "voted_speed",
     "waterfall",
 ]
+
+__getattr__ = moved_names(__name__, {
+    "features": "rubdiag.signal.signal_features",
+    "features_by_revolution": "rubdiag.signal.revolution_features",
+    "feature_matrix": ("rubdiag.signal._table.feature_matrix",
+                       "use rubdiag.signal.RubFeatures (its transform is the same batch path)"),
+    "prefixed_features": ("rubdiag.signal._table.prefixed_features",
+                          "use rubdiag.run_features for simulated runs, or "
+                          "rubdiag.signal_features for named signals"),
+})

@@ -70,7 +70,7 @@ def combination_pairs(
     speed_rpm : float or None
         Running speed (rpm); None: the dominant line is 1×.
     band, threshold, window, nperseg, detrend, min_revolutions, combo_tol_hz
-        The analysis settings, as for :func:`rubdiag.signal.features`.
+        The analysis settings, as for :func:`rubdiag.signal.signal_features`.
 
     Returns
     -------

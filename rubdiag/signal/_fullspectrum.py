@@ -17,9 +17,9 @@ precession at positive frequencies and reverse precession at negative ones. A ci
 * :func:`full_spectrum_lines` — forward and reverse amplitudes at chosen orders of the
   running speed, by a lock-in over the record's whole revolutions (exact for lines at those
   orders);
-* :func:`pair_features` — both as one row: ``fwd_<order>``, ``rev_<order>`` at the half and
+* :func:`orbit_features` — both as one row: ``fwd_<order>``, ``rev_<order>`` at the half and
   third orders the feature table searches, and the orbit measures;
-  :func:`pairs_features` — the rows of several pairs of one record, sharing its lock-in
+  :func:`orbit_features_by_pair` — the rows of several pairs of one record, sharing its lock-in
   references (the costly part: complex exponentials of every order at every sample);
 * :func:`orbit_measures` — the 1× ellipticity and precession, the reverse share of the
   non-1× motion, and the orbit's shape: its flattening, its clearance-limited radius and
@@ -36,8 +36,15 @@ import numpy as np
 
 from rubdiag import _check
 
-__all__ = ["ROTATIONS", "OrbitMeasures", "full_spectrum", "full_spectrum_lines",
-           "orbit_measures", "pair_features", "pairs_features"]
+__all__ = [
+    "ROTATIONS",
+    "OrbitMeasures",
+    "full_spectrum",
+    "full_spectrum_lines",
+    "orbit_features",
+    "orbit_features_by_pair",
+    "orbit_measures",
+]
 
 #: the senses of rotation: +1 from y towards z, -1 from z towards y
 ROTATIONS = (1, -1)
@@ -75,10 +82,45 @@ def _whole_revolutions(n: int, fs: float, speed_hz: float) -> int:
 
 
 def full_spectrum(y, z, fs: float, *, rotation: int = 1) -> tuple[np.ndarray, np.ndarray]:
-    """The full spectrum of the probe pair: ``(f, amplitude)`` with f (Hz) ascending from
-    −fs/2 (reverse precession) to fs/2 (forward), and the peak amplitude of each precession
-    line (Hann window, its coherent gain divided out: a forward circle of radius A on a bin
-    reads A at its frequency), the mean removed."""
+    """The full spectrum of an x–y probe pair: forward and reverse precession apart.
+
+    The pair is read as one complex signal ``y + i z`` (the shaft turning from y towards z
+    for ``rotation=1``), so a positive frequency is forward precession and a negative one
+    reverse. Amplitudes are peak amplitudes (Hann window, its coherent gain divided out: a
+    forward circle of radius A on a bin reads A at its frequency), the mean removed.
+
+    Parameters
+    ----------
+    y, z : array_like
+        The two probes' signals, sampled together (their unit).
+    fs : float
+        Sampling frequency (Hz).
+    rotation : {1, -1}
+        1 when the shaft turns from y towards z, -1 when from z towards y.
+
+    Returns
+    -------
+    f : numpy.ndarray
+        Frequencies (Hz), ascending from −fs/2 (reverse) to fs/2 (forward).
+    amplitude : numpy.ndarray
+        Peak amplitude of each precession line (the probes' unit).
+
+    See Also
+    --------
+    orbit_features : The lines at the running speed's orders, and the orbit's measures.
+
+    Examples
+    --------
+    A forward circle of 3 µm at 25 Hz reads 3 µm at +25 Hz and nothing at −25 Hz:
+
+    >>> import numpy as np
+    >>> fs = 1000.0
+    >>> t = np.arange(2000) / fs
+    >>> y, z = 3e-6 * np.cos(2 * np.pi * 25 * t), 3e-6 * np.sin(2 * np.pi * 25 * t)
+    >>> f, a = full_spectrum(y, z, fs)
+    >>> print(f"{a[f == 25.0][0] * 1e6:.2f} um forward, {a[f == -25.0][0] * 1e6:.2f} um reverse")
+    3.00 um forward, 0.00 um reverse
+    """
     fs = _check.positive("fs", fs, unit="Hz")
     s = _complex(y, z, rotation)
     window = np.hanning(s.size)
@@ -190,19 +232,55 @@ def _orbit(s: np.ndarray, k: np.ndarray, forward: np.ndarray,
     )
 
 
-def pair_features(y, z, fs: float, speed_rpm: float, *, rotation: int = 1) -> dict:
-    """One row of a probe pair's full-spectrum and orbit features at the running speed
-    ``speed_rpm`` (rpm): ``fwd_<order>`` and ``rev_<order>`` (the probes' unit) at the half
-    orders 0.5× … 8× and the third orders the feature table searches
-    (:mod:`rubdiag.signal._orders`; column labels as its ``order_label``), and the fields of
-    :func:`orbit_measures` over those orders."""
-    return pairs_features({"pair": (y, z)}, fs, speed_rpm, rotation=rotation)["pair"]
+def orbit_features(y, z, fs: float, speed_rpm: float, *, rotation: int = 1) -> dict:
+    """Full-spectrum and orbit features of an x–y probe pair at its running speed.
+
+    Parameters
+    ----------
+    y, z : array_like
+        The two probes' signals, sampled together (their unit); the shaft turns from y
+        towards z for ``rotation=1``.
+    fs : float
+        Sampling frequency (Hz).
+    speed_rpm : float
+        Running speed (rpm).
+    rotation : {1, -1}
+        1 when the shaft turns from y towards z, -1 when from z towards y.
+
+    Returns
+    -------
+    dict
+        ``fwd_<order>`` and ``rev_<order>`` (the probes' unit): the forward and reverse lines
+        at the half orders 0.5× … 8× and the third orders the feature table searches
+        (labels as :func:`order_label`), measured over whole revolutions; then the orbit's
+        measures over those orders (:func:`orbit_measures`: ``reverse_share``, ``flattening``,
+        ``limit_radius``, ``near_limit_share`` …).
+
+    See Also
+    --------
+    full_spectrum : The whole full spectrum of the pair.
+    signal_features : The features of each probe alone.
+
+    Examples
+    --------
+    A forward 1× of 1.0 with a reverse 2× of 0.2 (a backward-whirling 2×), at 1500 rpm:
+
+    >>> import numpy as np
+    >>> fs, speed_hz = 2000.0, 25.0
+    >>> w = 2 * np.pi * speed_hz * np.arange(8000) / fs
+    >>> y = np.cos(w) + 0.2 * np.cos(2 * w)
+    >>> z = np.sin(w) - 0.2 * np.sin(2 * w)
+    >>> row = orbit_features(y, z, fs, 60 * speed_hz)
+    >>> print(f"{row['fwd_1x']:.2f} {row['rev_1x']:.2f} {row['rev_2x']:.2f}")
+    1.00 0.00 0.20
+    """
+    return orbit_features_by_pair({"pair": (y, z)}, fs, speed_rpm, rotation=rotation)["pair"]
 
 
-def pairs_features(pairs, fs: float, speed_rpm: float, *, rotation: int = 1) -> dict:
-    """:func:`pair_features` of every pair of ``pairs`` (name -> ``(y, z)``), as
+def orbit_features_by_pair(pairs, fs: float, speed_rpm: float, *, rotation: int = 1) -> dict:
+    """:func:`orbit_features` of every pair of ``pairs`` (name -> ``(y, z)``), as
     ``{name: row}``: the pairs of one record (of equal length) share one set of lock-in
-    references, the costly part; the rows are those of :func:`pair_features`, bit for bit."""
+    references, the costly part; the rows are those of :func:`orbit_features`, bit for bit."""
     from rubdiag.signal._orders import HALF_ORDERS, THIRD_ORDERS, order_label
 
     fs = _check.positive("fs", fs, unit="Hz")

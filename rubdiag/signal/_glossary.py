@@ -1,8 +1,8 @@
 """What each feature column means: a dictionary of the feature columns, by name pattern.
 
-Two kinds of rows carry features: a channel's row (:func:`~rubdiag.signal.features`,
+Two kinds of rows carry features: a channel's row (:func:`~rubdiag.signal.signal_features`,
 :data:`~rubdiag.signal._table.FEATURE_NAMES`) and a probe pair's row
-(:func:`~rubdiag.signal._fullspectrum.pair_features`). A dataset stores them per channel as
+(:func:`~rubdiag.signal._fullspectrum.orbit_features`). A dataset stores them per channel as
 ``<channel>__<feature>`` (``shaft11_y_disp__amp_2x``, ``shaft11_yz_disp__rev_1x``).
 
 In a pattern, ``<k>`` is an order label — ``1x``, ``2x``, ``1p5x`` (1.5×), ``0p33x`` (⅓×):

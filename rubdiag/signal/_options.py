@@ -1,6 +1,6 @@
 """Settings of the feature engine, and their defaults, written once.
 
-:class:`Options` is the one place the defaults live: :func:`rubdiag.signal.features`,
+:class:`Options` is the one place the defaults live: :func:`rubdiag.signal.signal_features`,
 :func:`rubdiag.signal.combination_pairs`, :func:`rubdiag.signal.spectral_lines` and
 :class:`rubdiag.signal.RubFeatures` read their keyword defaults from its fields
 (``band: float = Options.band``), so that their signatures still show the values.
@@ -16,7 +16,7 @@ from rubdiag.signal._records import MIN_SAMPLES
 
 @dataclass(frozen=True)
 class Options:
-    """Settings of the feature engine (their meaning: :func:`rubdiag.signal.features`).
+    """Settings of the feature engine (their meaning: :func:`rubdiag.signal.signal_features`).
 
     Attributes
     ----------

@@ -9,7 +9,7 @@ per revolution. :func:`resample_to_angle` resamples a record onto equal angle st
 * :func:`order_track` — amplitude and phase of chosen orders, bin by bin of whole revolutions,
   against speed (MATLAB ``ordertrack``);
 * :func:`rpm_order_map` — the spectrum of every bin, orders × speed (MATLAB ``rpmordermap``);
-* :func:`~rubdiag.signal.features_by_revolution` — every feature of the feature table, bin by
+* :func:`~rubdiag.signal.revolution_features` — every feature of the feature table, bin by
   bin (:mod:`rubdiag.signal._speedtable`, on :func:`angle_bins`).
 
 Anti-aliasing in the angle domain

@@ -109,7 +109,7 @@ def dominant_speed(x, fs: float, window="hann", nperseg: int | None = None, detr
     -------
     float or ndarray
         Speed in rpm (one per row for 2-D input); NaN for a still signal (no line at all).
-        :func:`rubdiag.signal.features` reports how far the line stands above the noise
+        :func:`rubdiag.signal.signal_features` reports how far the line stands above the noise
         (``speed_confidence``) and refuses a guess that does not stand out, and
         :func:`~rubdiag.signal.voted_speed` says when 1× may be a weaker line at 1/2 or 1/3
         of it (module docstring).

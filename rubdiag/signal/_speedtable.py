@@ -1,10 +1,11 @@
 """Features across speed: the feature table on bins of whole revolutions, in the angle domain.
 
 At a changing speed every order sweeps in frequency and a spectrum over time smears it.
-:func:`features_by_revolution` resamples each channel at equal angle steps once
+:func:`revolution_features` resamples each channel at equal angle steps once
 (:func:`~rubdiag.signal.resample_to_angle`, anti-aliased in the angle domain), cuts the record
 into bins of ``revs_per_bin`` whole revolutions (as :func:`~rubdiag.signal.order_track` does)
-and runs the feature engine of :func:`~rubdiag.signal.features` on every bin. A bin sampled at
+and runs the feature engine of :func:`~rubdiag.signal.signal_features` on every bin. A bin
+sampled at
 ``samples_per_rev`` per revolution *is* a constant-speed record: its "sampling frequency" is
 ``samples_per_rev`` and its 1× lies at one cycle per revolution, so every feature of the
 constant-speed table is measured in orders instead of Hz, whatever the speed.
@@ -87,7 +88,7 @@ _HZ_TO_ORDER = {
 }
 _KEPT = [i for i, name in enumerate(FEATURE_NAMES) if name not in SPEED_NAMES]
 
-#: The feature columns of :func:`features_by_revolution`, after :data:`BIN_NAMES`.
+#: The feature columns of :func:`revolution_features`, after :data:`BIN_NAMES`.
 REVOLUTION_FEATURE_NAMES: tuple[str, ...] = tuple(
     _HZ_TO_ORDER.get(FEATURE_NAMES[i], FEATURE_NAMES[i]) for i in _KEPT)
 
@@ -119,7 +120,7 @@ _FRACTIONAL_HALF = [REVOLUTION_FEATURE_NAMES.index(f"amp_{order_label(k)}")
 _THIRD = [REVOLUTION_FEATURE_NAMES.index(f"amp_{order_label(k)}") for k in THIRD_ORDERS]
 
 
-def features_by_revolution(
+def revolution_features(
     signal,
     fs: float | None = None,
     angle=None,
@@ -193,7 +194,7 @@ def features_by_revolution(
     >>> t = np.arange(12000) / fs
     >>> phi = 2 * np.pi * (10 * t + 2.5 * t**2)
     >>> x = np.cos(phi) + 0.2 * np.cos(1.5 * phi + 0.5)
-    >>> table = features_by_revolution(x, fs, phi, revs_per_bin=24)
+    >>> table = revolution_features(x, fs, phi, revs_per_bin=24)
     >>> table[["rev_start", "rpm", "amp_1x", "amp_1p5x", "freq_1p5x_order"]].round(2)
        rev_start      rpm  amp_1x  amp_1p5x  freq_1p5x_order
     0          1   875.89     1.0       0.2              1.5

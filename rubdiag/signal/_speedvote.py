@@ -13,7 +13,7 @@ The vote says which line stands out, not that it is 1×: a line at 1/2 or 1/3 of
 frequency on any moving channel makes the speed ambiguous (``SpeedVote.ambiguous``, the
 rule and why the strongest line is kept: :mod:`rubdiag.signal._speed`, "Which line is 1×").
 
-One estimator for every door that guesses a speed: :func:`rubdiag.signal.features` (and
+One estimator for every door that guesses a speed: :func:`rubdiag.signal.signal_features` (and
 ``rubdiag features`` / ``compare``) and :func:`rubdiag.learn._predict`.
 """
 

@@ -245,7 +245,7 @@ def _fill_rows(X, still, fs, speed_rpm, opts: Options, labels) -> np.ndarray:
     return out
 
 
-def features(
+def signal_features(
     signal,
     fs: float | None = None,
     speed_rpm: float | None = None,
@@ -286,7 +286,7 @@ def features(
         The tacho channel (and a channel named ``tacho``) is never analysed. Its mean speed
         is the running speed; a UserWarning says when the speed (over 10 revolutions) strays
         from it by more than ``band``: the lines smear, and
-        :func:`~rubdiag.signal.features_by_revolution` gives the features across speed.
+        :func:`~rubdiag.signal.revolution_features` gives the features across speed.
     columns : str or list of str, optional
         Channels to analyse (default: all).
     band : float
@@ -313,7 +313,7 @@ def features(
     >>> fs = 2000.0
     >>> t = np.arange(4000) / fs
     >>> x = 1.0 * np.cos(2 * np.pi * 25 * t) + 0.1 * np.cos(2 * np.pi * 37.5 * t)
-    >>> row = features(x, fs, speed_rpm=1500).iloc[0]
+    >>> row = signal_features(x, fs, speed_rpm=1500).iloc[0]
     >>> round(float(row["amp_1x"]), 4), round(float(row["amp_1p5x"]), 4), float(row["amp_2x"])
     (1.0, 0.1, 0.0)
     """
@@ -327,7 +327,7 @@ def features(
             warnings.warn(
                 f"the tacho speed varies from {low:.5g} to {high:.5g} rpm, by more than band = "
                 f"{opts.band:g} of its mean {speed_rpm:.5g} rpm: the order lines smear; for "
-                "features across speed give revs_per_bin (features_by_revolution, "
+                "features across speed give revs_per_bin (revolution_features, "
                 "--revs-per-bin)", UserWarning, stacklevel=2)
     X, labels = channel_rows(frame)
     array = not isinstance(signal, str | os.PathLike | pd.DataFrame | pd.Series)

@@ -18,7 +18,7 @@ class RubFeatures(TransformerMixin, BaseEstimator):
     """Rub-impact spectral features of equal-length signals (rows of X).
 
     Stateless: ``fit`` only checks X and records its width; ``transform`` runs the batch
-    path of :func:`rubdiag.signal.feature_matrix` on all rows at once. Output columns are
+    path of :func:`rubdiag.signal.signal_features` on all rows at once. Output columns are
     :data:`rubdiag.signal.FEATURE_NAMES` (see :mod:`rubdiag.signal._table` for units, for
     0 / NaN meaning absent / unmeasurable, and for still rows, whose lines are all absent);
     ``set_output(transform="pandas")`` names them.
@@ -36,7 +36,7 @@ class RubFeatures(TransformerMixin, BaseEstimator):
         Index of a column of X that holds each row's speed in rpm (per-row speeds); that
         column is not part of the signal.
     band, threshold, window, nperseg, detrend, min_revolutions, combo_tol_hz
-        As for :func:`rubdiag.signal.features`; the defaults are those of
+        As for :func:`rubdiag.signal.signal_features`; the defaults are those of
         :class:`~rubdiag.signal._options.Options`.
 
     Examples

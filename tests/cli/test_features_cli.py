@@ -38,7 +38,7 @@ def test_summary_first_then_every_feature(signals, capsys):
         "casing: 1500 rpm, RMS 0.1414, 1× 0.2 at 25.00 Hz",
         "  1× dominant",
     ]
-    n = len(rubdiag.features(str(signals), speed_rpm=1500).columns) - 1     # but 'channel'
+    n = len(rubdiag.signal_features(str(signals), speed_rpm=1500).columns) - 1     # but 'channel'
     assert lines[4] == ""
     assert lines[5].startswith(f"all {n} features per channel (amplitudes in the signal's unit")
     table = {ln.split()[0]: ln.split()[1:] for ln in lines[6:]}
@@ -60,7 +60,7 @@ def test_summary_only(signals, capsys):
 
 
 def test_csv_and_json_are_the_feature_table_only(signals, tmp_path, capsys):
-    expected = rubdiag.features(str(signals), speed_rpm=1500)
+    expected = rubdiag.signal_features(str(signals), speed_rpm=1500)
     out = tmp_path / "f.csv"
     assert main(["features", str(signals), "--speed-rpm", "1500", "--csv", str(out)]) == 0
     assert capsys.readouterr().out == f"wrote 2 row(s) to {out}\n"
@@ -82,7 +82,7 @@ def simulated(tmp_path_factory):
 
 def test_summary_of_a_simulation_result(simulated, capsys):
     result, path = simulated
-    row = rubdiag.features(result).iloc[0]
+    row = rubdiag.run_features(result).iloc[0]
     summary = result.summary()
     assert main(["features", str(path), "--summary"]) == 0
     lines = capsys.readouterr().out.splitlines()
@@ -130,7 +130,7 @@ def test_features_across_speed_csv(run_ups, tmp_path, capsys):
                  "--column", "shaft", "--csv", str(out)]) == 0
     assert capsys.readouterr().out == f"wrote 6 row(s) to {out}\n"
     table = pd.read_csv(out)
-    expected = rubdiag.signal.features_by_revolution(run_ups[0], tacho="tacho",
+    expected = rubdiag.signal.revolution_features(run_ups[0], tacho="tacho",
                                                      revs_per_bin=24, columns="shaft")
     pd.testing.assert_frame_equal(table, expected, check_dtype=False)
     assert table.rpm.is_monotonic_increasing
@@ -149,7 +149,7 @@ def test_features_across_speed_csv(run_ups, tmp_path, capsys):
 def test_features_across_speed_printed(run_ups, capsys):
     assert main(["features", run_ups[0], "--revs-per-bin", "24", "--column", "shaft"]) == 0
     lines = capsys.readouterr().out.splitlines()
-    table = rubdiag.signal.features_by_revolution(run_ups[0], revs_per_bin=24, columns="shaft")
+    table = rubdiag.signal.revolution_features(run_ups[0], revs_per_bin=24, columns="shaft")
     assert lines[0] == (f"shaft: 6 bins of 24 revolutions, {table.rpm.min():.0f} to "
                         f"{table.rpm.max():.0f} rpm, 1× {table.amp_1x.min():.4g} to "
                         f"{table.amp_1x.max():.4g}")
@@ -255,7 +255,7 @@ def test_compare_covers_every_channel_of_two_results(simulated, tmp_path, capsys
     out = capsys.readouterr().out
     blocks = _blocks(out)
     assert list(blocks) == ["shaft", "blade", "casing"]
-    row = rubdiag.features(result).iloc[0]
+    row = rubdiag.run_features(result).iloc[0]
     for channel, block in blocks.items():
         assert block["header"].endswith("(amplitudes in m, frequencies in Hz)")
         assert block["amp_1x"][0] == pytest.approx(row[f"{channel}_amp_1x"], rel=1e-5)

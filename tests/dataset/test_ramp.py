@@ -24,7 +24,8 @@ from rubdiag.dataset._ramp import SpeedRamp
 from rubdiag.dataset._rows import PROVENANCE, RAMP_COLUMNS
 from rubdiag.dataset._store import acquisition
 from rubdiag.runs._features import max_tracked_rpm, order_tracked, order_tracked_features
-from rubdiag.signal import prefixed_features, resample_to_angle
+from rubdiag.signal import resample_to_angle
+from rubdiag.signal._table import prefixed_features
 
 DATA = Path(__file__).resolve().parents[2] / "data"
 

@@ -20,7 +20,7 @@ import pytest
 from rubdiag.cli import main
 from rubdiag.dataset import Design, generate, load
 from rubdiag.dataset._rows import PROVENANCE
-from rubdiag.learn import evaluate
+from rubdiag.learn import cross_validate
 
 TOML = """
 [base]
@@ -128,7 +128,7 @@ def test_load_names_the_file_in_one_line_and_writes_nothing(damaged):
     assert message.endswith(f"; `rubdiag dataset {out / 'design.toml'} --out {out}` moves it "
                             f"into {out / 'broken'} and runs its runs again")
     with pytest.raises(ValueError, match="unreadable"):
-        evaluate(out)                                    # rubdiag.learn reads through load
+        cross_validate(out)                                    # rubdiag.learn reads through load
     assert snapshot(out) == before
 
 

@@ -15,11 +15,11 @@ import pytest
 
 from rubdiag.cli import main
 from rubdiag.dataset import load_waveforms
-from rubdiag.learn import evaluate
+from rubdiag.learn import cross_validate
 from rubdiag.learn._caveats import MIN_RUNS_PER_CLASS, training_warnings
 from rubdiag.learn._columns import LINE_FEATURES
 from rubdiag.learn._metrics import Score
-from rubdiag.learn._train import evaluate_model, train
+from rubdiag.learn._train import evaluate, train
 
 NAN = math.nan
 
@@ -130,7 +130,7 @@ def rows(informative: bool, n_points: int = 24, seed: int = 3) -> pd.DataFrame:
 
 
 def quick_evaluation(data):
-    return evaluate(data, "rub", estimator="logreg", channels=CHANNELS, n_bootstrap=100,
+    return cross_validate(data, "rub", estimator="logreg", channels=CHANNELS, n_bootstrap=100,
                     n_null=200, importances=False, audit=False)
 
 
@@ -282,12 +282,12 @@ def test_model_json_records_the_training_runs(half):
 
 def test_in_sample_out_of_sample_and_unknown(half, small_rows, tmp_path):
     out, _, rest = half
-    inside = evaluate_model(out, small_rows, n_bootstrap=10)
+    inside = evaluate(out, small_rows, n_bootstrap=10)
     assert inside.shared_runs == 12
     assert inside.to_text().splitlines()[0].endswith(
         "; in-sample: 12 of these 24 runs were in the model's training set, so these scores "
         "flatter it")
-    outside = evaluate_model(out, rest, n_bootstrap=10)
+    outside = evaluate(out, rest, n_bootstrap=10)
     assert outside.shared_runs == 0
     assert "out of sample: no run was in the model's training set" in \
         outside.to_text().splitlines()[0]
@@ -299,7 +299,7 @@ def test_in_sample_out_of_sample_and_unknown(half, small_rows, tmp_path):
     meta = json.loads((old / "model.json").read_text())
     del meta["training_runs"]
     (old / "model.json").write_text(json.dumps(meta))
-    unknown = evaluate_model(old, small_rows, n_bootstrap=10)
+    unknown = evaluate(old, small_rows, n_bootstrap=10)
     assert unknown.shared_runs is None
     assert "training runs unknown" in unknown.to_text().splitlines()[0]
     assert unknown.to_dict()["sample"].startswith("training runs unknown")
@@ -328,7 +328,7 @@ def test_a_training_record_that_does_not_match_its_digest_is_unknown(half, small
         meta = json.loads((edited / "model.json").read_text())
         meta["training_runs"].update(damage)
         (edited / "model.json").write_text(json.dumps(meta))
-        scores = evaluate_model(edited, small_rows, n_bootstrap=10)
+        scores = evaluate(edited, small_rows, n_bootstrap=10)
         assert scores.shared_runs is None
         assert scores.to_text().splitlines()[0].split("; ")[1].startswith(
             "training runs unknown")

@@ -11,7 +11,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from rubdiag.learn import evaluate, make_pipeline
+from rubdiag.learn import cross_validate, make_pipeline
 from rubdiag.learn._columns import LINE_FEATURES
 from rubdiag.learn._confusers import CONFUSER_COLUMNS, calls_rub, confuser_table, has_confusers
 from rubdiag.learn._persist import Model
@@ -167,7 +167,7 @@ def fault_rows(n_points: int = 48, seed: int = 5) -> pd.DataFrame:
 
 
 def quick(data, target):
-    return evaluate(data, target, estimator="logreg", channels=CHANNELS, n_bootstrap=200,
+    return cross_validate(data, target, estimator="logreg", channels=CHANNELS, n_bootstrap=200,
                     n_null=200, n_shuffles=1, importances=False, audit=False)
 
 

@@ -1,4 +1,4 @@
-"""evaluate(): held-out scores where the answer is known, the shuffled-label control, the
+"""cross_validate(): held-out scores where the answer is known, the shuffled-label control, the
 unscored classes, the baselines, the audit and the reports.
 
 Synthetic frames first (rows built here, feature values set by hand), then the small
@@ -18,7 +18,7 @@ import pytest
 from sklearn.model_selection import KFold
 from threadpoolctl import threadpool_limits
 
-from rubdiag.learn import audit_columns, evaluate, folds, make_pipeline
+from rubdiag.learn import audit_columns, cross_validate, folds, make_pipeline
 from rubdiag.learn._evaluate import allowed_outside, target_values
 from rubdiag.learn._metrics import null_interval
 from rubdiag.learn._splits import Fold
@@ -118,7 +118,7 @@ def learnable():
 
 @pytest.fixture(scope="module")
 def learnable_evaluation(learnable):
-    return evaluate(learnable, "rub", estimator="logreg", n_repeats=2, **FAST)
+    return cross_validate(learnable, "rub", estimator="logreg", n_repeats=2, **FAST)
 
 
 class TestKnownAnswers:
@@ -173,8 +173,8 @@ class TestKnownAnswers:
     def test_absolute_frequencies_are_opt_in(self, learnable):
         # the same target from the speed: only the absolute family (speed_rpm) has it
         fast = learnable.assign(rub=learnable["speed_rpm"] > 3000.0)
-        default = evaluate(fast, "rub", estimator="logreg", **BARE)
-        absolute = evaluate(fast, "rub", estimator="logreg", families=("orders", "absolute"),
+        default = cross_validate(fast, "rub", estimator="logreg", **BARE)
+        absolute = cross_validate(fast, "rub", estimator="logreg", families=("orders", "absolute"),
                             **BARE)
         assert absolute.scores["macro_f1"].value >= 0.95
         assert default.scores["macro_f1"].value < absolute.scores["macro_f1"].lo
@@ -200,7 +200,7 @@ def forest():
 
 class TestChance:
     def test_an_independent_target_scores_inside_its_null(self, independent):
-        ev = evaluate(independent, "rub", pipeline=forest(), **BARE)
+        ev = cross_validate(independent, "rub", pipeline=forest(), **BARE)
         y, p, groups = scored(ev, independent)
         lo, hi = null_interval(y, p, ev.classes, n=1000, groups=groups)
         # a 95 % interval: a sound evaluation falls outside for 1 seed in 20; these seeds
@@ -212,7 +212,7 @@ class TestChance:
         # The control of the test above: with replicates on both sides the same model and
         # data score far above chance, and the shuffled-label control sees it.
         monkeypatch.setattr(evaluate_module, "folds", row_level_folds)
-        ev = evaluate(independent, "rub", pipeline=forest(), **BARE)
+        ev = cross_validate(independent, "rub", pipeline=forest(), **BARE)
         y, p, groups = scored(ev, independent)
         hi = null_interval(y, p, ev.classes, n=1000, groups=groups)[1]
         assert ev.scores["macro_f1"].value > hi + 0.1
@@ -234,7 +234,7 @@ def test_a_class_absent_from_training_is_not_scored():
     gap = rows["gap_mm"].to_numpy()
     top_band = gap > np.quantile(rows.drop_duplicates("point_id")["gap_mm"], 0.8)
     rows["severity"] = np.where(top_band, "serious", np.where(d < 0, "none", "light"))
-    ev = evaluate(rows, "severity", "gap_mm", estimator="logreg", bands=5, **BARE)
+    ev = cross_validate(rows, "severity", "gap_mm", estimator="logreg", bands=5, **BARE)
     held_out = [f for f in folds(rows, "gap_mm", bands=5) if top_band[f.test].all()]
     assert len(held_out) == 1 and top_band[held_out[0].test].sum() == top_band.sum()
     assert ev.unscored == {"serious": int(top_band.sum())}
@@ -247,7 +247,7 @@ def test_a_class_absent_from_training_is_not_scored():
 
 
 def test_families_given_as_one_name(learnable):
-    ev = evaluate(learnable, "rub", estimator="logreg", families="orders", **BARE)
+    ev = cross_validate(learnable, "rub", estimator="logreg", families="orders", **BARE)
     assert ev.families == ["orders"]
     assert ev.scores["macro_f1"].value >= 0.95
 
@@ -264,7 +264,7 @@ def test_reports_are_json_and_markdown(learnable_evaluation, learnable):
         assert f"| {name} | {s} |" in text
     assert "chance, as it must be" in text and "(chance allows 1)" in text
     # without bootstrap draws the interval is unknown: null in JSON, never NaN
-    bare = evaluate(learnable, "rub", estimator="logreg", **{**BARE, "n_bootstrap": 0})
+    bare = cross_validate(learnable, "rub", estimator="logreg", **{**BARE, "n_bootstrap": 0})
     d = json.loads(json.dumps(bare.to_dict(), allow_nan=False))
     assert d["scores"]["macro_f1"]["lo"] is None
     assert d["scores"]["macro_f1"]["value"] == bare.scores["macro_f1"].value
@@ -273,24 +273,24 @@ def test_reports_are_json_and_markdown(learnable_evaluation, learnable):
 class TestBadInput:
     def test_target(self, learnable):
         with pytest.raises(ValueError, match="target = 'gap_mm'"):
-            evaluate(learnable, "gap_mm", **BARE)
+            cross_validate(learnable, "gap_mm", **BARE)
         with pytest.raises(ValueError, match="'severity'"):
-            evaluate(learnable, "severity", **BARE)   # a label the frame does not have
+            cross_validate(learnable, "severity", **BARE)   # a label the frame does not have
 
     def test_one_class(self, learnable):
         with pytest.raises(ValueError, match="one value"):
-            evaluate(learnable.assign(rub=True), "rub", **BARE)
+            cross_validate(learnable.assign(rub=True), "rub", **BARE)
 
     def test_one_class_is_said_before_the_folds_complain(self, learnable):
         """Few design points and one class: the class is the problem to name, not that
         the points are too few for five folds."""
         few = learnable[learnable.point_id.isin(learnable.point_id.unique()[:3])]
         with pytest.raises(ValueError, match="takes one value in the data"):
-            evaluate(few.assign(rub=False), "rub", **BARE)
+            cross_validate(few.assign(rub=False), "rub", **BARE)
 
     def test_channels(self, learnable):
         with pytest.raises(ValueError, match="'blade'"):
-            evaluate(learnable, "rub", channels=["blade"], **BARE)
+            cross_validate(learnable, "rub", channels=["blade"], **BARE)
 
 
 # -- the small simulated dataset (conftest.small_rows): 24 runs, 12 points × 2 replicates
@@ -298,7 +298,7 @@ class TestBadInput:
 
 @pytest.fixture(scope="module")
 def rub_evaluation(small_rows):
-    return evaluate(small_rows, "rub", estimator="logreg", n_repeats=1, audit=False, **FAST)
+    return cross_validate(small_rows, "rub", estimator="logreg", n_repeats=1, audit=False, **FAST)
 
 
 def test_simulated_rub_shuffled_labels_score_chance(rub_evaluation):
@@ -377,6 +377,6 @@ def test_rows_and_scores_do_not_depend_on_the_order_runs_were_stored(small_datas
     pd.testing.assert_frame_equal(a, b, check_exact=True)
     kw = dict(importances=False, baselines=False, audit=False, n_bootstrap=50, n_null=50)
     with threadpool_limits(1):
-        ea = evaluate(a, "rub", "group", "logreg", **kw)
-        eb = evaluate(b, "rub", "group", "logreg", **kw)
+        ea = cross_validate(a, "rub", "group", "logreg", **kw)
+        eb = cross_validate(b, "rub", "group", "logreg", **kw)
     assert ea.scores == eb.scores and ea.shuffled == eb.shuffled

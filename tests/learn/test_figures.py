@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from rubdiag.learn import evaluate, make_pipeline
+from rubdiag.learn import cross_validate, make_pipeline
 from rubdiag.learn._columns import LINE_FEATURES
 from rubdiag.learn._figures import confusion_figure, importances_figure, noise_curve_figure
 
@@ -46,7 +46,7 @@ def synthetic_rows(n_points: int = 18, replicates: int = 2, seed: int = 0) -> pd
 def evaluation():
     # a small forest: the figures need an evaluation, not a good model
     pipe = make_pipeline("rf", channels=list(CHANNELS)).set_params(model__n_estimators=50)
-    return evaluate(synthetic_rows(), "rub_state", pipeline=pipe, n_splits=3, n_bootstrap=50,
+    return cross_validate(synthetic_rows(), "rub_state", pipeline=pipe, n_splits=3, n_bootstrap=50,
                     n_null=20, n_repeats=2, baselines=False, audit=False)
 
 

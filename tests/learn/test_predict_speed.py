@@ -11,7 +11,7 @@ from rubdiag.learn import make_pipeline
 from rubdiag.learn._persist import load_model, save_model
 from rubdiag.learn._predict import predict
 from rubdiag.learn._train import model_meta
-from rubdiag.signal import SpeedAmbiguous, features
+from rubdiag.signal import SpeedAmbiguous, signal_features
 from rubdiag.signal._table import prefixed_features
 
 FS, WINDOW_S, RPM = 2000.0, 2.0, 1500.0
@@ -57,7 +57,7 @@ def test_a_noise_only_first_channel_gives_the_right_speed(model, tmp_path):
     assert "1x may be 750 rpm below a stronger 2x" in table["warnings"].iloc[0]
     # the same estimator as rubdiag features on the same file, to the last digit
     with pytest.warns(SpeedAmbiguous, match="1x may be 750 rpm"):
-        assert speed == features(str(path))["speed_rpm"].iloc[0]
+        assert speed == signal_features(str(path))["speed_rpm"].iloc[0]
     assert table["predicted"].iloc[0] == "True"
     # the probe alone holds no line to take as 1x: the speed must be given
     alone = tmp_path / "probe.csv"

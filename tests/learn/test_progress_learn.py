@@ -1,4 +1,4 @@
-"""Progress of ``train`` and ``evaluate``: on a terminal a bar over the fits (every fold of
+"""Progress of ``train`` and ``cross_validate``: on a terminal a bar over the fits (every fold of
 every cross-prediction, of the importances and of the audit, then the final fit) or over
 evaluate's steps, reaching its total; off a terminal or with ``--quiet``, nothing on stderr
 but the warnings. On the tiny dataset (12 runs), with logistic regression for speed."""
@@ -46,10 +46,10 @@ def test_a_full_evaluation_counts_each_part_s_folds(tiny_dataset, monkeypatch):
     """Per fold: the model, the importances, three baselines, the model with or without the
     casing channels, five shuffled-label controls and the audit (a part with nothing to
     fit counts as done)."""
-    from rubdiag.learn import evaluate
+    from rubdiag.learn import cross_validate
 
     terminal = as_terminal(monkeypatch)
-    evaluate(tiny_dataset, estimator="logreg", n_splits=FOLDS, n_repeats=1, n_bootstrap=20,
+    cross_validate(tiny_dataset, estimator="logreg", n_splits=FOLDS, n_repeats=1, n_bootstrap=20,
              n_null=20, progress=True)
     fits = FOLDS * (1 + 1 + 3 + 1 + 5 + 1)
     assert counts(terminal.getvalue())[-1] == f"{fits}/{fits}"

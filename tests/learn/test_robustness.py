@@ -11,7 +11,7 @@ import pandas as pd
 import pytest
 
 from rubdiag.dataset import load_waveforms
-from rubdiag.learn import channels_of, evaluate, make_pipeline, shaft_channels
+from rubdiag.learn import channels_of, cross_validate, make_pipeline, shaft_channels
 from rubdiag.learn._columns import LINE_FEATURES
 from rubdiag.learn._figures import noise_curve_figure
 from rubdiag.learn._robustness import (
@@ -186,7 +186,7 @@ class TestCurve:
                 [0.0, np.sqrt(p_ref[k] / 10 ** (LEVEL_DB / 10))], rel=1e-9)
 
     def test_as_stored_scores_those_of_the_stored_features(self, curve, small_rows):
-        ev = evaluate(small_rows, pipeline=small_forest(small_rows), importances=False,
+        ev = cross_validate(small_rows, pipeline=small_forest(small_rows), importances=False,
                       baselines=False, audit=False, seed=0, **OPTIONS)
         first = curve.iloc[0]
         for metric in ("macro_f1", "balanced_accuracy"):

@@ -3,7 +3,7 @@
 The shipped classifier design (data/designs/rub_classifier_lhs300.toml, 300 runs) is made
 twice: with the design's default ``step_error`` (long steps where nothing is in contact) and
 with ``step_error = 0`` (every step 10 µs or shorter, as before). The default classifier —
-``evaluate(read_dataset(DATA))`` with every default, as README "Classifiers": target
+``cross_validate(read_dataset(DATA))`` with every default, as README "Classifiers": target
 ``rub``, random forest, channels ``auto``, grouped by design point, ``seed = 0`` — must score
 a macro-F1 on the new-defaults dataset inside the 95 % bootstrap interval of the 10-µs one.
 Cheaper checks beside it: both datasets hold every run, all ``ok``; the rub label agrees for
@@ -66,7 +66,7 @@ def _make(design, out: Path, name: str) -> None:
 def test_new_step_defaults_keep_the_default_classifiers_score(tmp_path):
     from rubdiag.dataset import Design, load
     from rubdiag.dataset._design import DEFAULT_STEP_ERROR
-    from rubdiag.learn import evaluate, read_dataset
+    from rubdiag.learn import cross_validate, read_dataset
 
     root = Path(os.environ.get(STUDY_ENV) or tmp_path)
     design = Design.from_toml(DESIGN)
@@ -107,7 +107,7 @@ def test_new_step_defaults_keep_the_default_classifiers_score(tmp_path):
 
     scores = {}
     for name in made:
-        ev = evaluate(read_dataset(root / name))      # the default classifier (README)
+        ev = cross_validate(read_dataset(root / name))      # the default classifier (README)
         scores[name] = ev.scores["macro_f1"]
         print(f"{name}: macro-F1 {scores[name]} ({ev.class_counts}, unscored "
               f"{ev.unscored}, channels {ev.channels}, confusion "

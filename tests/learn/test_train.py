@@ -1,5 +1,5 @@
 """train(): the model folder, what model.json says of the training, writing that a crash
-cannot leave half done, and a saved model scored on a dataset (evaluate_model)."""
+cannot leave half done, and a saved model scored on a dataset (evaluate)."""
 
 from __future__ import annotations
 
@@ -15,8 +15,8 @@ from sklearn.metrics import balanced_accuracy_score, f1_score
 from rubdiag import __version__
 from rubdiag.learn._channel_choice import NOISE_MARGIN_DB
 from rubdiag.learn._persist import META_FILE, MODEL_FILE, load_model
-from rubdiag.learn._train import evaluate_model, order_reach, train
-from rubdiag.signal._table import features
+from rubdiag.learn._train import evaluate, order_reach, train
+from rubdiag.signal._table import signal_features
 
 # logreg: the cheapest estimator with every part of the evaluation (importances,
 # baselines, audit), so that every file of a model folder is written
@@ -119,7 +119,7 @@ class TestModelJson:
             t = np.arange(round(0.5 * fs)) / fs
             x = np.cos(2 * np.pi * f1 * t) + 1e-3 * np.random.default_rng(0).standard_normal(
                 t.size)
-            row = features(x, fs, speed_rpm=60 * f1).iloc[0]
+            row = signal_features(x, fs, speed_rpm=60 * f1).iloc[0]
             assert np.isfinite(row[["amp_8x", "bb_8x_rms", "sb_8x_lower"]].astype(float)
                                ).all() == measured
 
@@ -149,8 +149,8 @@ class TestWriting:
 
         evaluation = {}
 
-        def evaluate(data, target, *args, **kwargs):
-            from rubdiag.learn._evaluate import evaluate as real
+        def cross_validate(data, target, *args, **kwargs):
+            from rubdiag.learn._evaluate import cross_validate as real
 
             if target not in evaluation:
                 evaluation[target] = real(data, target, *args, importances=False,
@@ -160,7 +160,7 @@ class TestWriting:
                                                                  "seed")})
             return evaluation[target]
 
-        monkeypatch.setattr(module, "evaluate", evaluate)
+        monkeypatch.setattr(module, "cross_validate", cross_validate)
         return lambda dataset, out, **kw: module.train(dataset, out, estimator="logreg", **kw)
 
     def test_refuses_a_folder_that_is_not_a_model(self, small_dataset, tmp_path):
@@ -212,7 +212,7 @@ class TestWriting:
 class TestEvaluateModel:
     def test_scores_on_a_dataset(self, trained, small_rows):
         model, out = trained
-        result = evaluate_model(out, small_rows)
+        result = evaluate(out, small_rows)
         y = small_rows["severity"].astype(str).to_numpy()
         predicted = model.pipeline.predict(small_rows)
         assert result.n_scored == result.n_rows == 24 and result.unknown == {}
@@ -231,7 +231,7 @@ class TestEvaluateModel:
         data = small_rows.copy()
         data.loc[:3, "severity"] = "extreme"
         assert data.attrs == small_rows.attrs
-        result = evaluate_model(model, data)
+        result = evaluate(model, data)
         assert result.unknown == {"extreme": 4}
         assert result.n_scored == 20
         known = np.arange(24) >= 4
@@ -253,8 +253,8 @@ class TestEvaluateModel:
         sensor["unit"] = "mm"
         with pytest.raises(ValueError, match=f"'{model.channels[0]}' is in mm, the model's "
                            "in m"):
-            evaluate_model(model, data)
+            evaluate(model, data)
         dropped = small_rows.drop(columns=[c for c in small_rows.columns
                                            if c.startswith("shaft11_y_disp__")])
         with pytest.raises(ValueError, match="channel 'shaft11_y_disp' is missing"):
-            evaluate_model(model, dropped)
+            evaluate(model, dropped)

@@ -27,7 +27,7 @@ from rubdiag.plotting._runup import (
     save_runup_figures,
     waterfall_figure,
 )
-from rubdiag.plotting._spectra import plot_order_spectra
+from rubdiag.plotting._spectra import order_spectra_figure
 from rubdiag.signal import order_label
 
 RPM = np.linspace(1000.0, 2000.0, 21)
@@ -61,7 +61,7 @@ CURVE = pd.DataFrame({"snr_db": [np.inf, 20.0, 10.0], "macro_f1": [0.9, 0.7, 0.4
 FIGURES = {
     "campbell": (lambda **w: campbell_figure(CAMPBELL, **w), "ax"),
     "unbalance": (lambda **w: unbalance_figure({"case 1": RESPONSE}, (1500.0,), **w), "ax"),
-    "order spectra": (lambda **w: plot_order_spectra(
+    "order spectra": (lambda **w: order_spectra_figure(
         [("y", np.linspace(0, 200, 401), np.linspace(1, 2, 401), ROW)], **w), "ax"),
     "polar": (lambda **w: polar_figure(TRACKS, **w), "ax"),
     "noise curve": (lambda **w: noise_curve_figure(CURVE, **w), "ax"),

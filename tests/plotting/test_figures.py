@@ -8,7 +8,7 @@ import pytest
 from matplotlib.colors import to_rgb
 
 from rubdiag.plotting._modal import _BACKWARD, _FORWARD, campbell_figure, deflection_figure
-from rubdiag.plotting._spectra import MARKERS, plot_order_spectra
+from rubdiag.plotting._spectra import MARKERS, order_spectra_figure
 
 
 def _row(**extra):
@@ -23,7 +23,7 @@ def test_spectrum_axis_has_its_unit_and_the_legend_names_each_marker_drawn():
     amp = np.full(f.size, 1e-8)
     amp[100] = 2e-6
     row = _row(sb_4x_delta_hz=2.0, sb_4x_lower=1e-7, sb_4x_upper=2e-7)
-    fig = plot_order_spectra([("shaft", f, amp, row)], unit="µm", scale=1e6)
+    fig = order_spectra_figure([("shaft", f, amp, row)], unit="µm", scale=1e6)
     ax = fig.axes[0]
     assert ax.get_ylabel() == "peak amplitude (µm)"
     texts = [t.get_text() for t in ax.get_legend().get_texts()]
@@ -41,7 +41,7 @@ def test_spectrum_axis_has_its_unit_and_the_legend_names_each_marker_drawn():
 def test_combination_pair_is_named_in_the_legend():
     f = np.linspace(0, 100, 1001)
     row = _row(combo_fa_hz=4.0, combo_fb_hz=16.0, combo_amp_a=1e-7, combo_amp_b=1e-7)
-    fig = plot_order_spectra([("blade", f, np.full(f.size, 1e-8), row)])
+    fig = order_spectra_figure([("blade", f, np.full(f.size, 1e-8), row)])
     texts = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
     assert MARKERS["combination"][1] in texts
     assert fig.axes[0].get_ylabel() == "peak amplitude (signal unit)"
@@ -82,6 +82,6 @@ def test_deflection_legend_names_bearings_and_discs(paper_model):
 @pytest.mark.parametrize("value, text", [(1e-2, "10⁻²"), (1.0, "10⁰"), (1e3, "10³"),
                                          (3e2, ""), (0.0, "")])
 def test_decade_labels_are_plain_text(value, text):
-    from rubdiag.plotting.__ticks import _decade
+    from rubdiag.plotting._ticks import _decade
 
     assert _decade(value) == text

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from rubdiag.modal import harmonic_response
-from rubdiag.runs import pair_rows, recorded_pairs
+from rubdiag.runs import recorded_pairs, run_orbit_features
 from rubdiag.simulation import Run, simulate
 from rubdiag.simulation._rig_cache import damped_model
 
@@ -31,7 +31,7 @@ def test_a_linear_run_s_1x_is_its_harmonic_response_s_forward_and_reverse(linear
     """The paper rig's bearings are stiffer in y (500 MN/m) than in z (200): its disc orbits
     are nearly circular, forward at 1200 rpm (reverse 7e-5 of forward). Measured: forward
     equal to the harmonic response's to 5e-7, reverse to 4e-5."""
-    rows = pair_rows(linear).set_index("pair")
+    rows = run_orbit_features(linear).set_index("pair")
     model = damped_model(linear.run.rig)
     response = harmonic_response(model, linear.run.speed_rad_s, linear.run.unbalance)
     for node in ("shaft 11", "shaft 19"):

@@ -88,7 +88,7 @@ def test_per_second_and_per_revolution_rates(every_step_run):
 
 
 def test_one_row_per_run_with_prefixed_spectra(every_step_run, tmp_path):
-    table = rubdiag.features(every_step_run, min_revolutions=5)
+    table = rubdiag.run_features(every_step_run, min_revolutions=5)
     assert len(table) == 1
     row = table.iloc[0]
     for column in ("shaft_amp_1x", "blade_amp_1x", "casing_amp_1x", "contact1_max_force_n",
@@ -96,12 +96,12 @@ def test_one_row_per_run_with_prefixed_spectra(every_step_run, tmp_path):
         assert column in table.columns
     # the shaft columns are the features of the windowed shaft signal itself
     shaft = every_step_run.displacement("shaft 11 y", windowed=True)
-    alone = rubdiag.features(shaft, every_step_run.fs, every_step_run.run.speed_rpm,
-                             min_revolutions=5).iloc[0]
+    alone = rubdiag.signal_features(shaft, every_step_run.fs, every_step_run.run.speed_rpm,
+                                    min_revolutions=5).iloc[0]
     assert row["shaft_amp_1x"] == pytest.approx(alone["amp_1x"], rel=1e-12)
     # a saved result gives the same row
     path = every_step_run.save(tmp_path / "r.npz")
-    again = rubdiag.features(str(path), min_revolutions=5)
+    again = rubdiag.run_features(str(path), min_revolutions=5)
     assert again.iloc[0]["contact1_max_force_n"] == row["contact1_max_force_n"]
     assert again.iloc[0]["shaft_amp_1x"] == pytest.approx(row["shaft_amp_1x"], rel=1e-12)
 
@@ -115,7 +115,7 @@ def test_cli_reads_simulation_results(every_step_run, tmp_path, capsys):
     assert main(["features", str(a), "--json"]) == 0
     rows = json.loads(capsys.readouterr().out)
     assert len(rows) == 1                       # one row for the run, as the Python API
-    api = rubdiag.features(every_step_run).iloc[0]
+    api = rubdiag.run_features(every_step_run).iloc[0]
     assert rows[0]["shaft_amp_1x"] == pytest.approx(api["shaft_amp_1x"], rel=1e-12)
     assert rows[0]["contact1_max_force_n"] == pytest.approx(api["contact1_max_force_n"])
     assert rows[0]["speed_rpm"] == pytest.approx(every_step_run.run.speed_rpm)
@@ -133,7 +133,7 @@ def test_compare_a_healthy_and_a_rubbing_run(tmp_path, capsys):
     assert healthy.summary()["n_episodes"] == 0 and rubbing.summary()["n_episodes"] > 0
     # a healthy run is a row like any other (datasets mix them): same columns, the casing's
     # lines absent (amplitude 0, location NaN) and no contact statistics
-    rows = rubdiag.features([healthy, rubbing])
+    rows = rubdiag.run_features([healthy, rubbing])
     assert len(rows) == 2 and rows.columns.is_unique
     quiet = rows.iloc[0]
     assert quiet["casing_amp_1x"] == 0.0 and np.isnan(quiet["casing_freq_1x_hz"])

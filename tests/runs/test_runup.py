@@ -132,7 +132,7 @@ def test_bad_input_is_one_line_and_exit_2(argv, match, tmp_path, capsys):
 
 
 def test_a_ramp_runs_row_is_order_tracked_at_its_mean_speed(cli_out):
-    """``rubdiag.features`` of a run-up: spectra order-tracked on the shaft angle at the
+    """``rubdiag.run_features`` of a run-up: spectra order-tracked on the shaft angle at the
     window's mean speed, and contact counts per revolution of the angle turned."""
     from rubdiag.runs import run_features
 

@@ -13,7 +13,7 @@ def test_white_noise_level_around_4x(revolutions):
     t = np.arange(int(revolutions / f1 * fs)) / fs
     rng = np.random.default_rng(revolutions)
     x = sigma * rng.standard_normal(t.size) + np.cos(2 * np.pi * f1 * t)
-    row = rubdiag.features(x, fs, 60 * f1, min_revolutions=5).iloc[0]
+    row = rubdiag.signal_features(x, fs, 60 * f1, min_revolutions=5).iloc[0]
     # white noise: one-sided density 2σ²/fs over the band 4× ± 0.25× (12.5 Hz)
     expected = sigma * np.sqrt(2 * 0.5 * f1 / fs)
     assert row["bb_4x_rms"] == pytest.approx(expected, rel=0.35)

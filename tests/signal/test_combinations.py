@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rubdiag.signal import combination_pairs, features
+from rubdiag.signal import combination_pairs, signal_features
 
 
 @pytest.mark.parametrize(("fa", "fb"), [(43.0, 147.0), (44.0, 146.0), (43.37, 146.63)])
@@ -14,7 +14,7 @@ def test_paper_case_2_pair(synth, fa, fb, noise):
     fs, f1, duration = 2000.0, 95.0, 2.17
     comps = [(f1, 1.0), (2 * f1, 0.1), (fa, 0.03, 0.2), (fb, 0.05, -1.0)]
     x = synth(comps, fs, duration, noise=noise)
-    row = features(x, fs, 60 * f1).iloc[0]
+    row = signal_features(x, fs, 60 * f1).iloc[0]
     resolution = fs / round(duration * fs)
     assert row["combo_fa_hz"] == pytest.approx(fa, abs=resolution)
     assert row["combo_fb_hz"] == pytest.approx(fb, abs=resolution)
@@ -30,7 +30,7 @@ def test_paper_case_2_pair(synth, fa, fb, noise):
 def test_other_sum_orders(synth, fa, fb, m):
     fs, f1 = 2000.0, 95.0
     x = synth([(f1, 1.0), (fa, 0.02), (fb, 0.02)], fs, 2.0, noise=1e-4)
-    row = features(x, fs, 60 * f1).iloc[0]
+    row = signal_features(x, fs, 60 * f1).iloc[0]
     assert row["combo_order"] == m
     assert row["combo_fa_hz"] == pytest.approx(fa, abs=0.5)
 
@@ -39,7 +39,7 @@ def test_strongest_pair_wins_and_all_pairs_are_listed(synth):
     fs, f1 = 2000.0, 95.0
     comps = [(f1, 1.0), (43.0, 0.01), (147.0, 0.05), (25.0, 0.03), (165.0, 0.04)]
     x = synth(comps, fs, 2.0, noise=1e-4)
-    row = features(x, fs, 60 * f1).iloc[0]
+    row = signal_features(x, fs, 60 * f1).iloc[0]
     assert row["combo_fa_hz"] == pytest.approx(25.0, abs=0.5)  # weaker line 0.03 > 0.01
     assert row["combo_fb_hz"] == pytest.approx(165.0, abs=0.5)
     pairs = combination_pairs(x, fs, 60 * f1)
@@ -50,7 +50,7 @@ def test_strongest_pair_wins_and_all_pairs_are_listed(synth):
 def test_lines_that_do_not_sum_to_an_order_make_no_pair(synth):
     fs, f1 = 2000.0, 95.0
     x = synth([(f1, 1.0), (43.0, 0.03), (150.0, 0.05)], fs, 2.0, noise=1e-4)
-    row = features(x, fs, 60 * f1).iloc[0]
+    row = signal_features(x, fs, 60 * f1).iloc[0]
     assert np.isnan(row["combo_fa_hz"]) and np.isnan(row["combo_order"])
     assert row["combo_amp_a"] == 0.0 and row["combo_amp_b"] == 0.0
     assert combination_pairs(x, fs, 60 * f1) == []
@@ -59,14 +59,14 @@ def test_lines_that_do_not_sum_to_an_order_make_no_pair(synth):
 def test_narrow_pair_is_not_a_combination(synth):
     fs, f1 = 2000.0, 95.0
     x = synth([(f1, 1.0), (80.0, 0.03), (110.0, 0.03)], fs, 2.0, noise=1e-4)  # 30 Hz < 0.5x
-    assert np.isnan(features(x, fs, 60 * f1).iloc[0]["combo_fa_hz"])
+    assert np.isnan(signal_features(x, fs, 60 * f1).iloc[0]["combo_fa_hz"])
 
 
 def test_tolerance_parameter(synth):
     fs, f1 = 2000.0, 95.0
     x = synth([(f1, 1.0), (43.0, 0.03), (148.2, 0.05)], fs, 2.0, noise=1e-4)  # sum 1.2 Hz off
-    assert np.isnan(features(x, fs, 60 * f1).iloc[0]["combo_fa_hz"])
-    loose = features(x, fs, 60 * f1, combo_tol_hz=1.5).iloc[0]
+    assert np.isnan(signal_features(x, fs, 60 * f1).iloc[0]["combo_fa_hz"])
+    loose = signal_features(x, fs, 60 * f1, combo_tol_hz=1.5).iloc[0]
     assert loose["combo_fa_hz"] == pytest.approx(43.0, abs=0.1)
 
 
@@ -74,6 +74,6 @@ def test_harmonics_only_yield_no_pair_over_many_seeds(synth):
     fs, f1 = 2000.0, 95.0
     comps = [(n * f1, 1.0 / n, n) for n in range(1, 11)]
     X = np.vstack([synth(comps, fs, 2.0, noise=0.05, seed=s) for s in range(40)])
-    table = features(X, fs, 60 * f1)
+    table = signal_features(X, fs, 60 * f1)
     assert table["combo_fa_hz"].isna().all()
     assert (table["n_half_orders"] == 0).all() and (table["n_third_orders"] == 0).all()

@@ -167,9 +167,9 @@ def test_a_simulation_result_has_no_pair_yet(tmp_path, capsys):
 
 
 def test_pairs_of_one_record_share_references_and_keep_every_bit():
-    """pairs_features (one set of lock-in references per record length) gives, bit for bit,
+    """orbit_features_by_pair (one set of lock-in references per record length) gives, bit for bit,
     what full_spectrum_lines and orbit_measures give each pair alone."""
-    from rubdiag.signal._fullspectrum import pairs_features
+    from rubdiag.signal._fullspectrum import orbit_features_by_pair
     from rubdiag.signal._orders import HALF_ORDERS, THIRD_ORDERS, order_label
 
     rng = np.random.default_rng(7)
@@ -179,7 +179,7 @@ def test_pairs_of_one_record_share_references_and_keep_every_bit():
         pairs[name] = (np.cos(W * t) + 0.3 * np.cos(2.5 * W * t) + rng.normal(0, 0.1, n),
                        0.5 * np.sin(W * t) - 0.2 * np.sin(W * t / 3) + rng.normal(0, 0.1, n))
     orders = np.array(sorted(HALF_ORDERS + THIRD_ORDERS))
-    rows = pairs_features(pairs, FS, 60.0 * SPEED)
+    rows = orbit_features_by_pair(pairs, FS, 60.0 * SPEED)
     assert list(rows) == list(pairs)
     for name, (y, z) in pairs.items():
         forward, reverse = full_spectrum_lines(y, z, FS, SPEED, orders)

@@ -19,10 +19,11 @@ def _run(code: str) -> str:
 
 
 def test_import_rubdiag_stays_light():
-    lazy = "import sys, rubdiag; print('numpy' in sys.modules, 'features' in rubdiag.__all__)"
+    lazy = ("import sys, rubdiag; "
+            "print('numpy' in sys.modules, 'signal_features' in rubdiag.__all__)")
     assert _run(lazy).split() == ["False", "True"]
     code = (
-        "import sys, rubdiag; assert callable(rubdiag.features.__call__); "
+        "import sys, rubdiag; assert callable(rubdiag.signal_features.__call__); "
         "print('numpy' in sys.modules)"
     )
     assert _run(code).strip() == "True"
@@ -31,7 +32,7 @@ def test_import_rubdiag_stays_light():
 def test_features_of_an_array_load_no_simulator():
     _run(
         "import sys, numpy, rubdiag; "
-        "rubdiag.features(numpy.random.rand(2, 5000), fs=5000, speed_rpm=1500); "
+        "rubdiag.signal_features(numpy.random.rand(2, 5000), fs=5000, speed_rpm=1500); "
         "assert 'numba' not in sys.modules and 'rubdiag.simulation' not in sys.modules, "
         "sorted(m for m in sys.modules if m.startswith(('numba', 'rubdiag.')))"
     )

@@ -16,9 +16,8 @@ from data_tolerances import TOLERANCES
 
 import rubdiag.signal._linefree as linefree
 from rubdiag.learn._features import OrderFeatures
-from rubdiag.signal import feature_matrix
 from rubdiag.signal._orders import HARMONICS
-from rubdiag.signal._table import FEATURE_NAMES
+from rubdiag.signal._table import FEATURE_NAMES, feature_matrix
 
 OFF_BIN_BAND_TOLERANCE = TOLERANCES["off_bin_lines"]["band"]
 OFF_BIN_LINE_TOLERANCE = TOLERANCES["off_bin_lines"]["line"]

@@ -8,13 +8,13 @@ import inspect
 import numpy as np
 import pytest
 
-from rubdiag.signal import RubFeatures, combination_pairs, features, spectral_lines
+from rubdiag.signal import RubFeatures, combination_pairs, signal_features, spectral_lines
 from rubdiag.signal._options import Options
 
 DEFAULTS = {f.name: f.default for f in dataclasses.fields(Options)}
 
 
-@pytest.mark.parametrize("function", [features, combination_pairs, RubFeatures])
+@pytest.mark.parametrize("function", [signal_features, combination_pairs, RubFeatures])
 def test_every_entry_point_shows_the_options_defaults(function):
     parameters = inspect.signature(function).parameters
     shown = {name: parameters[name].default for name in DEFAULTS}

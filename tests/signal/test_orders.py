@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rubdiag.signal import amplitude_spectrum, feature_names, features, order_label
+from rubdiag.signal import amplitude_spectrum, feature_names, order_label, signal_features
 
 HALF = [k / 2 for k in range(1, 17)]
 
@@ -36,7 +36,7 @@ def test_amplitudes_frequencies_and_phases_without_noise(synth, fs, duration, rp
     f1 = rpm / 60.0
     comps = [(f1, 1.0, 0.3), (2 * f1, 0.25, -2.0), (1.5 * f1, 0.04, 1.0), (3.5 * f1, 0.02, 2.9),
              (4 * f1, 0.1, -0.5)]
-    row = features(synth(comps, fs, duration), fs, rpm).iloc[0]
+    row = signal_features(synth(comps, fs, duration), fs, rpm).iloc[0]
     for f, a, phi in comps:
         label = order_label(f / f1)
         assert row[f"amp_{label}"] == pytest.approx(a, rel=0.01)
@@ -55,8 +55,8 @@ def test_amplitudes_frequencies_and_phases_without_noise(synth, fs, duration, rp
 def test_line_off_the_order_is_found_within_the_band_only(synth):
     fs, rpm = 2000.0, 1500.0
     x = synth([(25.0, 1.0), (2.04 * 25.0, 0.2)], fs, 2.0, noise=1e-4)
-    assert features(x, fs, rpm).iloc[0]["amp_2x"] == 0.0  # 4 % off, default band 3 %
-    wide = features(x, fs, rpm, band=0.05).iloc[0]
+    assert signal_features(x, fs, rpm).iloc[0]["amp_2x"] == 0.0  # 4 % off, default band 3 %
+    wide = signal_features(x, fs, rpm, band=0.05).iloc[0]
     assert wide["amp_2x"] == pytest.approx(0.2, rel=0.01)
     assert wide["freq_2x_hz"] == pytest.approx(51.0, abs=0.05)
 
@@ -64,7 +64,7 @@ def test_line_off_the_order_is_found_within_the_band_only(synth):
 def test_strongest_line_in_the_band_wins(synth):
     fs, rpm = 4000.0, 3000.0  # 1x = 50 Hz, band ±1.5 Hz; resolution 0.25 Hz
     x = synth([(50.0, 1.0), (150.0 - 1.2, 0.05), (150.0 + 1.0, 0.08)], fs, 4.0, noise=1e-4)
-    row = features(x, fs, rpm).iloc[0]
+    row = signal_features(x, fs, rpm).iloc[0]
     assert row["amp_3x"] == pytest.approx(0.08, rel=0.01)
     assert row["freq_3x_hz"] == pytest.approx(151.0, abs=0.05)
 
@@ -72,7 +72,7 @@ def test_strongest_line_in_the_band_wins(synth):
 def test_orders_above_nyquist_are_nan(synth):
     fs, rpm = 400.0, 1500.0  # 1x = 25 Hz, Nyquist 200 Hz = 8x
     x = synth([(25.0, 1.0), (175.0, 0.1)], fs, 4.0, noise=1e-3)
-    row = features(x, fs, rpm).iloc[0]
+    row = signal_features(x, fs, rpm).iloc[0]
     assert row["amp_7x"] == pytest.approx(0.1, rel=0.02)
     assert np.isnan(row["amp_8x"]) and np.isnan(row["freq_8x_hz"])
     assert row["amp_7p67x"] == 0.0  # 191.7 Hz ± 0.75 Hz: still below Nyquist
@@ -87,11 +87,11 @@ def test_significance_threshold_against_the_local_median(synth):
     f, a = amplitude_spectrum(noise, fs)
     near = (f > 50.0 - 12.5) & (f < 50.0 + 12.5)
     level = float(np.median(a[near]))  # the local median, measured here independently
-    weak = features(noise + synth([(50.0, 2.0 * level)], fs, duration), fs, rpm).iloc[0]
-    strong = features(noise + synth([(50.0, 20.0 * level)], fs, duration), fs, rpm).iloc[0]
+    weak = signal_features(noise + synth([(50.0, 2.0 * level)], fs, duration), fs, rpm).iloc[0]
+    strong = signal_features(noise + synth([(50.0, 20.0 * level)], fs, duration), fs, rpm).iloc[0]
     assert weak["amp_2x"] == 0.0
     assert strong["amp_2x"] == pytest.approx(20.0 * level, rel=0.15)
-    strict = features(noise + synth([(50.0, 20.0 * level)], fs, duration), fs, rpm,
+    strict = signal_features(noise + synth([(50.0, 20.0 * level)], fs, duration), fs, rpm,
                       threshold=40.0).iloc[0]
     assert strict["amp_2x"] == 0.0
 
@@ -99,7 +99,7 @@ def test_significance_threshold_against_the_local_median(synth):
 def test_third_order_family(synth):
     fs, rpm = 2000.0, 1500.0
     comps = [(25.0, 1.0), (25.0 / 3, 0.05), (5 * 25.0 / 3, 0.03)]
-    row = features(synth(comps, fs, 3.0, noise=1e-4), fs, rpm).iloc[0]
+    row = signal_features(synth(comps, fs, 3.0, noise=1e-4), fs, rpm).iloc[0]
     assert row["amp_0p33x"] == pytest.approx(0.05, rel=0.01)
     assert row["amp_1p67x"] == pytest.approx(0.03, rel=0.01)
     assert row["amp_0p67x"] == 0.0
@@ -111,7 +111,7 @@ def test_third_order_family(synth):
 def test_no_false_fractional_line_or_pair_on_harmonics_only(synth, noise, seed):
     fs, rpm = 2000.0, 1500.0
     comps = [(25.0 * n, 1.0 / n**2, 0.7 * n) for n in range(1, 13)]
-    row = features(synth(comps, fs, 2.3, noise=noise, seed=seed), fs, rpm).iloc[0]
+    row = signal_features(synth(comps, fs, 2.3, noise=noise, seed=seed), fs, rpm).iloc[0]
     assert row["n_half_orders"] == 0
     assert row["n_third_orders"] == 0
     assert np.isnan(row["combo_fa_hz"]) and row["combo_amp_a"] == 0.0
@@ -123,10 +123,10 @@ def test_segment_averaging_and_linear_detrend(synth):
     fs, rpm = 2000.0, 1500.0
     x = synth([(25.0, 1.0), (37.5, 0.05), (100.3, 0.02)], fs, 8.0, noise=1e-3)
     x += np.linspace(0.0, 3.0, x.size)  # a drift that linear detrending removes
-    row = features(x, fs, rpm, nperseg=4000, detrend="linear").iloc[0]
+    row = signal_features(x, fs, rpm, nperseg=4000, detrend="linear").iloc[0]
     assert row["amp_1x"] == pytest.approx(1.0, rel=0.01)
     assert row["amp_1p5x"] == pytest.approx(0.05, rel=0.02)
     assert row["amp_4x"] == pytest.approx(0.02, rel=0.02)
     assert row["freq_4x_hz"] == pytest.approx(100.3, abs=0.05)
     with pytest.raises(ValueError, match="too short"):
-        features(x, fs, rpm, nperseg=400)  # 0.2 s segments hold 5 revolutions
+        signal_features(x, fs, rpm, nperseg=400)  # 0.2 s segments hold 5 revolutions

@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from rubdiag.signal import features
+from rubdiag.signal import signal_features
 
 FS = 2000.0
 AMPLITUDE_COLUMNS = ["amp_1x", "amp_1p5x", "amp_2x", "amp_3p5x", "amp_4x", "sb_4x_lower",
@@ -42,8 +42,8 @@ signals = st.fixed_dictionaries(
 def test_scaling_scales_the_amplitudes(s, scale):
     x = rub_like(s["f1"], s["amps"], s["phases"], s["duration"], noise=1e-3)
     rpm = 60 * s["f1"]
-    a = features(x, FS, rpm).iloc[0]
-    b = features(scale * x, FS, rpm).iloc[0]
+    a = signal_features(x, FS, rpm).iloc[0]
+    b = signal_features(scale * x, FS, rpm).iloc[0]
     for col in [*AMPLITUDE_COLUMNS, "rms", "bb_4x_rms"]:
         assert b[col] == pytest.approx(scale * a[col], rel=1e-6)
     for col in ("freq_1x_hz", "sb_4x_delta_hz", "combo_fa_hz", "n_half_orders"):
@@ -54,8 +54,9 @@ def test_scaling_scales_the_amplitudes(s, scale):
 @given(s=signals, t0=st.floats(0.0, 10.0))
 def test_time_shift_leaves_the_amplitudes(s, t0):
     rpm = 60 * s["f1"]
-    a = features(rub_like(s["f1"], s["amps"], s["phases"], s["duration"]), FS, rpm).iloc[0]
-    b = features(rub_like(s["f1"], s["amps"], s["phases"], s["duration"], t0=t0), FS, rpm).iloc[0]
+    a = signal_features(rub_like(s["f1"], s["amps"], s["phases"], s["duration"]), FS, rpm).iloc[0]
+    shifted = rub_like(s["f1"], s["amps"], s["phases"], s["duration"], t0=t0)
+    b = signal_features(shifted, FS, rpm).iloc[0]
     for col, amp in zip(AMPLITUDE_COLUMNS, s["amps"], strict=True):
         assert a[col] == pytest.approx(amp, rel=0.01)
         assert b[col] == pytest.approx(amp, rel=0.01)
@@ -74,8 +75,8 @@ def test_unrelated_tone_leaves_the_others(s, extra):
     x = rub_like(f1, s["amps"], s["phases"], s["duration"], noise=1e-4)
     n = x.size
     tone = extra * np.cos(2 * np.pi * 6.4 * f1 * np.arange(n) / FS)  # not an order, no pair
-    a = features(x, FS, rpm).iloc[0]
-    b = features(x + tone, FS, rpm).iloc[0]
+    a = signal_features(x, FS, rpm).iloc[0]
+    b = signal_features(x + tone, FS, rpm).iloc[0]
     for col in AMPLITUDE_COLUMNS:
         assert b[col] == pytest.approx(a[col], rel=0.01)
     assert b["combo_fa_hz"] == pytest.approx(a["combo_fa_hz"], abs=0.05)

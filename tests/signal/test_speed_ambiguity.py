@@ -12,7 +12,8 @@ import pandas as pd
 import pytest
 
 from rubdiag.cli import main
-from rubdiag.signal import SpeedAmbiguous, feature_matrix, features, voted_speed
+from rubdiag.signal import SpeedAmbiguous, signal_features, voted_speed
+from rubdiag.signal._table import feature_matrix
 
 FS, SECONDS = 2000.0, 2.0
 #: 25 Hz on a bin of the 2-s window (0.5-Hz bins); 24.197 Hz and 24.388 Hz between bins
@@ -114,11 +115,11 @@ def test_features_warn_naming_the_file(tmp_path):
     with pytest.warns(SpeedAmbiguous, match=r"the speed of .*crack\.csv is ambiguous: "
                       r"2903\.7 rpm is the strongest line, taken as 1x, but a line at 1/2 of "
                       r"its frequency \(1451\.8 rpm\)"):
-        table = features(str(path))
+        table = signal_features(str(path))
     assert table["speed_rpm"].iloc[0] == pytest.approx(2 * rpm, rel=1e-4)
     with warnings.catch_warnings():                  # the speed given: nothing to say
         warnings.simplefilter("error")
-        features(str(path), speed_rpm=rpm)
+        signal_features(str(path), speed_rpm=rpm)
 
 
 def test_the_batch_path_warns_once_for_its_rows():
@@ -141,8 +142,8 @@ class TestConstantRecords:
         pd.DataFrame({"t": np.arange(4000) / FS, "a": 3.0, "b": 0.0}).to_csv(path, index=False)
         with pytest.raises(ValueError, match=r"flat\.csv: speed_rpm was not given and cannot "
                                              r"be guessed: every channel is still"):
-            features(str(path))
-        assert (features(str(path), speed_rpm=1500.0)["amp_1x"] == 0.0).all()
+            signal_features(str(path))
+        assert (signal_features(str(path), speed_rpm=1500.0)["amp_1x"] == 0.0).all()
 
     @pytest.mark.parametrize("command", ["features", "compare"])
     def test_the_cli_exits_2_with_one_line(self, tmp_path, command, capsys):

@@ -1,4 +1,4 @@
-"""features(): inputs (arrays, DataFrames, files), speed sources, batch path, bad input."""
+"""signal_features(): inputs (arrays, DataFrames, files), speed sources, batch path, bad input."""
 
 from __future__ import annotations
 
@@ -9,17 +9,15 @@ import pytest
 from rubdiag.signal import (
     combination_pairs,
     dominant_speed,
-    feature_matrix,
     feature_names,
-    features,
-    prefixed_features,
     read_signals,
+    signal_features,
     spectral_lines,
     tacho_speed,
 )
 from rubdiag.signal._options import Options
 from rubdiag.signal._speed import MIN_SPEED_CONFIDENCE
-from rubdiag.signal._table import still_features
+from rubdiag.signal._table import feature_matrix, prefixed_features, still_features
 
 FS = 2000.0
 RPM = 1500.0
@@ -41,7 +39,7 @@ def channels(synth):
 
 
 def test_one_row_per_channel_with_channel_column(channels):
-    table = features(channels, FS, RPM)
+    table = signal_features(channels, FS, RPM)
     assert list(table.columns) == ["channel", *feature_names()]
     assert list(table["channel"]) == ["shaft", "casing"]  # tacho is not analysed
     shaft, casing = table.iloc[0], table.iloc[1]
@@ -52,9 +50,9 @@ def test_one_row_per_channel_with_channel_column(channels):
 
 
 def test_speed_from_the_tacho_channel(channels):
-    table = features(channels, FS)  # column "tacho" is found by name
+    table = signal_features(channels, FS)  # column "tacho" is found by name
     assert table["speed_rpm"].to_numpy() == pytest.approx(RPM, rel=1e-3)
-    named = features(channels.rename(columns={"tacho": "key"}), FS, tacho="key")
+    named = signal_features(channels.rename(columns={"tacho": "key"}), FS, tacho="key")
     assert named["speed_rpm"].iloc[0] == pytest.approx(RPM, rel=1e-3)
 
 
@@ -70,18 +68,19 @@ def test_tacho_speed(rpm):
 def test_dominant_line_gives_the_speed(synth):
     x = synth([(23.7, 1.0), (47.4, 0.3)], FS, 3.0, noise=1e-3)
     assert dominant_speed(x, FS) == pytest.approx(60 * 23.7, rel=1e-4)
-    row = features(x, FS).iloc[0]
+    row = signal_features(x, FS).iloc[0]
     assert row["speed_rpm"] == pytest.approx(60 * 23.7, rel=1e-4)
     assert row["amp_2x"] == pytest.approx(0.3, rel=0.01)
 
 
 def test_columns_selection_and_arrays(channels):
-    table = features(channels, FS, RPM, columns="casing")
+    table = signal_features(channels, FS, RPM, columns="casing")
     assert list(table["channel"]) == ["casing"]
-    arr = features(channels[["shaft", "casing"]].to_numpy().T, FS, RPM)
+    arr = signal_features(channels[["shaft", "casing"]].to_numpy().T, FS, RPM)
     assert list(arr["channel"]) == [0, 1]
     np.testing.assert_allclose(arr.iloc[:, 1:].to_numpy(),
-                               features(channels, FS, RPM).iloc[:, 1:].to_numpy(), equal_nan=True)
+                               signal_features(channels, FS, RPM).iloc[:, 1:].to_numpy(),
+                               equal_nan=True)
 
 
 def test_batch_path_matches_one_signal_at_a_time(synth):
@@ -94,7 +93,7 @@ def test_batch_path_matches_one_signal_at_a_time(synth):
     batch = feature_matrix(X, FS, speeds)
     assert batch.shape == (160, len(feature_names()))
     for i in (0, 1, 2, 3, 77, 130, 159):
-        single = features(X[i], FS, speeds[i]).iloc[0, 1:].to_numpy(dtype=float)
+        single = signal_features(X[i], FS, speeds[i]).iloc[0, 1:].to_numpy(dtype=float)
         np.testing.assert_allclose(batch[i], single, equal_nan=True, rtol=1e-12)
     amp_1p5 = batch[:, feature_names().index("amp_1p5x")]
     np.testing.assert_allclose(amp_1p5, 0.05 * (np.arange(160) % 3), rtol=0.03)
@@ -126,7 +125,7 @@ class TestFiles:
         frame, fs = read_signals(path)
         assert fs == pytest.approx(FS)
         assert list(frame.columns) == ["shaft", "casing", "tacho"]
-        table = features(path)
+        table = signal_features(path)
         assert table["speed_rpm"].iloc[0] == pytest.approx(RPM, rel=1e-3)
         assert table["amp_1x"].iloc[0] == pytest.approx(2.0, rel=0.01)
 
@@ -135,14 +134,14 @@ class TestFiles:
         channels.to_csv(path, index=False)
         with pytest.raises(ValueError, match="no sampling frequency"):
             read_signals(path)
-        assert features(path, FS, RPM)["amp_1x"].iloc[0] == pytest.approx(2.0, rel=0.01)
+        assert signal_features(path, FS, RPM)["amp_1x"].iloc[0] == pytest.approx(2.0, rel=0.01)
 
     def test_npz_and_parquet(self, channels, tmp_path):
         np.savez(tmp_path / "run.npz", fs=FS, **{c: channels[c].to_numpy() for c in channels})
         channels.to_parquet(tmp_path / "run.parquet")
-        reference = features(channels, FS, RPM)
+        reference = signal_features(channels, FS, RPM)
         for name, fs in (("run.npz", None), ("run.parquet", FS)):
-            table = features(tmp_path / name, fs, RPM)
+            table = signal_features(tmp_path / name, fs, RPM)
             pd.testing.assert_frame_equal(table, reference)
 
     def test_file_errors(self, channels, tmp_path):
@@ -185,23 +184,23 @@ class TestBadInput:
     )
     def test_clear_value_errors(self, signal, fs, rpm, message):
         with pytest.raises(ValueError, match=message):
-            features(signal, fs, rpm)
+            signal_features(signal, fs, rpm)
 
     def test_missing_column_is_named(self, channels):
         with pytest.raises(ValueError, match="'blade' not found"):
-            features(channels, FS, RPM, columns=["blade"])
+            signal_features(channels, FS, RPM, columns=["blade"])
         with pytest.raises(ValueError, match="'key' not found"):
-            features(channels, FS, tacho="key")
+            signal_features(channels, FS, tacho="key")
 
     def test_bad_channel_is_named(self, channels):
         bad = channels.copy()
         bad.loc[10, "casing"] = np.nan
         with pytest.raises(ValueError, match="channel 'casing'"):
-            features(bad, FS, RPM)
+            signal_features(bad, FS, RPM)
 
     def test_in_memory_signal_needs_fs(self):
         with pytest.raises(ValueError, match="fs"):
-            features(np.sin(np.arange(100.0)))
+            signal_features(np.sin(np.arange(100.0)))
 
     @pytest.mark.parametrize(
         ("kwargs", "message"),
@@ -214,7 +213,7 @@ class TestBadInput:
     )
     def test_bad_options(self, synth, kwargs, message):
         with pytest.raises(ValueError, match=message):
-            features(synth([(F1, 1.0)], FS, 2.0), FS, RPM, **kwargs)
+            signal_features(synth([(F1, 1.0)], FS, 2.0), FS, RPM, **kwargs)
 
 
 class TestStillChannels:
@@ -230,28 +229,28 @@ class TestStillChannels:
     @pytest.mark.parametrize("speed", [RPM, None])
     def test_a_still_channel_among_moving_ones(self, channels, speed):
         frame = channels.assign(dead=0.7)
-        table = features(frame, FS, speed)
+        table = signal_features(frame, FS, speed)
         assert list(table["channel"]) == ["shaft", "casing", "dead"]
         self._assert_still(table.iloc[2], RPM)       # given or from the tacho channel
-        reference = features(channels, FS, speed)
+        reference = signal_features(channels, FS, speed)
         pd.testing.assert_frame_equal(table.iloc[:2], reference)
 
     def test_a_still_channel_with_the_speed_to_guess(self, channels):
         frame = channels[["shaft"]].assign(dead=-2.0)
-        table = features(frame, FS)
+        table = signal_features(frame, FS)
         assert table["speed_rpm"].iloc[0] == pytest.approx(RPM, rel=1e-4)
         # the record's speed, guessed from the shaft: nothing was guessed from the dead one
         self._assert_still(table.iloc[1], table["speed_rpm"].iloc[0])
 
     def test_every_channel_still(self):
         still = np.vstack([np.zeros(4000), np.full(4000, 1e5)])
-        table = features(still, FS, RPM)
+        table = signal_features(still, FS, RPM)
         assert len(table) == 2
         for i in range(2):
             self._assert_still(table.iloc[i], RPM)
         # without its speed there is no line to guess it from: refused, not "nan rpm"
         with pytest.raises(ValueError, match="every channel is still"):
-            features(still, FS)
+            signal_features(still, FS)
 
     def test_feature_matrix(self, synth):
         X = np.vstack([synth([(F1, 1.0)], FS, 2.0), np.full(4000, 3.0)])
@@ -285,25 +284,26 @@ class TestGuessedSpeed:
         x = np.random.default_rng(seed).standard_normal(n)
         with pytest.raises(ValueError, match=r"cannot be guessed.*speed_confidence = [0-9.]+ "
                                              r"times above the noise floor \(allowed: >= 10\)"):
-            features(x, FS)
+            signal_features(x, FS)
 
     def test_uniform_noise_is_refused(self):
         with pytest.raises(ValueError, match="speed_confidence"):
-            features(np.random.default_rng(3).random((2, 5000)), fs=5000)
+            signal_features(np.random.default_rng(3).random((2, 5000)), fs=5000)
 
     def test_a_noise_only_first_channel_takes_the_speed_of_the_others(self, synth):
         """The channels vote (rubdiag.signal._speedvote): a probe that sees only noise,
         first in the file, gets the record's speed from the channel with the 1× line."""
         good = synth([(F1, 1.0), (2 * F1, 0.3)], FS, 2.0, noise=1e-3)
         noise = np.random.default_rng(4).standard_normal(4000)
-        table = features(pd.DataFrame({"noise": noise, "shaft": good}), FS)
-        alone = features(good, FS).iloc[0]
+        table = signal_features(pd.DataFrame({"noise": noise, "shaft": good}), FS)
+        alone = signal_features(good, FS).iloc[0]
         assert table["speed_rpm"].tolist() == [alone["speed_rpm"]] * 2
         assert alone["speed_rpm"] == pytest.approx(RPM, rel=1e-4)
         # the vote's confidence: the shaft's line (the noise's strongest line lies elsewhere)
         assert table["speed_confidence"].tolist() == [alone["speed_confidence"]] * 2
         # otherwise the table of that speed given
-        given = features(pd.DataFrame({"noise": noise, "shaft": good}), FS, alone["speed_rpm"])
+        given = signal_features(pd.DataFrame({"noise": noise, "shaft": good}), FS,
+                                alone["speed_rpm"])
         pd.testing.assert_frame_equal(table.drop(columns="speed_confidence"),
                                       given.drop(columns="speed_confidence"))
 
@@ -312,28 +312,28 @@ class TestGuessedSpeed:
         frame = pd.DataFrame({"a": noise[0], "b": noise[1]})
         with pytest.raises(ValueError, match=r"strongest line of channel '[ab]' .* "
                                              r"speed_confidence = [0-9.]+ times above"):
-            features(frame, FS)
+            signal_features(frame, FS)
 
     def test_clean_harmonics_pass_with_high_confidence(self, synth):
         x = synth([(25.0, 1.0), (50.0, 0.4), (75.0, 0.2), (100.0, 0.1)], FS, 2.0, noise=1e-3)
-        row = features(x, FS).iloc[0]
+        row = signal_features(x, FS).iloc[0]
         assert row["speed_rpm"] == pytest.approx(1500.0, rel=1e-4)
         assert row["speed_confidence"] > 100 * MIN_SPEED_CONFIDENCE
 
     def test_confidence_is_the_line_over_the_noise_floor(self, synth):
         # same noise, line twice as strong: twice the confidence (not a ratio of two lines)
-        conf = [features(synth([(25.0, a), (50.0, 0.5 * a)], FS, 2.0, noise=0.05, seed=5),
+        conf = [signal_features(synth([(25.0, a), (50.0, 0.5 * a)], FS, 2.0, noise=0.05, seed=5),
                          FS)["speed_confidence"].iloc[0] for a in (1.0, 2.0)]
         assert conf[0] > MIN_SPEED_CONFIDENCE
         assert conf[1] / conf[0] == pytest.approx(2.0, rel=0.02)
 
     def test_noise_free_line_has_a_finite_confidence(self, synth):
-        conf = features(synth([(25.0, 1.0)], FS, 2.0), FS)["speed_confidence"].iloc[0]
+        conf = signal_features(synth([(25.0, 1.0)], FS, 2.0), FS)["speed_confidence"].iloc[0]
         assert np.isfinite(conf) and conf >= 1e5
 
     def test_given_speed_has_no_confidence(self, channels):
-        assert features(channels, FS, RPM)["speed_confidence"].isna().all()
-        assert features(channels, FS)["speed_confidence"].isna().all()      # from the tacho
+        assert signal_features(channels, FS, RPM)["speed_confidence"].isna().all()
+        assert signal_features(channels, FS)["speed_confidence"].isna().all()      # from the tacho
 
 
 class TestLayout:
@@ -343,25 +343,25 @@ class TestLayout:
                 r".*did you mean signal\.T\?")
         for speed in (RPM, None):
             with pytest.raises(ValueError, match=hint):
-                features(X, FS, speed)
+                signal_features(X, FS, speed)
         with pytest.raises(ValueError, match=hint.replace("2 samples", "1 sample")):
-            features(channels[["shaft"]].to_numpy(), FS, RPM)  # (5000, 1)
-        assert len(features(X.T, FS, RPM)) == 2
+            signal_features(channels[["shaft"]].to_numpy(), FS, RPM)  # (5000, 1)
+        assert len(signal_features(X.T, FS, RPM)) == 2
 
     def test_short_record_with_few_channels_is_too_short(self):
         with pytest.raises(ValueError, match="the record is too short"):
-            features(np.random.default_rng(0).standard_normal((2, 300)), FS, RPM)
+            signal_features(np.random.default_rng(0).standard_normal((2, 300)), FS, RPM)
 
 
 def test_numpy_scalars_are_numbers(channels):
-    reference = features(channels, FS, RPM, threshold=2.3)
-    table = features(channels, np.int64(2000), np.int64(1500), threshold=np.float32(2.3),
+    reference = signal_features(channels, FS, RPM, threshold=2.3)
+    table = signal_features(channels, np.int64(2000), np.int64(1500), threshold=np.float32(2.3),
                      band=np.float64(0.03), nperseg=np.int64(len(channels)),
                      min_revolutions=np.int64(10))
     pd.testing.assert_frame_equal(table, reference, rtol=1e-6)
     assert Options(threshold=np.float32(2.3)).threshold == pytest.approx(2.3)
     assert type(Options(threshold=np.float32(2.3)).threshold) is float
-    assert features(channels, FS, np.float32(1500.0))["speed_rpm"].iloc[0] == 1500.0
+    assert signal_features(channels, FS, np.float32(1500.0))["speed_rpm"].iloc[0] == 1500.0
 
 
 def test_prefixed_feature_row_is_the_frame_s_row(synth):

@@ -9,7 +9,7 @@ from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 from sklearn.utils.estimator_checks import parametrize_with_checks
 
-from rubdiag.signal import RubFeatures, feature_names, features
+from rubdiag.signal import RubFeatures, feature_names, signal_features
 from rubdiag.signal._table import still_features
 
 FS = 1000.0
@@ -36,7 +36,7 @@ def test_transform_matches_features(synth):
     names = list(RubFeatures(fs=FS).fit(X).get_feature_names_out())
     assert names == feature_names()
     np.testing.assert_allclose(Z[:, names.index("amp_1x")], 1.0 + np.arange(5), rtol=0.01)
-    np.testing.assert_allclose(Z, features(X, FS, 1200.0).iloc[:, 1:].to_numpy(float),
+    np.testing.assert_allclose(Z, signal_features(X, FS, 1200.0).iloc[:, 1:].to_numpy(float),
                                equal_nan=True)
 
 

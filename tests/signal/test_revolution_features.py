@@ -13,9 +13,9 @@ import rubdiag.signal._speedtable
 from rubdiag.signal import (
     FEATURE_NAMES,
     REVOLUTION_FEATURE_NAMES,
-    features,
-    features_by_revolution,
     order_label,
+    revolution_features,
+    signal_features,
 )
 
 FS = 2000.0
@@ -61,7 +61,7 @@ def phase_error_deg(measured_deg, expected_rad):
 def run_up():
     _, phi = ramp()
     x = rub_signal(phi)
-    return phi, x, features_by_revolution(x, FS, phi, revs_per_bin=N_REV)
+    return phi, x, revolution_features(x, FS, phi, revs_per_bin=N_REV)
 
 
 class TestRunUp:
@@ -117,14 +117,14 @@ class TestRunUp:
 
     def test_run_down_is_the_run_up_backwards(self):
         _, phi = ramp(F1, F0)
-        table = features_by_revolution(rub_signal(phi), FS, phi, revs_per_bin=N_REV)
+        table = revolution_features(rub_signal(phi), FS, phi, revs_per_bin=N_REV)
         assert table.rpm.is_monotonic_decreasing
         np.testing.assert_allclose(table.amp_1p5x, LINES[1.5][0], rtol=0.01)
         np.testing.assert_allclose(table.sb_2x_delta_order, DELTA, atol=1e-3)
 
     def test_overlapping_bins(self, run_up):
         phi, x, table = run_up
-        half = features_by_revolution(x, FS, phi, revs_per_bin=N_REV, revs_step=N_REV // 2)
+        half = revolution_features(x, FS, phi, revs_per_bin=N_REV, revs_step=N_REV // 2)
         np.testing.assert_array_equal(np.diff(half.rev_start), N_REV // 2)
         pd.testing.assert_frame_equal(half.iloc[::2].drop(columns="bin").reset_index(drop=True),
                                       table.drop(columns="bin"))
@@ -134,7 +134,7 @@ class TestRunUp:
         fs = 500.0
         _, phi = ramp(fs=fs)
         x = np.cos(phi) + 0.1 * np.cos(3 * phi) + 0.01 * np.cos(2 * phi)
-        table = features_by_revolution(x, fs, phi, revs_per_bin=16, min_revolutions=16)
+        table = revolution_features(x, fs, phi, revs_per_bin=16, min_revolutions=16)
         max_rpm = 60 * (F0 + (F1 - F0) / DURATION * time_at_revolution(table.rev_start + 16))
         for k, name, half_width in ((3, "amp_3x", 0.03), (3, "bb_3x_rms", 0.25),
                                     (3, "sb_3x_lower", 0.25)):
@@ -156,11 +156,11 @@ class TestAgainstConstantSpeed:
         t = np.arange(round(DURATION * FS)) / FS
         phi = 2 * np.pi * f1 * t
         x = rub_signal(phi, seed=3) + 0.05 * np.cos(4 * phi / 3 + 1.0)
-        table = features_by_revolution(x, FS, phi, revs_per_bin=n_rev)
+        table = revolution_features(x, FS, phi, revs_per_bin=n_rev)
         spr = round(FS / f1)
         for row in table.itertuples():
             seg = x[row.rev_start * spr : (row.rev_start + n_rev) * spr]
-            ref = features(seg, FS, 60 * f1).iloc[0]
+            ref = signal_features(seg, FS, 60 * f1).iloc[0]
             assert row.rpm == pytest.approx(60 * f1, rel=1e-9)
             for name in REVOLUTION_FEATURE_NAMES:
                 got = getattr(row, name)
@@ -194,8 +194,8 @@ class TestTachoAndAngle:
         crossing = 1.0 - 0.4 / 2                   # tacho_angle is 0 there
         frame = pd.DataFrame({"shaft": x, "tacho": self.pulses(phi),
                               "angle": phi - crossing})
-        by_tacho = features_by_revolution(frame.drop(columns="angle"), FS, revs_per_bin=N_REV)
-        by_angle = features_by_revolution(frame, FS, "angle", revs_per_bin=N_REV)
+        by_tacho = revolution_features(frame.drop(columns="angle"), FS, revs_per_bin=N_REV)
+        by_angle = revolution_features(frame, FS, "angle", revs_per_bin=N_REV)
         assert list(by_tacho.channel.unique()) == ["shaft"]     # tacho and angle not analysed
         pd.testing.assert_frame_equal(by_tacho[["channel", "bin", "rev_start"]],
                                       by_angle[["channel", "bin", "rev_start"]])
@@ -217,11 +217,11 @@ class TestTachoAndAngle:
     def test_features_warns_when_the_tacho_speed_varies(self, run_up):
         phi, x, _ = run_up
         with pytest.warns(UserWarning, match=r"tacho speed varies from .* give revs_per_bin"):
-            features(x, FS, tacho=self.pulses(phi))
+            signal_features(x, FS, tacho=self.pulses(phi))
         t = np.arange(round(4 * FS)) / FS
         with warnings.catch_warnings():
             warnings.simplefilter("error")
-            row = features(np.cos(2 * np.pi * 25 * t), FS,
+            row = signal_features(np.cos(2 * np.pi * 25 * t), FS,
                            tacho=self.pulses(2 * np.pi * 25 * t)).iloc[0]
         assert row.speed_rpm == pytest.approx(1500, rel=1e-6)
 
@@ -239,26 +239,26 @@ class TestBadInput:
     def test_parameters(self, run_up, kwargs, message):
         phi, x, _ = run_up
         if message is None:
-            assert len(features_by_revolution(x, FS, phi, **kwargs)) == 31
+            assert len(revolution_features(x, FS, phi, **kwargs)) == 31
         else:
             with pytest.raises(ValueError, match=message):
-                features_by_revolution(x, FS, phi, **kwargs)
+                revolution_features(x, FS, phi, **kwargs)
 
     def test_no_angle(self, run_up):
         _, x, _ = run_up
         with pytest.raises(ValueError, match=r"the shaft angle is needed: give angle"):
-            features_by_revolution(x, FS)
+            revolution_features(x, FS)
 
     def test_too_few_revolutions(self, run_up):
         phi, x, _ = run_up
         with pytest.raises(ValueError, match=r"x holds 248 whole revolutions .* at least "
                                              r"revs_per_bin = 250"):
-            features_by_revolution(x, FS, phi, revs_per_bin=250)
+            revolution_features(x, FS, phi, revs_per_bin=250)
 
 
 def test_still_channel_has_every_line_absent(run_up):
     phi, x, _ = run_up
-    table = features_by_revolution(np.vstack([x, np.full(x.size, 2.0)]), FS, phi,
+    table = revolution_features(np.vstack([x, np.full(x.size, 2.0)]), FS, phi,
                                    revs_per_bin=N_REV)
     still = table[table.channel == 1]
     assert len(still) == 5 and (still.amp_1x == 0).all() and (still.rms == 0).all()
