@@ -263,8 +263,29 @@ def shown_point(point: dict) -> dict:
 
 
 def fault_labels(result, rub: bool) -> dict:
-    """The measures and labels of the module docstring for a simulated run (``rub``: the
-    run's rub label, which ``faults`` joins first)."""
+    """The fault measures and labels of a simulated run, from what each fault's element or
+    model did (never a probe's spectrum; module docstring).
+
+    Parameters
+    ----------
+    result : SimulationResult
+        The run, simulated with its faults (``result.run.faults``).
+    rub : bool
+        The run's rub label (from its contact episodes), which ``faults`` names first.
+
+    Returns
+    -------
+    dict
+        The measures (NaN where the run lacks what they measure):
+        ``crack_open_fraction`` and ``lift_off_fraction``, the shares of the analysis
+        window the crack is engaged and the loose pedestal off its seat;
+        ``misalignment_2x_force_n``, the coupling's 2× force (N); ``subsync_share``, the
+        largest share by power of a journal's orbit below 0.9× of the speed;
+        ``min_film_ratio``, the thinnest oil film over the clearance. Then the labels:
+        ``fault_crack``, ``fault_misalignment``, ``fault_looseness``, ``fault_whirl``
+        (bool: the measure at or above its calibrated threshold) and ``faults``, the
+        faults that acted, ``rub`` first, joined by ``+`` (``"none"`` when none did).
+    """
     from rubdiag._kernels import pedestal
     from rubdiag._kernels.records import SLIDING, STICKING
     from rubdiag.simulation._films import subsynchronous_share

@@ -29,14 +29,40 @@ def _features(run) -> dict:
 
 def ensemble(cases, gap_ramps_s=GAP_RAMPS_S, jobs: int | None = None, rig=None,
              progress=False, **options) -> pd.DataFrame:
-    """Feature rows of the paper cases ``cases`` ((case, gap_mm) pairs), each run once per
-    gap-ramp length in ``gap_ramps_s``; columns ``case``, ``gap_mm``, ``gap_ramp_s`` first.
+    """Feature rows of paper cases, each run once per gap-ramp length: a start-history
+    ensemble (module docstring).
 
-    ``options`` go to :meth:`rubdiag.simulation.Run.paper_case` (``duration_s``, ``dt_s``,
-    ``reduction`` …; each row's ``model`` column says "full" or "reduced"); the runs go to
-    ``jobs`` processes (default: all cores). ``progress``: a bar over the runs, counted as
-    they finish, on stderr when it is a terminal (or an open bar of :mod:`rubdiag._progress`
-    to count them on).
+    Parameters
+    ----------
+    cases : iterable of (int, float)
+        ``(case, gap_mm)`` pairs: the study's unbalance case (1 or 2) and the blade-tip /
+        casing gap (mm; None: no rub), as :meth:`rubdiag.simulation.Run.paper_case` takes
+        them.
+    gap_ramps_s : sequence of float
+        Gap-ramp lengths (s); one run per case and length. Default :data:`GAP_RAMPS_S`,
+        0.1 s ± 2 %.
+    jobs : int or None
+        Parallel processes; None: every core.
+    rig : Rig or None
+        The rig; None: the study's.
+    progress : bool or bar
+        A bar over the runs on stderr, counted as they finish, when stderr is a terminal;
+        or an open bar of :mod:`rubdiag._progress` to count on.
+    **options
+        Passed on to :meth:`rubdiag.simulation.Run.paper_case` (``duration_s``, ``dt_s``,
+        ``reduction`` …).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per run, in the order of ``cases`` then ``gap_ramps_s``: ``case``,
+        ``gap_mm``, ``gap_ramp_s``, then the run's features
+        (:func:`rubdiag.runs.run_features`; its ``model`` column says "full" or
+        "reduced").
+
+    See Also
+    --------
+    table2 : The study's four cases, one start history each.
     """
     from rubdiag.simulation import Run
 

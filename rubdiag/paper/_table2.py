@@ -196,22 +196,54 @@ def reproduce(out_dir: str | Path = "out", jobs: int | None = None, duration_s: 
 def table2(out_dir: str | Path | None = "out", jobs: int | None = None,
            duration_s: float = 2.3, discard_s: float = 0.3, figures: bool = True,
            log=None, progress=False, **options) -> pd.DataFrame:
-    """Reproduce Table 2; write ``table2.csv``, ``table2.md``, ``features.csv`` and the
-    figures to ``out_dir`` and return the table (one row per case, ours beside the study's
-    ``paper_…`` values). ``log`` and ``progress`` as for :func:`reproduce` (``progress``:
-    then a bar over the figures).
+    """Reproduce the study's Table 2: run (or reuse) the four cases and tabulate them beside
+    the study's values.
 
-    ``options`` go to :class:`~rubdiag.simulation.Run` (``reduction=Reduction()`` for the
-    reduced-order model, see the module docstring).
+    Writes ``table2.csv``, ``table2.md`` and ``features.csv`` to ``out_dir`` and, with
+    ``figures``, the figures (Figs. 5-10 of the study); the runs are saved in (and reused
+    from) ``out_dir/runs`` (:func:`reproduce`).
 
-    Columns: ``case``, ``intensity``, ``gap_mm``, ``speed_rpm``, ``window_s``, ``dt_s``,
-    ``model`` ("full" or "reduced"),
-    ``rotor_max_y_mm`` (shaft node 11), ``casing_max_y_um``, ``contact1_min_force_n``
-    (smallest per-episode peak, episodes of >= 2 steps), ``contact1_p05_force_n``,
-    ``contact1_max_force_n``, ``contact1_sliding_entries`` / ``…_sticking_entries`` (in the
-    window) and their ``…_per_s``, ``contact1_sticking_share`` (sticking / closed time),
-    ``contact1_mean_force_sliding_n`` / ``…_sticking_n``, ``shaft_blade_spectrum_features``
-    (written from the detected features), then ``paper_…``.
+    Parameters
+    ----------
+    out_dir : str or Path or None
+        Folder of the tables, figures and ``runs/``; None: ``"out"``.
+    jobs : int or None
+        Parallel processes for the runs and the figures; None: every core.
+    duration_s : float
+        Simulated time of each case (s).
+    discard_s : float
+        Start of each run left out of the statistics (s).
+    figures : bool
+        Also draw and write the figures.
+    log : callable or None
+        Called with one line per case reused or finished; None: stderr.
+    progress : bool or bar
+        A bar on stderr over the cases, then over the figures, when stderr is a terminal;
+        or an open bar of :mod:`rubdiag._progress` to count on.
+    **options
+        Passed on to :func:`reproduce`: its ``rig``, and :class:`~rubdiag.simulation.Run`
+        fields (``dt_s``, ``contact``, ``reduction=Reduction()`` for the reduced-order
+        model: module docstring).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per case, ours beside the study's. Columns: ``case``, ``intensity``,
+        ``gap_mm``, ``speed_rpm``, ``discard_s``, ``window_s``, ``dt_s``, ``model``
+        ("full" or "reduced"), ``rotor_max_y_mm`` (shaft node 11), ``casing_max_y_um``,
+        ``contact1_min_force_n`` (smallest per-episode peak, episodes of >= 2 steps),
+        ``contact1_p05_force_n``, ``contact1_max_force_n``, ``contact1_sliding_entries`` /
+        ``…_sticking_entries`` (in the window) and their ``…_per_s``,
+        ``contact1_sticking_share`` (sticking / closed time),
+        ``contact1_mean_force_sliding_n`` / ``…_sticking_n``,
+        ``shaft_blade_spectrum_features`` (written from the detected features), then the
+        study's ``paper_…``. ``attrs["features"]`` holds the runs' feature rows,
+        ``attrs["results"]`` the runs by stem.
+
+    See Also
+    --------
+    reproduce : The four runs alone.
+    paper_values : The study's Table 2.
     """
     from rubdiag.runs import run_features
 

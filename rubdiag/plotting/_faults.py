@@ -44,16 +44,44 @@ def _spectrum(t, x, speed_rad_s: float):
 
 def faults_figure(results: dict, point: str = "shaft 11", kinds: dict | None = None,
                   direction: str = "y", predicted: dict | None = None, *, fig=None):
-    """One row per run of ``results`` (name -> SimulationResult): the last
-    :data:`REVOLUTIONS` revolutions of ``point``'s displacement along ``direction`` ("y" or
-    "z"), its orbit over the window, and the spectrum along ``direction`` against the order,
-    the fault's predicted lines marked (``kinds``: name -> a key of :data:`PREDICTED`;
-    default the name itself; ``predicted``: name -> orders, in place of :data:`PREDICTED`'s,
-    for a line that depends on the run, such as a whip's at the first natural
-    frequency).
+    """Rub beside the faults that look like it: one row of panels per simulated run.
 
-    ``fig``: an empty figure to draw the rows of panels on; default a new one, 13 in wide
-    and 2.9 in per run. Returns the figure."""
+    Each row shows the last :data:`REVOLUTIONS` (4) revolutions of ``point``'s displacement
+    along ``direction``, its orbit over the analysis window, and its amplitude spectrum
+    along ``direction`` against the order of the running speed (0.2× to 5×), with the lines
+    the fault's model predicts marked. Displacements and amplitudes in µm; the waveform
+    and the orbit about their means.
+
+    Parameters
+    ----------
+    results : dict of str to SimulationResult
+        The runs by the name their row is titled with.
+    point : str
+        The node whose displacement is shown (a DOF map node label such as
+        ``"shaft 11"``).
+    kinds : dict of str to str, optional
+        Name -> a key of :data:`PREDICTED` (``"rub"``, ``"crack"``, ``"misalignment"``,
+        ``"looseness"``, ``"whirl"``, ``"none"``): whose predicted lines a run's spectrum
+        marks. Default: the run's name itself (no lines when it is no such key).
+    direction : {"y", "z"}
+        The direction of the waveform and the spectrum.
+    predicted : dict of str to sequence of float, optional
+        Name -> orders to mark in place of :data:`PREDICTED`'s, for a line that depends on
+        the run (a whip's, at the first natural frequency).
+    fig : matplotlib.figure.Figure, optional
+        An empty figure to draw the rows of panels on; default a new one, 13 in wide and
+        2.9 in per run.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure, one row of three panels (waveform, orbit, spectrum) per run.
+
+    See Also
+    --------
+    full_spectrum_figure : Forward and reverse precession apart, for one probe pair.
+    save_figure : Write the figure.
+    """
     kinds = {} if kinds is None else kinds
     predicted_orders = {} if predicted is None else predicted
     n = len(results)
@@ -96,13 +124,43 @@ def faults_figure(results: dict, point: str = "shaft 11", kinds: dict | None = N
 def full_spectrum_figure(y, z, fs: float, speed_hz: float, *, rotation: int = 1,
                          clearance=None, title: str = "", max_order: float = 5.0,
                          fig=None):
-    """The full spectrum of a probe pair against the order of the running speed
-    ``speed_hz`` (Hz), reverse precession to the left of 0 and forward to the right, beside
-    the orbit (the probes' unit) with its ``clearance`` circle when given (a radius in the
-    probes' unit, about the orbit's mean).
+    """The full spectrum of a probe pair against the order of the running speed, beside the
+    orbit.
 
-    ``fig``: an empty figure to draw the two panels on; default a new 11 × 3.6 in one.
-    Returns the figure."""
+    The spectrum (:func:`rubdiag.signal.full_spectrum`, log scale) shows reverse precession
+    to the left of order 0 and forward to the right; the orbit is drawn about its mean, in
+    the probes' unit.
+
+    Parameters
+    ----------
+    y, z : array_like
+        The two probes' signals, sampled together (the same unit, e.g. m).
+    fs : float
+        Sampling frequency (Hz).
+    speed_hz : float
+        The running speed (Hz): order 1.
+    rotation : {1, -1}
+        1 when the shaft turns from y towards z, -1 when from z towards y.
+    clearance : float, optional
+        A clearance circle's radius about the orbit's mean (the probes' unit); default
+        none drawn.
+    title : str
+        Put before "full spectrum" in the spectrum panel's title.
+    max_order : float
+        The spectrum panel spans orders -max_order to +max_order.
+    fig : matplotlib.figure.Figure, optional
+        An empty figure to draw the two panels on; default a new 11 × 3.6 in one.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure: the full spectrum on the left, the orbit on the right.
+
+    See Also
+    --------
+    rubdiag.signal.full_spectrum : The spectrum drawn.
+    faults_figure : One probe's spectrum, run beside run.
+    """
     from rubdiag.signal._fullspectrum import full_spectrum
 
     f, amp = full_spectrum(y, z, fs, rotation=rotation)

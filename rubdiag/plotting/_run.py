@@ -153,9 +153,31 @@ def _panel_status(ax, segments, n_elements: int, window: tuple[float, float]):
 def run_figure(result, row=None, title: str | None = None, *, fig=None):
     """The six-panel figure of one run (analysis window only), ``FIGSIZE`` at ``DPI``.
 
-    ``row`` is the run's feature row (:func:`rubdiag.runs.run_features`); computed when
-    not given. ``fig``: an empty figure to draw the panels on (the layout's margins are
-    tuned for ``FIGSIZE``); default a new one. Returns the figure.
+    The panels, as the study's Figs. 7-10 (module docstring): shaft and casing waveforms,
+    the rotor orbit with the clearance circle, the shaft's and the blade tip's spectra with
+    the detected features marked, the contact elements' normal forces and their contact
+    status.
+
+    Parameters
+    ----------
+    result : SimulationResult
+        The run.
+    row : dict, optional
+        The run's feature row (:func:`rubdiag.runs.run_features`); computed when not given.
+    title : str, optional
+        The figure's title; default the run's label and speed (rpm).
+    fig : matplotlib.figure.Figure, optional
+        An empty figure to draw the panels on (the layout's margins are tuned for
+        ``FIGSIZE``); default a new one.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
+
+    See Also
+    --------
+    save_run_figures : Draw and write it.
     """
     from rubdiag.runs import run_features
 
@@ -219,8 +241,27 @@ def _draw_run(result, row, title, fig):
 
 def save_run_figures(result, out_dir: str | Path, stem: str = "run", row=None,
                      title: str | None = None) -> list[Path]:
-    """Write the run figure as ``out_dir/<stem>.png`` (``FIGSIZE`` at ``DPI``); returns the
-    written paths."""
+    """Write the run figure (:func:`run_figure`) as ``out_dir/<stem>.png``, ``FIGSIZE`` at
+    ``DPI``.
+
+    Parameters
+    ----------
+    result : SimulationResult
+        The run.
+    out_dir : str or Path
+        The folder to write to (made when missing).
+    stem : str
+        The file name without its suffix.
+    row : dict, optional
+        The run's feature row (:func:`rubdiag.runs.run_features`); computed when not given.
+    title : str, optional
+        The figure's title; default the run's label and speed (rpm).
+
+    Returns
+    -------
+    list of Path
+        The written files.
+    """
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     fig = run_figure(result, row=row, title=title)

@@ -554,6 +554,16 @@ def runup_figures(tracks: dict, *, linear=None, critical_rpm=None, contact_rpm=N
     order_maps : dict, optional
         Label -> ``(orders, rpm, amplitude)`` (:func:`rubdiag.signal.rpm_order_map`): one
         ``"order_map_<label>"`` each.
+
+    Returns
+    -------
+    dict of str to matplotlib.figure.Figure
+        ``"bode"``, ``"polar"``, ``"rub_orders"`` (when drawn), then the waterfalls and
+        order maps (labels lower-cased, non-alphanumerics as ``_``).
+
+    See Also
+    --------
+    save_runup_figures : Draw and write them all.
     """
     common = dict(critical_rpm=critical_rpm, unit=unit, scale=scale)
     figures = {"bode": bode_figure(tracks, linear, contact_rpm=contact_rpm, **common),
@@ -574,10 +584,29 @@ def runup_figures(tracks: dict, *, linear=None, critical_rpm=None, contact_rpm=N
 
 def save_runup_figures(tracks: dict, out_dir: str | Path, stem: str = "runup",
                        **options) -> list[Path]:
-    """Write :func:`runup_figures` as ``out_dir/<stem>_<name>.png`` at ``DPI``; returns the
-    written paths. ``options`` are those of :func:`runup_figures`. The order of the first two
-    arguments is that of every saving function (what is drawn, then where); the earlier
-    order, ``(out_dir, tracks)``, is still understood."""
+    """Write :func:`runup_figures` as ``out_dir/<stem>_<name>.png`` at ``DPI``.
+
+    The order of the first two arguments is that of every saving function (what is drawn,
+    then where); the earlier order, ``(out_dir, tracks)``, is still understood.
+
+    Parameters
+    ----------
+    tracks : dict
+        Label -> :func:`~rubdiag.signal.order_track` DataFrame, as for
+        :func:`runup_figures`.
+    out_dir : str or Path
+        The folder to write to (made when missing).
+    stem : str
+        The files' common name before ``_<name>.png``.
+    **options
+        Those of :func:`runup_figures` (``linear``, ``critical_rpm``, ``contact_rpm``,
+        ``waterfalls``, ``order_maps``, ``unit``, ``scale``).
+
+    Returns
+    -------
+    list of Path
+        The written files, in the order of :func:`runup_figures`.
+    """
     if isinstance(tracks, str | os.PathLike) and isinstance(out_dir, dict):
         tracks, out_dir = out_dir, tracks
     out_dir = Path(out_dir)

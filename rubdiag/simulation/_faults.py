@@ -36,9 +36,51 @@ DIRECTIONS = ("y", "z")
 
 @dataclass(frozen=True, kw_only=True)
 class Crack:
-    """A breathing crack in shaft element ``element`` (0-based, axial order) of the rig:
-    depth ratio a/D in (0, 0.5], position along the element (fraction, [0, 1]), breathing
-    law ``"mayes"`` or ``"gasch"``, the crack normal's angle at shaft angle 0 (rad)."""
+    """A breathing transverse crack in one shaft element of the rig.
+
+    Placed on a rig it is a :class:`~rubdiag.simulation._crack.BreathingCrack` element
+    (:meth:`on`): a stiffness loss that turns with the shaft and opens and closes as it turns.
+
+    Parameters
+    ----------
+    element : int
+        The cracked shaft element (0-based, in axial order; element k joins the rig's k-th
+        and (k+1)-th shaft nodes), >= 0.
+    depth_ratio : float
+        Crack depth over shaft diameter a/D, in (0, 0.5] (linear fracture mechanics).
+    position : float
+        The crack's distance from the element's first node, as a fraction of the element's
+        length, in [0, 1]. Default 0.5: mid-element.
+    law : {"mayes", "gasch"}
+        The breathing law: Mayes's smooth opening with the shaft angle, or Gasch's hinge,
+        open while the bending moment stretches the crack's mouth.
+    angle : float
+        The crack normal's angle from +y towards +z at shaft angle 0 (rad). Default 0.
+
+    Raises
+    ------
+    ValueError
+        A field out of its range, naming it and the range allowed.
+
+    See Also
+    --------
+    Faults : The faults of a run, this crack among them.
+
+    Examples
+    --------
+    A crack a quarter of the diameter deep, mid-way along element 4:
+
+    >>> crack = Crack(element=4, depth_ratio=0.25)
+    >>> Faults(crack=crack).names
+    ('crack',)
+
+    Deeper than half the diameter is outside the model:
+
+    >>> Crack(element=4, depth_ratio=0.6)
+    Traceback (most recent call last):
+    ...
+    ValueError: crack.depth_ratio = 0.6 is out of range (allowed: in (0, 0.5] ...)
+    """
 
     element: int
     depth_ratio: float
@@ -67,14 +109,55 @@ class Crack:
 
 @dataclass(frozen=True, kw_only=True)
 class Looseness:
-    """The pedestal of bearing ``bearing`` (0-based in ``Rig.bearings``) loose on its seat
-    along ``direction`` ("y" or "z"): the seat is on the pedestal's negative side, so it
-    lifts off towards +direction (gravity along -direction presses it on). ``preload_n``
-    (N, >= 0): the dead load on the seat beyond the run's static load (0 when a
-    :class:`~rubdiag.simulation._static_load.StaticLoad` carries the weight); ``clearance_m``
-    (m, >= 0, only without a preload); ``loose_stiffness_n_m`` (N/m, >= 0 and at most the
-    support stiffness): a retaining spring once lifted. The seat stiffness is the pedestal's
-    support stiffness in ``direction``."""
+    """A bearing pedestal loose on its seat: mechanical looseness.
+
+    The seat is on the pedestal's negative side along ``direction``, so the pedestal lifts
+    off towards +direction (gravity along -direction presses it on). The seat's stiffness is
+    the pedestal's support stiffness in ``direction``; placed on a rig (:meth:`on`), a
+    :class:`~rubdiag.simulation._pedestal.LoosePedestal` element takes that spring over.
+    The bearing must sit on a pedestal (:class:`~rubdiag.model._rig.Pedestal`).
+
+    Parameters
+    ----------
+    bearing : int
+        The loose bearing, 0-based in ``Rig.bearings``, >= 0.
+    preload_n : float
+        The dead load pressing the pedestal onto its seat beyond the run's static load
+        (N, >= 0; 0 when a :class:`~rubdiag.simulation._static_load.StaticLoad` carries the
+        weight). The smaller, the looser.
+    clearance_m : float
+        A gap between pedestal and seat at rest (m, >= 0); only without a preload.
+        Default 0.
+    loose_stiffness_n_m : float
+        A retaining spring acting once the pedestal has lifted (N/m, >= 0 and at most the
+        pedestal's support stiffness, checked when placed on a rig). Default 0: free.
+    direction : {"y", "z"}
+        The direction the pedestal is loose along.
+
+    Raises
+    ------
+    ValueError
+        A field out of its range, or a clearance together with a preload.
+
+    See Also
+    --------
+    Faults : The faults of a run, this looseness among them.
+
+    Examples
+    --------
+    The drive-end pedestal held on its seat by 0.5 N across gravity:
+
+    >>> loose = Looseness(bearing=0, preload_n=0.5, direction="z")
+    >>> Faults(looseness=loose).names
+    ('looseness',)
+
+    A pedestal is either pressed on (a preload) or clear of its seat, not both:
+
+    >>> Looseness(bearing=0, preload_n=5.0, clearance_m=1e-4)
+    Traceback (most recent call last):
+    ...
+    ValueError: looseness.clearance_m = 0.0001 is out of range (allowed: 0 m when a preload ...)
+    """
 
     bearing: int
     preload_n: float
@@ -130,7 +213,34 @@ class Looseness:
 
 @dataclass(frozen=True, kw_only=True)
 class Faults:
-    """The faults of a run (module docstring); None: absent."""
+    """The faults a run carries besides rub (module docstring), each None when absent.
+
+    Parameters
+    ----------
+    misalignment : Misalignment or None
+        A misaligned flexible coupling at a shaft node
+        (:class:`~rubdiag.simulation._misalignment.Misalignment`).
+    crack : Crack or None
+        A breathing crack in a shaft element.
+    looseness : Looseness or None
+        A bearing pedestal loose on its seat.
+
+    Raises
+    ------
+    TypeError
+        A field that is neither None nor its fault's class (also a ValueError).
+
+    See Also
+    --------
+    Run : The run that carries them (``Run(faults=...)``).
+
+    Examples
+    --------
+    >>> faults = Faults(crack=Crack(element=4, depth_ratio=0.25),
+    ...                 looseness=Looseness(bearing=0, preload_n=0.5, direction="z"))
+    >>> faults.names
+    ('crack', 'looseness')
+    """
 
     misalignment: Misalignment | None = None
     crack: Crack | None = None

@@ -53,12 +53,47 @@ CLEARANCES = ("loaded", "unloaded")
 class StaticLoad:
     """Gravity and/or a side load along one direction (module docstring).
 
-    ``direction``: ``"y"`` or ``"z"``. ``gravity_m_s2``: the acceleration along
-    +direction, |g| <= 1000 m/s² (0: no gravity). ``force_n``: the side load along
-    +direction, |F| <= 1e6 N (0: none). ``node``: where the side load acts (a shaft node
-    number, or a DOF map node label such as ``"casing 3"``); required exactly when
-    ``force_n`` is nonzero. ``clearances``: ``"loaded"`` (default) or ``"unloaded"``, where
-    the blade–casing gaps are measured (module docstring).
+    Parameters
+    ----------
+    direction : {"y", "z"}
+        The direction both loads act along.
+    gravity_m_s2 : float
+        The acceleration of gravity along +direction (m/s², |g| <= 1000; -9.81 pulls
+        towards -direction). Default 0: no gravity.
+    force_n : float
+        The side load along +direction (N, |F| <= 1e6). Default 0: none.
+    node : int or str or None
+        Where the side load acts: a shaft node number, or a DOF map node label such as
+        ``"casing 3"``. Required exactly when ``force_n`` is nonzero.
+    clearances : {"loaded", "unloaded"}
+        Where the blade–casing gaps (and seal clearances) are measured: at the static
+        equilibrium under this load (default), or on the unloaded rig (module docstring).
+
+    Raises
+    ------
+    ValueError
+        A field out of its range, or a node given without a side load (or the reverse).
+
+    See Also
+    --------
+    Run : The run that carries it (``Run(static_load=...)``).
+
+    Examples
+    --------
+    On a 2-kg point mass, gravity along -y is a 19.62 N load on the y DOF alone
+    (:meth:`vector`; the rotations carry no weight):
+
+    >>> import numpy as np
+    >>> from rubdiag.assembly import DofMap
+    >>> dofs = DofMap((("shaft 1", ("y", "z", "ry", "rz")),))
+    >>> M = np.diag([2.0, 2.0, 0.01, 0.01])         # kg, kg·m²
+    >>> StaticLoad(gravity_m_s2=-9.81).vector(M, dofs)
+    array([-19.62,   0.  ,   0.  ,   0.  ])
+
+    A side load of 50 N along +z at shaft node 1:
+
+    >>> StaticLoad(direction="z", force_n=50.0, node=1).vector(M, dofs)
+    array([ 0., 50.,  0.,  0.])
     """
 
     direction: str = "y"
