@@ -6,8 +6,8 @@
 * ``tutorials/index.md``: the notebooks, in order;
 * ``features.md``: the dictionary of the feature columns (:mod:`rubdiag.signal._glossary`);
 * ``tables/<name>.md``: each table of the validation and explanation pages, rendered from its
-  file in ``data/`` by the script that wrote the file (:data:`TABLES`), and the values of
-  ``data/tolerances.toml`` that the pages' prose states (:func:`substitutions`).
+  file in ``data/`` by the script that wrote the file (:data:`TABLES`); the numbers that the
+  pages' prose states are substitutions (:func:`substitutions`) read from the same files.
 
 A page is rewritten only when its text changes, so that an unchanged page is not rebuilt.
 """
@@ -151,7 +151,10 @@ def _percent(fraction: float) -> str:
 
 def substitutions() -> dict[str, str]:
     """The values that prose states, as MyST substitutions (``{{ off_bin_band }}`` in a
-    page): the bands of ``data/tolerances.toml`` and the library's constants."""
+    page): the bands of ``data/tolerances.toml``, the library's constants, and the measured
+    numbers of the validation pages (:func:`prose_values.values`, from ``data/*.csv``)."""
+    import prose_values
+
     from rubdiag.learn._caveats import MIN_RUNS_PER_CLASS
     from rubdiag.learn._channel_choice import NOISE_MARGIN_DB
     check = importlib.import_module("rubdiag.reduce._check")    # the module, not the function
@@ -164,7 +167,8 @@ def substitutions() -> dict[str, str]:
             "off_bin_band": _percent(t["off_bin_lines"]["band"]),
             "off_bin_line": _percent(t["off_bin_lines"]["line"]),
             "noise_free_agreement": _percent(t["noise_free"]["agreement"]),
-            "noise_free_measured": t["noise_free"]["measured"]}
+            "noise_free_measured": t["noise_free"]["measured"],
+            **prose_values.values()}
 
 
 def runup_bands_table() -> str:
