@@ -68,8 +68,8 @@ def folder() -> Path | None:
 #: the code that computes or stores what is cached (globs under rubdiag/): its sources are
 #: part of every key, so that an edited checkout (whose version string has not changed)
 #: does not read stale entries
-_SOURCES = ("_cache.py", "_blas.py", "model/*.py", "assembly/*.py", "modal/*.py",
-            "reduce/*.py", "simulate/rig_cache.py")
+_SOURCES = ("_cache.py", "_blas.py", "_tolerances.py", "_fluidfilm.py", "model/*.py",
+            "assembly/*.py", "modal/*.py", "reduce/*.py", "simulation/_rig_cache.py")
 
 
 @functools.cache

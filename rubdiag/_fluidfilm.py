@@ -52,6 +52,10 @@ __all__ = ["N_GAUSS", "STEP_RULES", "attitude_angle", "eccentricity_for_load", "
 
 #: quadrature points over the half circle of positive pressure
 N_GAUSS = 64
+#: The eccentricity search's bracket stays this far inside (0, 1) (the load capacity is 0 at
+#: 0 and infinite at 1); its tolerance, a few ulps of a ratio: the root to the last bits.
+_ECCENTRICITY_MARGIN = 1e-12
+_ECCENTRICITY_TOL = 1e-15
 _T, _W = np.polynomial.legendre.leggauss(N_GAUSS)
 
 #: The integrator's Gauss rules, as (largest eccentricity ratio, points): the fewest points
@@ -210,7 +214,8 @@ def eccentricity_for_load(load: float, omega: float, mu: float, radius: float,
     if not load > 0.0 or not omega > 0.0:
         raise ValueError(f"load = {load!r} N and omega = {omega!r} rad/s (allowed: both > 0)")
     return brentq(lambda e: load_capacity(e, omega, mu, radius, length, clearance) - load,
-                  1e-12, 1.0 - 1e-12, xtol=1e-15, rtol=1e-15)
+                  _ECCENTRICITY_MARGIN, 1.0 - _ECCENTRICITY_MARGIN,
+                  xtol=_ECCENTRICITY_TOL, rtol=_ECCENTRICITY_TOL)
 
 
 def linearised_coefficients(load: float, omega: float, mu: float, radius: float,

@@ -27,6 +27,9 @@ __all__ = ["N_GRID", "approach_of", "damped_model", "sweep_linear_approach_m",
 
 #: Speeds of the first, coarse search over the window's range (both ends included).
 N_GRID = 65
+#: The refined speed's tolerance, relative to the window's top speed: the approach is flat
+#: at its maximum, so its value there is found far more closely than the speed.
+_SPEED_XATOL = 1e-7
 
 
 def approach_of(run) -> str:
@@ -74,7 +77,7 @@ def sweep_linear_approach_m(run, model=None, of: str | None = None) -> float:
     k = int(np.argmax(values))
     bounds = (grid[max(k - 1, 0)], grid[min(k + 1, N_GRID - 1)])
     best = minimize_scalar(lambda s: -approach(s), bounds=bounds, method="bounded",
-                           options={"xatol": 1e-7 * hi})
+                           options={"xatol": _SPEED_XATOL * hi})
     return max(float(values[k]), -float(best.fun))
 
 

@@ -63,6 +63,7 @@ import numpy as np
 
 from rubdiag import _check
 from rubdiag._episodes import MIN_EPISODE_S, closed_time
+from rubdiag._tolerances import BOUND_SLACK
 
 __all__ = ["LABELS", "MEASURES", "RUB_STATES", "SEVERITIES", "LabelRules",
            "label_run", "labels_from_measures"]
@@ -207,7 +208,7 @@ def run_measures(result, linear_approach_m: float | None = None,
 
 def _ledger_in_window(t: np.ndarray, cumulative: np.ndarray, start: float) -> float:
     """Increase of a cumulative ledger from the first sample in the window to the last."""
-    inside = np.flatnonzero(t >= start - 1e-12)
+    inside = np.flatnonzero(t >= start - BOUND_SLACK)
     if inside.size < 2:
         return 0.0
     return float(cumulative[inside[-1]] - cumulative[inside[0]])

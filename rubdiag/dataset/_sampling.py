@@ -28,6 +28,10 @@ _FIRST_OFFSETS = (0.0, -0.01, 0.01, -0.02, 0.02)
 #: The most replicates a design point may have: 1 + 2^6 ramps, spaced 1/16 % apart (62.5 µs
 #: for a 0.1 s ramp, six 10 µs time steps). Closer ramps would hardly be other histories.
 MAX_REPLICATES = 65
+#: Decimal places (s) a replicate's gap-ramp length is rounded to: the products 0.1·(1 ± x)
+#: carry float noise (0.09900000000000001); 1 ps removes it and no ramp is that close to
+#: another (the closest are 62.5 µs apart).
+_RAMP_DECIMALS = 12
 
 
 def unit_samples(method: str, n: int, d: int, seed: int) -> np.ndarray:
@@ -97,4 +101,4 @@ def gap_ramps_s(replicates: int, duration_s: float | None = None) -> tuple[float
     """
     standard = 0.1 if duration_s is None else min(
         0.1, 0.5 * _check.positive("duration_s", duration_s, "s"))
-    return tuple(round(standard * (1.0 + x), 12) for x in ramp_offsets(replicates))
+    return tuple(round(standard * (1.0 + x), _RAMP_DECIMALS) for x in ramp_offsets(replicates))

@@ -73,6 +73,11 @@ def _scale_discs(field: str):
     return apply
 
 
+#: The fit's gradient tolerance, small enough that the steps' and residuals' tolerances
+#: (``rtol / 100``) stop it; and the step of its finite-difference Jacobian in log-scale
+#: (0.01 %: far above the critical speeds' rounding).
+_GTOL = 1e-12
+_DIFF_STEP = 1e-4
 KNOBS = {
     "outer_spans": _scale_lengths("outer_spans"),
     "inner_span": _scale_lengths("inner_span"),
@@ -165,7 +170,7 @@ def calibrate(rig: Rig, targets, knobs=("outer_spans", "inner_span"),
         return np.log(speeds / np.array(targets))
 
     fit = least_squares(residual, np.zeros(len(knobs)), bounds=(np.log(0.2), np.log(5.0)),
-                        xtol=rtol * 1e-2, ftol=rtol * 1e-2, gtol=1e-12, diff_step=1e-4)
+                        xtol=rtol * 1e-2, ftol=rtol * 1e-2, gtol=_GTOL, diff_step=_DIFF_STEP)
     result = build(fit.x)
     speeds = critical_speeds(assemble(result), n=len(targets))
     return Calibration(rig=result, knobs=knobs, scales=tuple(np.exp(fit.x).tolist()),

@@ -24,6 +24,7 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse.linalg as spla
 
+from rubdiag._tolerances import REAL_ROOT
 from rubdiag.assembly import rayleigh_coefficients
 from rubdiag.modal._shapes import energy_shares, whirl_ratio
 
@@ -108,7 +109,7 @@ def _synchronous_modes(model, n_solutions: int, stiffness=None) -> CriticalSpeed
         nu, vec = spla.eigs(op, k=min(n - 2, n_solutions), which="LM", v0=v0)
         lam = sigma + 1.0 / nu
     # Ω² must be real and positive (an indefinite M − iG gives spurious roots)
-    ok = np.isfinite(lam) & (lam.real > 0) & (np.abs(lam.imag) < 1e-6 * np.abs(lam))
+    ok = np.isfinite(lam) & (lam.real > 0) & (np.abs(lam.imag) < REAL_ROOT * np.abs(lam))
     lam, vec = lam[ok].real, vec[:, ok]
     order = np.argsort(lam)
     speeds, shapes = np.sqrt(lam[order]), vec[:, order]
@@ -164,6 +165,9 @@ def _lowest(model, n: int, whirl: str, stiffness=None) -> np.ndarray:
 #: rigid-bearing critical speed the bracket reaches
 _MAP_LOW_RAD_S = 1.0
 _MAP_HIGH_FACTOR = 10.0
+#: the search's tolerance on the log of a speed (absolute and relative): near its float
+#: resolution, so that a critical speed of the map is its crossing to about 1e-13
+_MAP_TOL = 1e-13
 #: the rigid bearings the bracket's top is computed with (N/m)
 _RIGID_N_M = 1e13
 
@@ -222,7 +226,7 @@ def _with_films(model, n: int, whirl: str) -> np.ndarray:
         if not excess(low) > 0.0 > excess(high):
             raise ValueError(f"the critical speed map has no crossing for mode {j + 1} "
                              f"between {_MAP_LOW_RAD_S:g} and {math.exp(high):.6g} rad/s")
-        out.append(math.exp(brentq(excess, low, high, xtol=1e-13, rtol=1e-13)))
+        out.append(math.exp(brentq(excess, low, high, xtol=_MAP_TOL, rtol=_MAP_TOL)))
     return np.array(out)
 
 

@@ -18,13 +18,16 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from rubdiag._tolerances import PLANAR_WHIRL
 from rubdiag.modal._critical import with_rayleigh
 from rubdiag.modal._shapes import energy_shares, whirl_ratio
 
 __all__ = ["Modes", "modes"]
 
 DENSE_BELOW = 120   # DOFs; below this a dense solver is faster and complete
-_WHIRL_TOL = 1e-3
+#: The share of its modulus (at least 1) a root's frequency must exceed to be an oscillating
+#: mode: an overdamped (real) root's imaginary part is rounding.
+_OSCILLATING = 1e-9
 
 
 @dataclass(frozen=True)
@@ -71,7 +74,8 @@ class Modes:
     def whirl(self) -> np.ndarray:
         """'forward', 'backward' or 'none' (planar, or no shaft motion) per mode."""
         w = self.whirl_ratio
-        return np.where(w > _WHIRL_TOL, "forward", np.where(w < -_WHIRL_TOL, "backward", "none"))
+        return np.where(w > PLANAR_WHIRL, "forward",
+                        np.where(w < -PLANAR_WHIRL, "backward", "none"))
 
     def to_frame(self):
         import pandas as pd
@@ -151,7 +155,7 @@ def lowest_of(lam: np.ndarray, vectors: np.ndarray,
     """The ``n_modes`` lowest oscillating roots (by frequency) among ``lam`` and their
     columns of ``vectors``: overdamped (real) roots and the negative-frequency twins are left
     out."""
-    keep = lam.imag > 1e-9 * np.maximum(1.0, np.abs(lam))
+    keep = lam.imag > _OSCILLATING * np.maximum(1.0, np.abs(lam))
     lam, vectors = lam[keep], vectors[:, keep]
     order = np.argsort(lam.imag)[:n_modes]
     return lam[order], vectors[:, order]

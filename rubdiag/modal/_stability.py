@@ -106,11 +106,19 @@ def threshold_speed(model, low_rad_s: float, high_rad_s: float, n_grid: int = 33
         k = _first_unstable(model, speeds, n_modes, reduced=False)   # the reduced model erred
     if not k:                     # unstable at low_rad_s (k = 0) or stable throughout
         return None
-    return float(brentq(growth, speeds[k - 1], speeds[k], xtol=1e-9 * speeds[k], rtol=1e-12))
+    return float(brentq(growth, speeds[k - 1], speeds[k], xtol=_THRESHOLD_TOL * speeds[k],
+                        rtol=_SEARCH_RTOL))
 
 
 #: ARPACK's tolerance on a grid point's roots, whose sign alone matters there
 GRID_TOL = 1e-8
+#: the threshold's location, relative to the speed (the 1e-9 stability_threshold promises)
+_THRESHOLD_TOL = 1e-9
+#: the search's relative tolerance, near float resolution: the one above decides
+_SEARCH_RTOL = 1e-12
+#: singular values of the projection basis below this share of the largest are dependent
+#: directions (the real and imaginary parts of a real mode): left out of the basis
+_RANK_TOL = 1e-10
 #: how many of its error bounds a growth rate must lie from 0 for its sign to count
 _MARGIN = 1e3
 
@@ -168,7 +176,7 @@ class _Reduced:
             columns.append(np.eye(model.n_dof)[:, np.unique(Kb.nonzero()[0])])
             K = K + Kb
         u, sigma, _ = np.linalg.svd(np.hstack(columns), full_matrices=False)
-        V = u[:, sigma > 1e-10 * sigma[0]]
+        V = u[:, sigma > _RANK_TOL * sigma[0]]
         self.model, self.V, self.n_modes = damped, V, n_modes
         self.stiffness = spla.splu(K.tocsc())
         self.M_inv = np.linalg.inv(V.T @ (damped.M @ V))

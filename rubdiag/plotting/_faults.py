@@ -26,6 +26,9 @@ PREDICTED = {"rub": (1.0, 1.5, 2.0, 3.5, 4.0), "crack": (1.0, 2.0, 3.0),
              "whirl": (0.5, 1.0)}
 REVOLUTIONS = 4     # the waveform panel's length
 MAX_ORDER = 5.0
+#: The log-scale spectrum's floor, relative to its peak: zero bins would leave holes in the
+#: line; 1e-12 lies far below the axis (5 decades shown).
+_LOG_FLOOR = 1e-12
 
 
 def _window_signal(result, point: str):
@@ -168,7 +171,7 @@ def full_spectrum_figure(y, z, fs: float, speed_hz: float, *, rotation: int = 1,
     keep = np.abs(order) <= max_order
     fig = new_figure(figsize=(11, 3.6)) if fig is None else fig
     spec, orbit = fig.subplots(1, 2, gridspec_kw={"width_ratios": (2.4, 1)})
-    spec.semilogy(order[keep], np.maximum(amp[keep], 1e-12 * amp.max()), lw=0.8,
+    spec.semilogy(order[keep], np.maximum(amp[keep], _LOG_FLOOR * amp.max()), lw=0.8,
                   color="C0")
     spec.axvline(0.0, color="k", lw=0.8)
     top = float(amp[keep].max())

@@ -8,6 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from rubdiag._figures import figure_and_axes, new_figure
+from rubdiag._tolerances import PLANAR_WHIRL
 from rubdiag.plotting._ticks import decade_labels
 
 __all__ = ["campbell_figure", "deflection_figure", "unbalance_figure"]
@@ -52,8 +53,8 @@ def campbell_figure(campbell, title: str = "Campbell diagram", *, ax=None):
     for j in range(f_hz.shape[1]):
         ax.plot(rpm, f_hz[:, j], color="0.8", lw=0.8, zorder=1)
     rotor = campbell.shaft_share >= 0.25     # casing and blade modes do not whirl with the rotor
-    fwd = (campbell.whirl_ratio > 1e-3) & rotor
-    bwd = (campbell.whirl_ratio < -1e-3) & rotor
+    fwd = (campbell.whirl_ratio > PLANAR_WHIRL) & rotor
+    bwd = (campbell.whirl_ratio < -PLANAR_WHIRL) & rotor
     grid = np.broadcast_to(rpm[:, None], f_hz.shape)
     ax.scatter(grid[~rotor], f_hz[~rotor], s=6, color="0.6", label="casing / blade modes",
                zorder=2)

@@ -33,6 +33,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from rubdiag._tolerances import REAL_ROOT
 from rubdiag.reduce._reduced import ReducedModel, reduced_model
 from rubdiag.reduce._spec import Reduction
 
@@ -255,7 +256,7 @@ def _reduced_critical_speeds_rpm(model, reduced: ReducedModel) -> np.ndarray:
     from rubdiag.modal._shapes import energy_shares, whirl_ratio
 
     lam, vec = sla.eig(reduced.K, reduced.M - 1j * reduced.G)
-    ok = np.isfinite(lam) & (lam.real > 0) & (np.abs(lam.imag) < 1e-6 * np.abs(lam))
+    ok = np.isfinite(lam) & (lam.real > 0) & (np.abs(lam.imag) < REAL_ROOT * np.abs(lam))
     lam, vec = lam[ok].real, vec[:, ok]
     order = np.argsort(lam)
     shapes = reduced.basis.T @ vec[:, order]

@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rubdiag import _check
+from rubdiag._tolerances import ON_LEVEL
 
 __all__ = [
     "ROTATIONS",
@@ -72,7 +73,7 @@ def _whole_revolutions(n: int, fs: float, speed_hz: float) -> int:
     it holds 6 or more (so that the half and third orders are orthogonal to the harmonics
     and to each other: no line leaks into another's lock-in); at least one needed."""
     per_rev = fs / speed_hz
-    revs = int(np.floor(n / per_rev + 1e-9))
+    revs = int(np.floor(n / per_rev + ON_LEVEL))
     if revs >= 6:
         revs -= revs % 6
     if revs < 1:
@@ -215,7 +216,7 @@ def _orbit(s: np.ndarray, k: np.ndarray, forward: np.ndarray,
     """:func:`orbit_measures` of the complex signal ``s`` from its lines at 1× then at the
     orders ``k`` (``forward``, ``reverse``: 1 + len(k) values)."""
     f1, r1 = float(forward[0]), float(reverse[0])
-    others = np.abs(k - 1.0) > 1e-9
+    others = np.abs(k - 1.0) > ON_LEVEL
     motion = float(np.sum(forward[1:][others] ** 2 + reverse[1:][others] ** 2))
     radius = np.abs(s - s.mean())
     r_max = float(radius.max())

@@ -28,6 +28,10 @@ from rubdiag.signal._records import check_fs
 
 TIME_COLUMNS = ("t", "time", "time_s", "t_s")
 SUFFIXES = (".csv", ".txt", ".npz", ".parquet", ".pq")
+#: How far (relative) a file's sample steps may stray from their median, or its time
+#: column's rate from the given ``fs``, and still be that rate: time columns written with
+#: a few digits carry that much rounding, a wrong rate is off by far more.
+_RATE_AGREEMENT = 1e-3
 
 
 def read_signals(path: str | os.PathLike, fs: float | None = None) -> tuple[pd.DataFrame, float]:
@@ -86,7 +90,7 @@ def read_signals(path: str | os.PathLike, fs: float | None = None) -> tuple[pd.D
             )
         fs = found
     fs = check_fs(fs)
-    if found is not None and abs(found - fs) > 1e-3 * fs:
+    if found is not None and abs(found - fs) > _RATE_AGREEMENT * fs:
         raise ValueError(f"{path.name}: fs = {fs:g} Hz disagrees with the file's {found:g} Hz")
     if frame.shape[1] == 0:
         raise ValueError(f"{path.name}: the file holds no signal column")
@@ -182,6 +186,6 @@ def _fs_from_time(t: np.ndarray, name: str, column: str) -> float:
         raise ValueError(f"{name}: time column {column!r} needs at least 2 finite values")
     dt = np.diff(t)
     step = float(np.median(dt))
-    if step <= 0.0 or np.abs(dt - step).max() > 1e-3 * step:
+    if step <= 0.0 or np.abs(dt - step).max() > _RATE_AGREEMENT * step:
         raise ValueError(f"{name}: time column {column!r} is not uniformly increasing")
     return 1.0 / step

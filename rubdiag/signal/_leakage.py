@@ -16,6 +16,7 @@ import numpy as np
 import pandas as pd
 
 from rubdiag import _check
+from rubdiag._tolerances import ON_LEVEL
 from rubdiag.signal._orders import order_label
 from rubdiag.signal._spectrum import _spectra
 
@@ -62,7 +63,7 @@ def tracking_leakage(track: pd.DataFrame, revs_per_bin: int, orders=(0.5, 1.5, 2
                          f"table holding order {source:g})")
     bins = np.asarray(orders, dtype=np.float64) * n_rev
     j = np.rint(bins).astype(np.int64)
-    if np.any(np.abs(bins - j) > 1e-9) or np.any(j < 1) or np.any(j >= n_rev * spr // 2):
+    if np.any(np.abs(bins - j) > ON_LEVEL) or np.any(j < 1) or np.any(j >= n_rev * spr // 2):
         raise ValueError(f"orders = {list(orders)}: each times revs_per_bin = {n_rev} must be "
                          f"a whole number from 1 to below {n_rev * spr // 2}")
     start = track["rev_start"].to_numpy(dtype=np.float64)

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rubdiag._tolerances import ON_LEVEL
 from rubdiag.signal._spectrum import _Spectra
 
 #: k = 0.5, 1, 1.5, …, 8.
@@ -42,7 +43,7 @@ def order_label(k: float) -> str:
     >>> [order_label(k) for k in (1, 1.5, 1 / 3, 7)]
     ['1x', '1p5x', '0p33x', '7x']
     """
-    if abs(2.0 * k - round(2.0 * k)) < 1e-9:
+    if abs(2.0 * k - round(2.0 * k)) < ON_LEVEL:
         text = f"{k:g}"
     else:
         text = f"{k:.2f}"

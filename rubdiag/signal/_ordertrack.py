@@ -41,6 +41,7 @@ import scipy.interpolate
 import scipy.signal
 
 from rubdiag import _check
+from rubdiag._tolerances import BOUND_SLACK, ON_LEVEL
 from rubdiag.signal._orders import order_label
 from rubdiag.signal._records import RecordTooShort, check_fs, check_signals
 from rubdiag.signal._spectrum import _Spectra, _spectra, amplitude_spectrum
@@ -145,7 +146,7 @@ def order_spectrum(x, fs: float, angle, samples_per_rev: int = 64,
         nperseg = spr * _check.integer("revs_per_segment", revs_per_segment, lo=1, hi=n_revs)
     orders, amp = amplitude_spectrum(rec.x[:, : n_revs * spr], spr, window, nperseg,
                                      detrend=detrend)
-    keep = orders <= max_order * (1.0 + 1e-12)
+    keep = orders <= max_order * (1.0 + BOUND_SLACK)
     amp = amp[:, keep]
     return orders[keep], (amp[0] if np.ndim(x) == 1 else amp)
 
@@ -242,7 +243,7 @@ def rpm_order_map(x, fs: float, angle, revs_per_bin: int = 8, *, revs_step: int 
     n_rev = _check.integer("revs_per_bin", revs_per_bin, lo=1)
     b = _binned(x, fs, angle, n_rev, revs_step, spr, max_order, window)
     orders = b.spec.f
-    keep = orders <= max_order * (1.0 + 1e-12)
+    keep = orders <= max_order * (1.0 + BOUND_SLACK)
     return orders[keep], b.rpm, b.spec.amplitude[:, keep].T
 
 
@@ -263,7 +264,7 @@ def _order_bins(orders, n_rev: int, max_order: float) -> tuple[np.ndarray, np.nd
     for i, (ki, b) in enumerate(zip(k, bins, strict=True)):
         if ki > max_order:
             raise _check.out_of_range(f"orders[{i}]", ki, f"<= max_order = {max_order:g}")
-        if abs(b - round(b)) > 1e-9 * max(b, 1.0):
+        if abs(b - round(b)) > ON_LEVEL * max(b, 1.0):
             raise ValueError(
                 f"orders[{i}] = {_check.plain(ki)} does not fall on a bin of revs_per_bin = "
                 f"{n_rev} revolutions (allowed: multiples of 1/{n_rev}; make revs_per_bin a "

@@ -20,6 +20,11 @@ from rubdiag.signal._records import MIN_SAMPLES, check_fs
 
 # Bins from a line over which its sidelobes are checked against weaker local maxima.
 _SIDELOBE_BINS = 16
+#: Added per step to the running maximum of the window's ratio curve, so that it increases
+#: strictly (it is interpolated inverted): at most 3e-10 over its 257 steps.
+_TIE_BREAK = 1e-12
+#: A sidelobe counts as rising only by more than the interpolated magnitudes' rounding.
+_RISING = 1e-9
 # Rows of signals transformed at once: bounds the memory of the batch path (complex bins).
 _MAX_BINS_PER_CHUNK = 1 << 22
 
@@ -304,7 +309,7 @@ def _kernel(w_bytes: bytes, nfft: int) -> _Kernel:
     half = round(0.5 / step)
     delta = d[i0 : i0 + half + 1]
     ratio = np.interp(1.0 - delta, d, mag) / np.maximum(mag[i0 : i0 + half + 1], 1e-300)
-    ratio = np.maximum.accumulate(ratio) + np.arange(ratio.size) * 1e-12
+    ratio = np.maximum.accumulate(ratio) + np.arange(ratio.size) * _TIE_BREAK
     beyond = np.flatnonzero((d >= 0) & (mag < 0.01))
     lobe = int(np.ceil(d[beyond[0]])) if beyond.size else int(hi)
     enbw = nfft * float(np.sum(w**2)) / W0**2
@@ -312,7 +317,7 @@ def _kernel(w_bytes: bytes, nfft: int) -> _Kernel:
     sidelobe = np.zeros(_SIDELOBE_BINS + 1)
     for k in range(1, _SIDELOBE_BINS + 1):
         here = np.interp(np.abs(k + offsets), d, mag)
-        rising = here > np.interp(np.abs(k - 1 + offsets), d, mag) * (1.0 + 1e-9)
+        rising = here > np.interp(np.abs(k - 1 + offsets), d, mag) * (1.0 + _RISING)
         sidelobe[k] = here[rising].max(initial=0.0)
     return _Kernel(
         d=d, mag=mag, arg=arg, ratio_delta=delta, ratio=ratio, enbw=enbw, lobe=lobe,
