@@ -1,13 +1,13 @@
 """Rig files: TOML in, TOML out.
 
-A rig file has one table per :class:`~rubdiag.model._rig.Rig` field (``[shaft]``,
+A rig file has one table per :class:`~rubdiag.model.Rig` field (``[shaft]``,
 ``[[bearings]]``, ``[[discs]]``, ``[blades]``, ``[casing]``, ``[contact]``,
 ``[[stator_contacts]]``, ``[loading]``, ``[material]``, ``[damping]``) whose keys are the
 dataclass field names, in SI units. At this edge a key may also be given in a named
 non-SI unit, converted on reading: ``…_mm`` for ``…_m``, ``…_deg`` for ``…_rad`` and
 ``…_rpm`` for ``…_rad_s``. Unknown keys and wrong types are errors. Files are written in SI.
 
-A bearing may sit on a pedestal (:class:`~rubdiag.model._rig.Pedestal`), a sub-table of its
+A bearing may sit on a pedestal (:class:`~rubdiag.model.Pedestal`), a sub-table of its
 ``[[bearings]]`` entry (absent: the bearing is grounded, as in the paper rig)::
 
     [[bearings]]

@@ -11,7 +11,7 @@
     under 0.1 %: 1499.7 and 5696.6 rpm); the same rig carries every fault level, so that
     the rig never gives the class away.
 ``paper-journal``
-    ``paper-pedestal`` on two plain journal bearings (:class:`~rubdiag.model._rig.JournalFilm`,
+    ``paper-pedestal`` on two plain journal bearings (:class:`~rubdiag.model.JournalFilm`,
     :data:`FILM`): journals of 10 mm radius, 10 mm long (L/D = 0.5, the upper end of the
     short-bearing approximation), 300 µm radial clearance, oil of 0.2 Pa·s (an ISO VG 220
     mineral oil near 40 °C), each carrying its share of the rotor's weight under gravity
@@ -66,8 +66,8 @@ def preset_rig(name: str):
         The preset (cached: the same object each call).
     """
     from rubdiag import _check
+    from rubdiag.model._bearings import Pedestal
     from rubdiag.model._io import paper_rig
-    from rubdiag.model._rig import Pedestal
 
     _check.choice("rig", name, tuple(PRESETS))
     rig = paper_rig()
@@ -77,7 +77,7 @@ def preset_rig(name: str):
     pedestal = dataclasses.replace(rig, bearings=(drive_end, *rig.bearings[1:]), name=name)
     if name == "paper-pedestal":
         return pedestal
-    from rubdiag.model._rig import Bearing, JournalFilm
+    from rubdiag.model._bearings import Bearing, JournalFilm
 
     bearings = tuple(
         Bearing(b.node, 0.0, 0.0, pedestal=b.pedestal, journal=JournalFilm(**FILM, load_n=load))
