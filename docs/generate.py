@@ -26,9 +26,19 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT / "data"
 
-#: the public subpackages, in the order a user meets them (the layers, bottom up)
-SUBPACKAGES = ("model", "assembly", "modal", "simulation", "reduce", "runs", "signal",
-               "dataset", "learn", "paper", "plotting")
+#: the public API, grouped by task: every package's ``__all__`` (tests/test_public_api.py)
+API = ROOT / "docs" / "api.toml"
+
+
+def api_groups() -> dict[str, dict[str, list[str]]]:
+    """``{package: {group: [names]}}`` from :data:`API`, packages in the order a user meets
+    them (the layers, bottom up)."""
+    with API.open("rb") as f:
+        return tomllib.load(f)
+
+
+#: the public subpackages, in the order a user meets them
+SUBPACKAGES = tuple(name.removeprefix("rubdiag.") for name in api_groups() if "." in name)
 
 
 def version() -> str:
@@ -39,6 +49,7 @@ def version() -> str:
 
 def write_all(folder: Path) -> None:
     """Every generated page into ``folder``."""
+    _write(folder / "api" / "rubdiag.rst", top_level_page())
     for name in SUBPACKAGES:
         _write(folder / "api" / f"{name}.rst", api_page(f"rubdiag.{name}"))
     _write(folder / "cli.md", cli_page())
@@ -50,14 +61,31 @@ def write_all(folder: Path) -> None:
 
 
 def api_page(module: str) -> str:
-    """The reference page of ``module``: its docstring, then its public names."""
-    names = list(importlib.import_module(module).__all__)
+    """The reference page of ``module``: its docstring, then its public names by task."""
     title = f"``{module}``"
     lines = [title, "=" * len(title), "", f".. automodule:: {module}", "   :no-members:", "",
-             f".. currentmodule:: {module}", "", ".. autosummary::", "   :toctree: generated",
-             "   :nosignatures:", ""]
-    lines += [f"   {name}" for name in names]
-    return "\n".join(lines) + "\n"
+             f".. currentmodule:: {module}", ""]
+    for group, names in api_groups()[module].items():
+        lines += [group, "-" * len(group), "", ".. autosummary::", "   :toctree: generated",
+                  "   :nosignatures:", "", *(f"   {name}" for name in names), ""]
+    return "\n".join(lines)
+
+
+def top_level_page() -> str:
+    """The ``rubdiag`` page: each workflow's entry points, linked to where they are documented
+    (the subpackage that defines them), so that no object is documented twice."""
+    import rubdiag
+
+    title = "``rubdiag``"
+    lines = [title, "=" * len(title), "", ".. automodule:: rubdiag", "   :no-members:", ""]
+    for group, names in api_groups()["rubdiag"].items():
+        lines += [group, "-" * len(group), ""]
+        for name in names:
+            where = rubdiag._LAZY.get(name)
+            lines.append(f"* ``rubdiag.{name}``" if where is None
+                         else f"* :obj:`rubdiag.{name} <{where}.{name}>`")
+        lines.append("")
+    return "\n".join(lines)
 
 
 def commands() -> tuple:

@@ -13,6 +13,10 @@ from rubdiag.signal._options import Options
 from rubdiag.signal._records import MIN_SAMPLES, check_fs, transposed_hint
 from rubdiag.signal._table import FEATURE_NAMES, feature_matrix
 
+#: between channel and feature in a dataset's column names (``shaft11_y_disp__amp_1x``); the
+#: dataset layer, above this one, uses the same (tests/signal/test_transformer.py)
+CHANNEL_SEPARATOR = "__"
+
 
 class RubFeatures(TransformerMixin, BaseEstimator):
     """Rub-impact spectral features of equal-length signals (rows of X).
@@ -38,6 +42,12 @@ class RubFeatures(TransformerMixin, BaseEstimator):
     band, threshold, window, nperseg, detrend, min_revolutions, combo_tol_hz
         As for :func:`rubdiag.signal.signal_features`; the defaults are those of
         :class:`~rubdiag.signal._options.Options`.
+    channel : str, optional
+        The rows' channel name. When given, the output columns are named as a dataset's:
+        ``speed_rpm``, then ``<channel>__<feature>``; so
+        :class:`rubdiag.learn.OrderFeatures` (and any model trained on a dataset's rows of
+        that channel) can follow it in a pipeline whose output is pandas
+        (``pipeline.set_output(transform="pandas")``).
 
     Examples
     --------
@@ -49,6 +59,12 @@ class RubFeatures(TransformerMixin, BaseEstimator):
     >>> names = list(RubFeatures(fs=fs).fit(X).get_feature_names_out())
     >>> Z[:, names.index("amp_1x")].round(6).tolist()
     [1.0, 2.0]
+
+    Named as a dataset's channel, to chain with the classifier features:
+
+    >>> named = RubFeatures(fs=fs, speed_rpm=1200.0, channel="shaft11_y_disp")
+    >>> list(named.fit(X).get_feature_names_out()[:3])
+    ['speed_rpm', 'shaft11_y_disp__speed_confidence', 'shaft11_y_disp__rms']
     """
 
     def __init__(
@@ -63,6 +79,7 @@ class RubFeatures(TransformerMixin, BaseEstimator):
         detrend=Options.detrend,
         min_revolutions: float = Options.min_revolutions,
         combo_tol_hz: float | None = Options.combo_tol_hz,
+        channel: str | None = None,
     ):
         self.fs = fs
         self.speed_rpm = speed_rpm
@@ -74,6 +91,7 @@ class RubFeatures(TransformerMixin, BaseEstimator):
         self.detrend = detrend
         self.min_revolutions = min_revolutions
         self.combo_tol_hz = combo_tol_hz
+        self.channel = channel
 
     def fit(self, X, y=None):
         """Check X (n_signals, n_samples) and record its width; returns self."""
@@ -93,7 +111,11 @@ class RubFeatures(TransformerMixin, BaseEstimator):
     def get_feature_names_out(self, input_features=None):
         """Names of the output columns (the feature table's columns)."""
         check_is_fitted(self, "n_features_in_")
-        return np.asarray(FEATURE_NAMES, dtype=object)
+        if self.channel is None:
+            return np.asarray(FEATURE_NAMES, dtype=object)
+        speed, *rest = FEATURE_NAMES        # the speed stays unprefixed, as in a dataset
+        return np.asarray([speed, *(f"{self.channel}{CHANNEL_SEPARATOR}{name}"
+                                    for name in rest)], dtype=object)
 
     def _fs(self) -> float:
         if self.fs is None:

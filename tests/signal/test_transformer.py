@@ -131,3 +131,39 @@ def test_numpy_scalars_are_numbers(synth):
     numpy = RubFeatures(fs=np.int64(1000), speed_rpm=np.float32(1200.0),
                         threshold=np.float32(2.5), nperseg=np.int64(2000))
     np.testing.assert_allclose(numpy.fit_transform(X), plain.fit_transform(X), equal_nan=True)
+
+
+def test_named_rows_chain_into_the_classifier_features():
+    """RubFeatures named as a dataset's channel feeds OrderFeatures and a classifier in one
+    pipeline: it tells a 1× record from one with a 2× line, and OrderFeatures computes the
+    same values as on the dataset-style table of the same signals."""
+    import pandas as pd
+    from sklearn.linear_model import LogisticRegression
+    from sklearn.pipeline import make_pipeline
+    from sklearn.preprocessing import StandardScaler
+
+    from rubdiag.dataset._schema import SEPARATOR
+    from rubdiag.learn import OrderFeatures
+    from rubdiag.signal._table import prefixed_features
+    from rubdiag.signal._transformer import CHANNEL_SEPARATOR
+
+    assert CHANNEL_SEPARATOR == SEPARATOR
+    fs, rpm = 2000.0, 1500.0
+    t = np.arange(4000) / fs
+    rng = np.random.default_rng(3)
+    y = np.arange(24) % 2 == 1                      # every other record rubs: a 2× line
+    X = np.vstack([np.cos(2 * np.pi * 25 * t + rng.uniform(0, 2 * np.pi))
+                   + rub * 0.3 * np.cos(2 * np.pi * 50 * t + rng.uniform(0, 2 * np.pi))
+                   + 0.01 * rng.standard_normal(t.size) for rub in y])
+    pipeline = make_pipeline(RubFeatures(fs=fs, speed_rpm=rpm, channel="shaft"),
+                             OrderFeatures(), StandardScaler(), LogisticRegression())
+    pipeline.set_output(transform="pandas")
+    pipeline.fit(X[:12], y[:12])
+    assert (pipeline.predict(X[12:]) == y[12:]).all()
+    chained = pipeline[:2].transform(X)
+    table = pd.concat([prefixed_features({"shaft": x}, fs, rpm, separator=SEPARATOR)
+                       for x in X], ignore_index=True)
+    direct = OrderFeatures().set_output(transform="pandas").fit(table).transform(table)
+    assert list(chained.columns) == list(direct.columns)
+    assert "shaft__rel_amp_2x" in chained.columns
+    np.testing.assert_allclose(chained.to_numpy(), direct.to_numpy(), rtol=1e-12)
