@@ -19,8 +19,9 @@ $(VENV)/.dev: $(VENV)/.runtime
 	$(BIN)/python -m pip install --quiet -e '.[dev,dask]'
 	touch $@
 
+# the docs extra, and dask: the Dask how-to page is executed
 $(VENV)/.docs: $(VENV)/.runtime
-	$(BIN)/python -m pip install --quiet -e '.[docs]'
+	$(BIN)/python -m pip install --quiet -e '.[docs,dask]'
 	touch $@
 
 run: $(VENV)/.runtime
@@ -33,9 +34,11 @@ test: $(VENV)/.dev
 test-slow: $(VENV)/.dev
 	$(BIN)/python -m pytest -n 2 --dist loadfile -m slow
 
-# the documentation site into docs/_build/html, warnings as errors; the notebooks are
-# executed on small inputs and their outputs cached in docs/_build/jupyter_cache
+# the documentation site into docs/_build/html, warnings as errors; the notebooks and the
+# pages with code cells are executed on small inputs, one per core at a time, and their outputs
+# cached in docs/_build/jupyter_cache
 docs: $(VENV)/.docs
+	$(BIN)/python docs/execute_pages.py
 	$(BIN)/python -m sphinx -b html -W --keep-going docs docs/_build/html
 
 # the built site opened in headless Chromium (/usr/bin/chromium: apt-get install chromium):

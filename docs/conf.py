@@ -4,7 +4,8 @@ Pages that follow the code are written at build time into ``docs/_generated`` (g
 the API reference of each subpackage from its ``__all__``, the command-line reference from
 the argparse parsers, the tables of the validation pages from their files in ``data/``, and
 the tutorials (the notebooks of ``notebooks/``, executed on small
-inputs with ``RUBDIAG_QUICK=1``, their outputs cached between builds).
+inputs with ``RUBDIAG_QUICK=1``, their outputs cached between builds; ``make docs`` executes
+them, and the pages with code cells, in parallel first: ``docs/execute_pages.py``).
 """
 
 from __future__ import annotations
@@ -18,10 +19,11 @@ DOCS = Path(__file__).resolve().parent
 ROOT = DOCS.parent
 sys.path.insert(0, str(DOCS))
 
+import execute_pages  # noqa: E402  (docs/execute_pages.py: the executed pages, in parallel)
 import generate  # noqa: E402  (docs/generate.py: the pages that follow the code)
 
-os.environ.setdefault("RUBDIAG_QUICK", "1")      # the tutorials' small mode
-os.environ.setdefault("MPLBACKEND", "Agg")
+for _name, _value in execute_pages.ENVIRONMENT.items():    # the tutorials' small mode
+    os.environ.setdefault(_name, _value)
 
 project = "rubdiag"
 author = "the rubdiag developers"
@@ -48,9 +50,9 @@ numpydoc_xref_param_type = False
 myst_enable_extensions = ["dollarmath", "colon_fence", "substitution"]
 myst_substitutions = generate.substitutions()     # values of data/ and constants in prose
 nb_execution_mode = "cache"
-nb_execution_timeout = 900
+nb_execution_timeout = execute_pages.TIMEOUT_S
 nb_execution_raise_on_error = True
-nb_execution_cache_path = str(DOCS / "_build" / "jupyter_cache")
+nb_execution_cache_path = str(execute_pages.CACHE)
 
 html_theme = "pydata_sphinx_theme"
 html_title = f"rubdiag {release}"
