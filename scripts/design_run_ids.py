@@ -22,6 +22,11 @@ import io
 import sys
 from pathlib import Path
 
+import rubdiag
+
+if __name__ == "__main__":     # a run starts here (imported, numpy is loaded already)
+    rubdiag.pin_blas_kernels()  # first: before numpy loads OpenBLAS (the tests' kernels)
+
 ROOT = Path(__file__).resolve().parents[1]
 DESIGNS = ROOT / "data" / "designs"
 OUT = ROOT / "data" / "design_run_ids.csv"

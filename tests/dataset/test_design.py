@@ -13,6 +13,7 @@ import pytest
 
 from rubdiag.dataset import Design, Factor, gap_ramps_s
 from rubdiag.dataset import _design as design_module
+from rubdiag.dataset import _expansion as expansion_module
 from rubdiag.model import save_rig
 from rubdiag.simulation import Run
 
@@ -72,7 +73,7 @@ def test_rub_lhs200_toml_gives_200_runs_inside_the_ranges(issue_design, paper_ri
 
 
 def test_rub_lhs200_toml_runs_follow_their_points(issue_design):
-    speeds = issue_design.critical_speeds_rad_s
+    speeds = issue_design.resolved_critical_speeds_rad_s()
     for r in issue_design.runs()[:20]:
         p, run = r.point, r.run
         assert run.speed_rad_s == p["speed_ratio"] * speeds[p["case"] - 1]
@@ -104,10 +105,9 @@ def test_rub_lhs200_toml_with_replicates(issue_design):
 def test_critical_speeds_are_the_cases_forward_critical_speeds(issue_design, paper_rig):
     from rubdiag.simulation import critical_speed_for_case
 
-    assert issue_design.critical_speeds_rad_s == (critical_speed_for_case(paper_rig, 1),
-                                                  critical_speed_for_case(paper_rig, 2))
-    assert issue_design.critical_speeds_rad_s == pytest.approx((1500 * math.pi / 30,
-                                                                5700 * math.pi / 30), rel=1e-6)
+    speeds = issue_design.resolved_critical_speeds_rad_s()
+    assert speeds == (critical_speed_for_case(paper_rig, 1), critical_speed_for_case(paper_rig, 2))
+    assert speeds == pytest.approx((1500 * math.pi / 30, 5700 * math.pi / 30), rel=1e-6)
 
 
 def test_study_cell_is_the_paper_run(paper_rig):
@@ -276,9 +276,45 @@ def test_resolved_reference_speeds_are_used_not_recomputed(monkeypatch):
     def fail(*args):
         raise AssertionError("computed a critical speed")
 
-    monkeypatch.setattr(design_module, "_rig_critical_speeds", fail)
+    monkeypatch.setattr(expansion_module, "rig_critical_speeds", fail)
     (item,) = make({"case": [2], "speed_ratio": [1.5]}).runs()
     assert item.run.speed_rad_s == 900.0
+
+
+def test_making_a_design_solves_no_eigenvalue_problem(monkeypatch, paper_rig):
+    """The issue's design refers to its rig's critical speeds (speed_ratio) without giving
+    them: reading it, checking it and drawing its points solve nothing (every eigenvalue
+    solver raises meanwhile, nothing kept from other tests); its runs compute the speeds
+    then, and are the runs of the same design given the cases' critical speeds."""
+    import scipy.linalg
+    import scipy.sparse.linalg
+
+    from rubdiag.dataset import _resolve
+    from rubdiag.simulation import _rig_cache, critical_speed_for_case
+
+    def solve(*args, **kwargs):
+        raise AssertionError("an eigenvalue problem was solved")
+
+    with monkeypatch.context() as patch:
+        for module, names in ((scipy.linalg, ("eig", "eigh", "eigvals", "eigvalsh")),
+                              (scipy.sparse.linalg, ("eigs", "eigsh")),
+                              (_rig_cache, ("forward_critical_speeds", "whirl_threshold_speed"))):
+            for name in names:
+                patch.setattr(module, name, solve)
+        patch.setattr(_resolve, "_CRITICAL", {})
+        patch.setattr(_resolve, "_THRESHOLD", {})
+        design = Design.from_toml(ISSUE_TOML)
+        points = design.points()
+        with pytest.raises(AssertionError, match="an eigenvalue problem was solved"):
+            design.runs()          # the solvers do raise: the runs need the speeds
+    assert design.critical_speeds_rad_s is None
+    given = dataclasses.replace(design, critical_speeds_rad_s=(
+        critical_speed_for_case(paper_rig, 1), critical_speed_for_case(paper_rig, 2)))
+    runs = design.runs()
+    assert [r.point for r in runs] == points
+    assert runs == given.runs()
+    assert design == given and hash(design) == hash(given)
+    assert design != dataclasses.replace(design, critical_speeds_rad_s=(150.0, 600.0))
 
 
 # --- resolved form ----------------------------------------------------------------------------
