@@ -5,6 +5,11 @@ from __future__ import annotations
 
 import math
 
+from rubdiag.cli._defaults import FromLibrary
+
+#: where a dataset design's fixed fault settings are defined (the coupling's, here)
+_SETTINGS = "rubdiag.dataset._faults:FaultSettings."
+
 
 def add_fault_options(p) -> None:
     """Add the fault options to a command's parser (``simulate``, ``runup``)."""
@@ -20,32 +25,41 @@ def add_fault_options(p) -> None:
                    help="shaft element (0-based, axial order) with a breathing crack")
     g.add_argument("--crack-depth", type=float, default=0.3,
                    help="crack depth ratio a/D in (0, 0.5] (default 0.3)")
-    g.add_argument("--crack-law", choices=("mayes", "gasch"), default="mayes",
-                   help="breathing law: Mayes (cosine of the angle) or Gasch (switch on the "
-                   "bending moment); default mayes")
+    g.add_argument("--crack-law", metavar="LAW", action=FromLibrary,
+                   default_of="rubdiag.simulation._faults:Crack.law",
+                   choices_of="rubdiag.simulation._crack:LAWS",
+                   help="breathing law, one of {choices}: Mayes (cosine of the angle) or "
+                   "Gasch (switch on the bending moment); default {default}")
     g.add_argument("--misalignment-offset-mm", type=float,
                    help="parallel offset of the coupling at the driven end (mm; with "
                    "--misalignment-angle-deg alone: 0)")
     g.add_argument("--misalignment-angle-deg", type=float,
                    help="angular misalignment of the coupling (deg; with "
                    "--misalignment-offset-mm alone: 0)")
-    g.add_argument("--coupling-node", type=int, default=3,
-                   help="the shaft node of the coupling's rotor-side flex plane (default 3)")
-    g.add_argument("--drive-torque-nm", type=float, default=20.0,
-                   help="the coupling's drive torque (N m, default 20)")
-    g.add_argument("--spacer-length-mm", type=float, default=50.0,
-                   help="the coupling's spacer length (mm, default 50)")
+    g.add_argument("--coupling-node", type=int, action=FromLibrary, default_of=_SETTINGS
+                   + "coupling_node", help="the shaft node of the coupling's rotor-side flex "
+                   "plane (default {default})")
+    g.add_argument("--drive-torque-nm", type=float, action=FromLibrary,
+                   default_of=_SETTINGS + "drive_torque_n_m",
+                   help="the coupling's drive torque (N m, default {default})")
+    g.add_argument("--spacer-length-mm", type=float, action=FromLibrary,
+                   default_of=_SETTINGS + "spacer_length_m", convert=lambda m: m * 1e3,
+                   help="the coupling's spacer length (mm, default {default})")
     g.add_argument("--loose-bearing", type=int,
                    help="the bearing (0-based) whose pedestal is loose on its seat (the rig "
                    "file must give that bearing a [bearings.pedestal])")
     g.add_argument("--loose-preload-n", type=float, default=0.0,
                    help="the dead load on the seat beyond the static load (N, default 0: "
                    "--gravity-m-s2 carries the weight)")
-    g.add_argument("--loose-stiffness-n-m", type=float, default=0.0,
-                   help="a retaining spring once the pedestal lifts (N/m, default 0)")
-    g.add_argument("--loose-direction", choices=("y", "z"), default="y",
-                   help="the direction the pedestal lifts off in, towards + (default y; z: "
-                   "across gravity along y, which then does not press it on its seat)")
+    g.add_argument("--loose-stiffness-n-m", type=float, action=FromLibrary,
+                   default_of="rubdiag.simulation._faults:Looseness.loose_stiffness_n_m",
+                   help="a retaining spring once the pedestal lifts (N/m, default {default})")
+    g.add_argument("--loose-direction", metavar="AXIS", action=FromLibrary,
+                   default_of="rubdiag.simulation._faults:Looseness.direction",
+                   choices_of="rubdiag.simulation._faults:DIRECTIONS",
+                   help="the direction the pedestal lifts off in, towards +: one of {choices} "
+                   "(default {default}; z: across gravity along y, which then does not press "
+                   "it on its seat)")
 
 
 def run_options(args) -> dict:

@@ -2,15 +2,18 @@
 
 from __future__ import annotations
 
+from rubdiag.cli._defaults import FromLibrary
+
 
 def add_model_options(parser) -> None:
     """Add ``--reduced`` and ``--cutoff-hz`` to a command's parser."""
     parser.add_argument("--reduced", action="store_true",
                         help="simulate the reduced-order (Craig-Bampton) model: the contact "
                         "DOFs physical, the fixed-interface modes below the cutoff")
-    parser.add_argument("--cutoff-hz", type=float, metavar="HZ",
-                        help="with --reduced: keep the modes below HZ (default 2000, twice "
-                        "the 8x line at 6840 rpm)")
+    parser.add_argument("--cutoff-hz", type=float, metavar="HZ", action=FromLibrary,
+                        shows={"cutoff": "rubdiag.reduce:Reduction.cutoff_hz"},
+                        help="with --reduced: keep the modes below HZ (default {cutoff}, "
+                        "twice the 8x line at 6840 rpm)")
 
 
 def reduction(args):

@@ -7,9 +7,10 @@ naming the option and the path.
 
 from __future__ import annotations
 
-import argparse
 import os
 from pathlib import Path
+
+from rubdiag.cli._defaults import FromLibrary
 
 
 def output_file(path, option: str = "--out") -> Path:
@@ -44,27 +45,10 @@ def output_folder(path, option: str = "--out") -> Path:
 def add_rig_option(parser) -> None:
     """Add ``--rig FILE|PRESET`` (a path; :func:`load_rig` reads it), whose help names every
     preset of :data:`rubdiag.model.PRESETS`."""
-    parser.add_argument("--rig", type=Path, action=_RigOption)
-
-
-class _RigOption(argparse.Action):
-    """Stores the value; its help is written when shown, from :data:`rubdiag.model.PRESETS`
-    (the rig package loads numpy, which building the parser must not: a command sets up
-    OpenBLAS before numpy loads)."""
-
-    @property
-    def help(self) -> str:
-        from rubdiag.model import PRESETS
-
-        return (f"rig TOML file or preset ({', '.join(PRESETS)}; default: the study's paper "
-                "rig)")
-
-    @help.setter
-    def help(self, value) -> None:      # argparse sets it to None: the property answers
-        pass
-
-    def __call__(self, parser, namespace, values, option_string=None) -> None:
-        setattr(namespace, self.dest, values)
+    parser.add_argument("--rig", type=Path, action=FromLibrary,
+                        shows={"presets": "rubdiag.model:PRESETS"},
+                        help="rig TOML file or preset ({presets}; default: the study's paper "
+                        "rig)")
 
 
 def input_file(path, option: str | None, what: str) -> Path:

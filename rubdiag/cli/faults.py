@@ -5,9 +5,12 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from rubdiag.cli._defaults import FromLibrary
 from rubdiag.cli._quiet import add_quiet_option
 
 POINT = "shaft 11"
+#: the function whose keywords the options stand for
+_RUNS = "rubdiag.runs._faults:fault_runs."
 
 
 def register(sub) -> None:
@@ -25,18 +28,24 @@ def register(sub) -> None:
         "11.")
     p.add_argument("--speed-rpm", type=float,
                    help="one speed for every run (rpm; default: each fault's own, above)")
-    p.add_argument("--interference", type=float, default=1.3,
+    p.add_argument("--interference", type=float, action=FromLibrary,
+                   default_of=_RUNS + "interference",
                    help="the rub runs' gap: their linear blade-tip approach over this ratio "
-                   "(default 1.3: a rub that touches every revolution)")
-    p.add_argument("--crack-depth", type=float, default=0.4,
-                   help="crack depth ratio a/D (default 0.4)")
-    p.add_argument("--misalignment-angle-mrad", type=float, default=10.0,
-                   help="the coupling's angular misalignment (mrad, default 10)")
-    p.add_argument("--loose-preload-n", type=float, default=5.0,
+                   "(default {default}: a rub that touches every revolution)")
+    p.add_argument("--crack-depth", type=float, action=FromLibrary,
+                   default_of=_RUNS + "crack_depth",
+                   help="crack depth ratio a/D (default {default})")
+    p.add_argument("--misalignment-angle-mrad", type=float, action=FromLibrary,
+                   default_of=_RUNS + "misalignment_angle_mrad",
+                   help="the coupling's angular misalignment (mrad, default {default})")
+    p.add_argument("--loose-preload-n", type=float, action=FromLibrary,
+                   default_of=_RUNS + "loose_preload_n",
                    help="the force left pressing the loose pedestal on its seat, across "
-                   "gravity (N, default 5)")
-    p.add_argument("--duration-s", type=float, default=2.0,
-                   help="simulated time per run (s, default 2; the last half is analysed)")
+                   "gravity (N, default {default})")
+    p.add_argument("--duration-s", type=float, action=FromLibrary,
+                   default_of=_RUNS + "duration_s",
+                   help="simulated time per run (s, default {default}; the last half is "
+                   "analysed)")
     p.add_argument("--out", type=Path, required=True, help="output folder (created)")
     p.add_argument("--json", action="store_true",
                    help="print the lines as JSON (m): run -> direction -> order -> amplitude")

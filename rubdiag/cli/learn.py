@@ -11,11 +11,11 @@ import math
 import sys
 from pathlib import Path
 
+from rubdiag.cli._defaults import FromLibrary
 from rubdiag.cli._quiet import add_quiet_option
 
-_TARGETS = ("rub", "rub_state", "severity", "fault")  # rubdiag.learn.TARGETS
-_ESTIMATORS = ("rf", "hgb", "svm", "logreg")         # rubdiag.learn.ESTIMATORS
-_CHANNEL_SETS = ("auto", "shaft", "all")             # rubdiag.learn._channel_choice
+#: the function ``train`` calls, whose keywords the options stand for
+_TRAIN = "rubdiag.learn._train:train."
 
 
 def register(sub) -> None:
@@ -37,26 +37,36 @@ def register(sub) -> None:
                    help="dataset folder (rubdiag dataset)")
     p.add_argument("--out", type=Path, metavar="MODEL_DIR", required=True,
                    help="model folder to write (new or empty; --overwrite replaces a model)")
-    p.add_argument("--target", choices=_TARGETS, default="rub",
-                   help="label to predict (default: rub; on a dataset with other faults, "
-                   "rub against everything else); fault: the faults that acted (none, rub, "
-                   "crack, rub+crack …: a dataset with a fault factor)")
-    p.add_argument("--estimator", choices=_ESTIMATORS, default="rf",
-                   help="random forest, gradient boosting, RBF SVM or logistic regression "
-                   "(default: rf)")
-    p.add_argument("--split", default="group",
-                   help="evaluation split: group (by design point, default) or a design "
-                   "factor held out band by band (speed_ratio, gap_mm, case …)")
-    p.add_argument("--channels", default="auto", metavar="NAME,…",
-                   help="input channels: auto (default: the shaft channels whose median "
-                   "power over the rubbing runs is 6 dB or more above their noise floor), "
-                   "shaft (every channel not on the casing), all, or comma-separated names")
-    p.add_argument("--families", default=None, metavar="NAME,…",
-                   help="feature families, comma-separated (default: orders,sidebands,"
-                   "combinations; also levels, absolute)")
-    p.add_argument("--n-splits", type=int, default=5, metavar="K",
-                   help="folds of the group split (default: 5)")
-    p.add_argument("--seed", type=int, default=0, help="seed of folds and models")
+    p.add_argument("--target", metavar="LABEL", action=FromLibrary,
+                   default_of=_TRAIN + "target", choices_of="rubdiag.learn:TARGETS",
+                   help="label to predict, one of {choices} (default: {default}; rub, on a "
+                   "dataset with other faults, is rub against everything else); fault: the "
+                   "faults that acted (none, rub, crack, rub+crack …: a dataset with a fault "
+                   "factor)")
+    p.add_argument("--estimator", metavar="NAME", action=FromLibrary,
+                   default_of=_TRAIN + "estimator", choices_of="rubdiag.learn:ESTIMATORS",
+                   help="one of {choices}: random forest, gradient boosting, RBF SVM or "
+                   "logistic regression (default: {default})")
+    p.add_argument("--split", action=FromLibrary, default_of=_TRAIN + "split",
+                   help="evaluation split: group (by design point) or a design factor held "
+                   "out band by band (speed_ratio, gap_mm, case …); default {default}")
+    p.add_argument("--channels", metavar="NAME,…", action=FromLibrary,
+                   default_of=_TRAIN + "channels",
+                   shows={"margin": "rubdiag.learn._channel_choice:NOISE_MARGIN_DB"},
+                   help="input channels: auto (the shaft channels whose median power over "
+                   "the rubbing runs is {margin} dB or more above their noise floor), shaft (every "
+                   "channel not on the casing), all, or comma-separated names; default "
+                   "{default}")
+    p.add_argument("--families", metavar="NAME,…", action=FromLibrary,
+                   shows={"families": "rubdiag.learn._features:FAMILIES",
+                          "default_families": _TRAIN + "families"},
+                   help="feature families, comma-separated, of {families} (default: "
+                   "{default_families})")
+    p.add_argument("--n-splits", type=int, metavar="K", action=FromLibrary,
+                   default_of="rubdiag.learn._splits:folds.n_splits",
+                   help="folds of the group split (default: {default})")
+    p.add_argument("--seed", type=int, action=FromLibrary, default_of=_TRAIN + "seed",
+                   help="seed of folds and models (default {default})")
     p.add_argument("--quick", action="store_true",
                    help="skip the permutation importances, baselines and leakage audit "
                    "(no importances files)")
@@ -183,10 +193,11 @@ def _train(args) -> int:
     out = check_out(args.out, args.overwrite, option="--out")   # before any work
     if args.n_splits < 2:
         raise ValueError(f"--n-splits = {args.n_splits} is out of range (allowed: >= 2)")
+    from rubdiag.learn._channel_choice import CHANNEL_SETS
     from rubdiag.learn._features import DEFAULT_FAMILIES
     from rubdiag.learn._train import train
 
-    channels = args.channels if args.channels in _CHANNEL_SETS else _names(
+    channels = args.channels if args.channels in CHANNEL_SETS else _names(
         args.channels, "--channels")
     families = _names(args.families, "--families") or DEFAULT_FAMILIES
     extras = {"importances": False, "baselines": False, "audit": False} if args.quick else {}

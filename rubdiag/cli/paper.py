@@ -5,9 +5,13 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from rubdiag.cli._defaults import FromLibrary
 from rubdiag.cli._model import add_model_options, reduction
 from rubdiag.cli._paths import add_rig_option
 from rubdiag.cli._quiet import add_quiet_option
+
+#: the function ``table2`` calls, whose keywords the options stand for
+_TABLE2 = "rubdiag.paper._table2:table2."
 
 
 def register(sub) -> None:
@@ -20,10 +24,12 @@ def register(sub) -> None:
         "Finished runs are kept in DIR/runs/ and reused: an interrupted reproduction resumes.")
     p.add_argument("--out", type=Path, default=Path("out"), help="output folder (default out)")
     p.add_argument("--jobs", type=int, help="parallel processes (default: all cores)")
-    p.add_argument("--duration-s", type=float, default=2.3,
-                   help="total simulated time per case (s, default 2.3)")
-    p.add_argument("--discard-s", type=float, default=0.3,
-                   help="start left out of the statistics (s, default 0.3)")
+    p.add_argument("--duration-s", type=float, action=FromLibrary,
+                   default_of=_TABLE2 + "duration_s",
+                   help="total simulated time per case (s, default {default})")
+    p.add_argument("--discard-s", type=float, action=FromLibrary,
+                   default_of=_TABLE2 + "discard_s",
+                   help="start left out of the statistics (s, default {default})")
     add_rig_option(p)
     p.add_argument("--no-figures", action="store_true", help="write the tables only")
     add_model_options(p)

@@ -8,10 +8,14 @@ import sys
 from pathlib import Path
 
 from rubdiag._atomic import write_text
+from rubdiag.cli._defaults import FromLibrary
 from rubdiag.cli._faults import add_fault_options, run_options
 from rubdiag.cli._model import add_model_options, reduction
 from rubdiag.cli._paths import add_rig_option
 from rubdiag.cli._quiet import add_quiet_option
+
+#: the function whose keywords the order-tracking options stand for
+_ORDERS = "rubdiag.runs._runup:runup_orders."
 
 
 def register(sub) -> None:
@@ -35,17 +39,19 @@ def register(sub) -> None:
                    "no blade-casing contact (faults only)")
     p.add_argument("--both", action="store_true",
                    help="run up (from -> to) and coast down (to -> from), overlaid")
-    p.add_argument("--hold-s", type=float, default=0.0,
-                   help="time at the start speed before the ramp (s, default 0)")
-    p.add_argument("--point", default="shaft 11 y",
-                   help="recorded point whose orders are tracked (default 'shaft 11 y', "
-                   "mid-span)")
-    p.add_argument("--revs-per-bin", type=int, default=4,
-                   help="revolutions per order-tracking bin (even; default 4)")
-    p.add_argument("--dt-s", type=float, default=1e-5,
-                   help="largest time step (s, default 1e-5)")
+    p.add_argument("--hold-s", type=float, action=FromLibrary,
+                   default_of="rubdiag.runs._runup:ramp_run.hold_s",
+                   help="time at the start speed before the ramp (s, default {default})")
+    p.add_argument("--point", action=FromLibrary, default_of=_ORDERS + "point",
+                   help="recorded point whose orders are tracked (default '{default}')")
+    p.add_argument("--revs-per-bin", type=int, action=FromLibrary,
+                   default_of=_ORDERS + "revs_per_bin",
+                   help="revolutions per order-tracking bin (even; default {default})")
+    p.add_argument("--dt-s", type=float, action=FromLibrary,
+                   default_of="rubdiag.simulation._run:Run.dt_s",
+                   help="largest time step (s, default {default})")
     p.add_argument("--mu", type=float,
-                   help="friction coefficient (default: the rig's; 0.4 for the paper rig)")
+                   help="friction coefficient (default: the rig's contact law's)")
     add_rig_option(p)
     p.add_argument("--out", type=Path, required=True, help="output folder (created)")
     add_model_options(p)

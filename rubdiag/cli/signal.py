@@ -7,6 +7,7 @@ import json
 import math
 import sys
 
+from rubdiag.cli._defaults import FromLibrary
 from rubdiag.cli._signal_files import (
     ACROSS_SPEED_ORDERS,
     channels_and_features,
@@ -92,8 +93,11 @@ def _pair_options(p: argparse.ArgumentParser, what: str) -> None:
         "--pair", metavar="Y,Z",
         help=f"two channels of orthogonal probes in one plane: {what} (the shaft turning "
              "from Y towards Z; --rotation -1 for the other way)")
-    p.add_argument("--rotation", type=int, choices=(1, -1), default=1,
-                   help="with --pair: +1 when the shaft turns from Y towards Z (default), -1")
+    p.add_argument("--rotation", type=int, metavar="SIGN", action=FromLibrary,
+                   default_of="rubdiag.signal._fullspectrum:orbit_features.rotation",
+                   choices_of="rubdiag.signal._fullspectrum:ROTATIONS",
+                   help="with --pair, one of {choices}: 1 when the shaft turns from Y towards "
+                   "Z, -1 the other way (default {default})")
 
 
 def _compare(args) -> int:

@@ -6,10 +6,14 @@ import json
 import sys
 from pathlib import Path
 
+from rubdiag.cli._defaults import FromLibrary
 from rubdiag.cli._faults import add_fault_options, run_options
 from rubdiag.cli._model import add_model_options, reduction
 from rubdiag.cli._paths import add_rig_option
 from rubdiag.cli._quiet import add_quiet_option
+
+#: the Run fields the options stand for
+_RUN = "rubdiag.simulation._run:Run."
 
 
 def register(sub) -> None:
@@ -26,21 +30,23 @@ def register(sub) -> None:
     p.add_argument("--speed-rpm", type=float,
                    help="speed (rpm); default the rig's 1st (case 1) or 2nd (case 2) forward "
                    "critical speed")
-    p.add_argument("--duration-s", type=float, default=2.3,
-                   help="total simulated time (s, default 2.3)")
-    p.add_argument("--discard-s", type=float, default=0.3,
-                   help="start left out of the statistics (s, default 0.3)")
-    p.add_argument("--dt-s", type=float, default=1e-5,
-                   help="base time step (s, default 1e-5; halved down to dt/64 as needed)")
-    p.add_argument("--step-error", type=float,
+    p.add_argument("--duration-s", type=float, action=FromLibrary, default_of=_RUN + "duration_s",
+                   help="total simulated time (s, default {default})")
+    p.add_argument("--discard-s", type=float, action=FromLibrary, default_of=_RUN + "discard_s",
+                   help="start left out of the statistics (s, default {default})")
+    p.add_argument("--dt-s", type=float, action=FromLibrary, default_of=_RUN + "dt_s",
+                   help="base time step (s, default {default}; halved down to dt/64 as "
+                   "needed)")
+    p.add_argument("--step-error", type=float, action=FromLibrary,
+                   shows={"datasets": "rubdiag.dataset._design:DEFAULT_STEP_ERROR"},
                    help="take steps up to 4 dt where nothing is in contact, with this local "
-                   "error tolerance relative to the largest displacement (datasets: 1e-5; "
-                   "default: none, every step <= dt)")
+                   "error tolerance relative to the largest displacement (datasets: "
+                   "{datasets}; default: none, every step <= dt)")
     p.add_argument("--output-rate-hz", type=float,
                    help="waveform sampling rate (Hz, default 10000; 1/dt divided by an "
                    "integer); contact events are logged at every step whatever the rate")
     p.add_argument("--mu", type=float,
-                   help="friction coefficient (default: the rig's; 0.4 for the paper rig)")
+                   help="friction coefficient (default: the rig's contact law's)")
     add_rig_option(p)
     p.add_argument("--out", type=Path, metavar="FILE.npz",
                    help="save the result to this file (.npz is added to a name without it); "
