@@ -2,7 +2,7 @@
 
 Runs the study's rubbing cells (case 1 and case 2, g0 = 1.9 mm: serious) through
 ``rubdiag.simulation.simulate`` with the kernel's cycle counters on
-(``simulate_system(profile=True)``: the same bits, one counter read per section), and
+(``Recording(profile=True)``: the same bits, one counter read per section), and
 prints, per case, the kernel's µs per step and each section's share:
 
 rhs      right-hand side of the increment equation (force, M v, K q, Bᵀp)
@@ -25,10 +25,10 @@ Usage::
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import platform
 import statistics
 import time
-from functools import partial
 from unittest import mock
 
 import rubdiag
@@ -40,18 +40,22 @@ if __name__ == "__main__":     # a run starts here (imported, numpy is loaded al
 import numpy as np
 
 from rubdiag._kernels.newmark import PROFILE_SECTIONS
-from rubdiag.simulation import Run, simulate
+from rubdiag.simulation import Run, simulate, simulate_system
 from rubdiag.simulation import _simulation as simulation_module
-from rubdiag.simulation._system import simulate_system
+
+
+def profiled_system(system, elements, grid, outputs, **options):
+    """``simulate_system`` with the kernel's cycle counters on."""
+    return simulate_system(system, elements, grid, dataclasses.replace(outputs, profile=True),
+                           **options)
 
 
 def run_once(run: Run, profile: bool):
     """One simulation; the SystemResult. Profiling goes through ``simulate`` by handing it
-    ``simulate_system`` with ``profile=True`` (simulate has no option for it)."""
+    :func:`profiled_system` (simulate has no option for it)."""
     if not profile:
         return simulate(run).system
-    with mock.patch.object(simulation_module, "simulate_system",
-                           partial(simulate_system, profile=True)):
+    with mock.patch.object(simulation_module, "simulate_system", profiled_system):
         return simulate(run).system
 
 

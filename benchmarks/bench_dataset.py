@@ -181,7 +181,7 @@ PARTS = (
     ("rubdiag.simulation._simulation", "damped_model", "set-up: model (rig cache)"),
     ("rubdiag.reduce", "reduced_model", "set-up: reduced model (cache)"),
     ("rubdiag.simulation._simulation", "rig_system", "set-up: start state"),
-    ("rubdiag.simulation._system", "_level_operators", "set-up: step operators"),
+    ("rubdiag.simulation._system", "level_operators", "set-up: step operators"),
     ("rubdiag.simulation._simulation", "simulate_system", "set-up: integrator, other"),
     ("rubdiag.simulation", "simulate", "set-up: simulate, other"),
     ("rubdiag.simulation._system", "_integrate", "kernel"),

@@ -30,7 +30,7 @@ if __name__ == "__main__":     # a run starts here (imported, numpy is loaded al
 # isort: split
 import numpy as np
 
-from rubdiag.simulation import simulate_system
+from rubdiag.simulation import LinearSystem, Recording, TimeGrid, simulate_system
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))  # the tests' systems
 from testsystems import bladed_rotor_casing, linear_response
@@ -53,30 +53,33 @@ def main() -> None:
     v0 = (1j * sysm.speed * u).real
     tips = sysm.tip_dofs
     amp = float(np.abs(u[tips[:, 0]]).max())
-    common = dict(
-        dt=args.dt, fixed_step=args.fixed, output_dt=10 * args.dt,
-        record_dofs=[sysm.disc_dofs[0], int(tips[0, 0]), int(sysm.casing_dofs[0, 0])],
-    )
+    recording = Recording(record_dofs=[sysm.disc_dofs[0], int(tips[0, 0]),
+                                       int(sysm.casing_dofs[0, 0])])
+
+    def grid(duration):
+        return TimeGrid(duration=duration, dt=args.dt, fixed_step=args.fixed,
+                        output_dt=10 * args.dt)
+
+    def system(q0, v0, a0=None):
+        return LinearSystem(M=sysm.M, C=sysm.C, K=sysm.K, force=sysm.force, q0=q0, v0=v0,
+                            a0=a0, omega=sysm.speed)
+
+    gaps = [c.gap for c in sysm.contacts]
     print(
         f"system: n = {sysm.n}, nnz(K) = {sysm.K.nnz}, nnz(M) = {sysm.M.nnz}, "
-        f"n_c = {sysm.contacts.n_c}, gap = {sysm.contacts.gap[0] * 1e6:.1f} µm, "
+        f"n_c = {len(sysm.contacts)}, gap = {gaps[0] * 1e6:.1f} µm, "
         f"linear tip amplitude = {amp * 1e6:.1f} µm, speed = {sysm.speed:.0f} rad/s"
     )
     # warm-up (compiles or loads the cache) and run into rub: ramp the gap over 0.02 s
     t0 = time.perf_counter()
-    warm = simulate_system(
-        sysm.M, sysm.C, sysm.K, sysm.force, sysm.contacts, q0, v0, duration=0.06,
-        gap_ramp=(0.02, max(1.2 * amp, float(sysm.contacts.gap.max()))), omega=sysm.speed,
-        **common,
-    )
+    warm = simulate_system(system(q0, v0), sysm.contacts, grid(0.06), recording,
+                           gap_ramp=(0.02, max(1.2 * amp, max(gaps))))
     print(f"warm-up run (incl. compile/cache load): {time.perf_counter() - t0:.2f} s; "
           f"lu nnz per level {warm.extra['lu_nnz']} ({warm.extra['lu_ordering'][0]})")
     rubbing = []
     for _ in range(args.repeat):
-        res = simulate_system(
-            sysm.M, sysm.C, sysm.K, sysm.force, sysm.contacts, warm.q_final, warm.v_final,
-            a0=warm.a_final, duration=args.duration, omega=sysm.speed, **common,
-        )
+        res = simulate_system(system(warm.q_final, warm.v_final, warm.a_final),
+                              sysm.contacts, grid(args.duration), recording)
         us = res.extra["kernel_seconds"] / res.n_steps * 1e6
         rubbing.append((us, res))
     med = statistics.median(r[0] for r in rubbing)

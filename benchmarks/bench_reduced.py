@@ -8,7 +8,7 @@ each:
 * µs per kernel step (the kernel's wall time over its attempted steps);
 * simulated seconds per wall second of the whole ``simulate`` call (set-up included, the
   one-time reduction not: it is cached per process);
-* the reduced kernel's cycle breakdown (``simulate_system(profile=True)``), as
+* the reduced kernel's cycle breakdown (``Recording(profile=True)``), as
   ``bench_breakdown.py`` prints it for the full model;
 * the one-time reduction (``reduced_model`` with its cache cleared: assembly, modal
   analysis, constraint modes, projection), median of ``--repeat``.
@@ -26,8 +26,9 @@ import os
 import platform
 import statistics
 import time
-from functools import partial
 from unittest import mock
+
+from bench_breakdown import profiled_system  # benchmarks/ is on sys.path as a script
 
 from rubdiag._kernels.newmark import PROFILE_SECTIONS
 from rubdiag.model import paper_rig
@@ -35,7 +36,6 @@ from rubdiag.reduce import Reduction, reduced
 from rubdiag.reduce._spec import DEFAULT_CUTOFF_HZ
 from rubdiag.simulation import Run, simulate
 from rubdiag.simulation import _simulation as simulation_module
-from rubdiag.simulation._system import simulate_system
 
 
 def timed(run: Run) -> dict:
@@ -49,8 +49,7 @@ def timed(run: Run) -> dict:
 
 
 def profiled(run: Run) -> dict:
-    with mock.patch.object(simulation_module, "simulate_system",
-                           partial(simulate_system, profile=True)):
+    with mock.patch.object(simulation_module, "simulate_system", profiled_system):
         s = simulate(run).system
     cycles = s.extra["profile_cycles"]
     total = sum(cycles.values())

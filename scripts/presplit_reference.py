@@ -68,7 +68,14 @@ def portable_run():
     """The ``portable`` run's SystemResult (module docstring)."""
     from rubdiag.assembly import assemble
     from rubdiag.model import paper_rig
-    from rubdiag.simulation import Contacts, HarmonicForce, simulate_system
+    from rubdiag.simulation import (
+        HarmonicForce,
+        LinearSystem,
+        PointContact,
+        Recording,
+        TimeGrid,
+        simulate_system,
+    )
 
     rig = paper_rig()
     model = assemble(rig)
@@ -79,15 +86,19 @@ def portable_run():
     loaded = np.flatnonzero(F)
     geo = model.blade_contacts
     law = rig.contact
-    contacts = Contacts.point(geo.tip_dofs, geo.casing_dofs, geo.normal, geo.tangent, 1e-4,
-                              law.normal_stiffness_n_m, k_t=law.tangential_stiffness_n_m,
-                              mu=law.friction_coefficient)
+    contacts = [PointContact(dof_a=tuple(tip.tolist()), dof_b=tuple(casing.tolist()),
+                             normal=tuple(normal.tolist()), tangent=tuple(tangent.tolist()),
+                             gap=1e-4, k_n=law.normal_stiffness_n_m,
+                             k_t=law.tangential_stiffness_n_m, mu=law.friction_coefficient)
+                for tip, casing, normal, tangent in zip(geo.tip_dofs, geo.casing_dofs,
+                                                        geo.normal, geo.tangent, strict=True)]
     n = model.n_dof
     record = [model.dofs.index(p, d) for p in ("shaft 11", "shaft 19") for d in "yz"]
-    return simulate_system(model.M, C.tocsr(), model.K, HarmonicForce(loaded, F[loaded], speed),
-                           contacts, np.zeros(n), np.zeros(n), a0=np.zeros(n), duration=0.03,
-                           dt=1e-5, fixed_step=True, output_dt=1e-4, record_dofs=record,
-                           sensor_dofs=[geo.casing_dofs[0, 0]])
+    return simulate_system(
+        LinearSystem(M=model.M, C=C.tocsr(), K=model.K,
+                     force=HarmonicForce(loaded, F[loaded], speed), a0=np.zeros(n)),
+        contacts, TimeGrid(duration=0.03, dt=1e-5, fixed_step=True, output_dt=1e-4),
+        Recording(record_dofs=record, sensor_dofs=[geo.casing_dofs[0, 0]]))
 
 
 def cell_run():

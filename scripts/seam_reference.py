@@ -61,42 +61,46 @@ def _lumped(**options):
 
 def _annular(ts, amplitude, share: float):
     """An annular clearance at the disc, ``share`` of its linear orbit radius."""
-    from rubdiag.simulation import Contacts
+    from rubdiag.simulation import AnnularContact
 
     y, z = ts.disc_dofs
     radius = float(max(amplitude[y], amplitude[z]))
-    return Contacts.annular([[y, z]], share * radius, 0.05, 5e7, mu=0.2), radius
+    return (AnnularContact(dof_a=(y, z), clearance=share * radius, radius=0.05, k_n=5e7,
+                           mu=0.2),), radius
 
 
-def _run(ts, contacts, q0, v0, **options):
-    from rubdiag.simulation import simulate_system
+def _run(ts, contacts, q0, v0, *, duration=0.04, solver=None, gap_ramp=None, **system):
+    """``contacts`` on ``ts`` from (q0, v0) at its speed for ``duration`` (s), at 10 µs
+    steps, sampled at 10 kHz; ``system``: more of the LinearSystem's fields."""
+    from rubdiag.simulation import LinearSystem, Recording, TimeGrid, simulate_system
 
-    options = {"duration": 0.04, "dt": 1e-5, "output_dt": 1e-4, "omega": ts.speed} | options
-    return simulate_system(ts.M, ts.C, ts.K, ts.force, contacts, q0, v0,
-                           sensor_dofs=[0, 1, 2], **options)
+    return simulate_system(
+        LinearSystem(M=ts.M, C=ts.C, K=ts.K, force=ts.force, q0=q0, v0=v0, omega=ts.speed,
+                     **system),
+        contacts, TimeGrid(duration=duration, dt=1e-5, output_dt=1e-4),
+        Recording(sensor_dofs=[0, 1, 2]), solver=solver, gap_ramp=gap_ramp)
 
 
 def runs() -> dict:
     """Every reference run's SystemResult, by name (module docstring)."""
     from rubdiag.reduce import Reduction
-    from rubdiag.simulation import Run, SpeedProfile, simulate
+    from rubdiag.simulation import Run, Solver, SpeedProfile, simulate
 
     ts, (q0, v0), amplitude = _lumped(gap=30e-6)
     annular, radius = _annular(ts, amplitude, 0.7)
     mixed = ts.contacts + annular
+    gaps = np.array([c.gap for c in ts.contacts])
     out = {
         "annular": _run(ts, annular, q0, v0, gap_ramp=(0.01, 1.2 * radius)),
-        "mixed": _run(ts, mixed, q0, v0, gap_ramp=(0.01, np.r_[ts.contacts.gap + 1e-4,
-                                                            1.2 * radius])),
-        "dense": _run(ts, mixed, q0, v0, gap_ramp=(0.01, np.r_[ts.contacts.gap + 1e-4,
-                                                            1.2 * radius]),
-                      linear_solver="dense"),
-        "general": _run(ts, ts.contacts, q0, v0, gamma=0.6),
+        "mixed": _run(ts, mixed, q0, v0, gap_ramp=(0.01, np.r_[gaps + 1e-4, 1.2 * radius])),
+        "dense": _run(ts, mixed, q0, v0, gap_ramp=(0.01, np.r_[gaps + 1e-4, 1.2 * radius]),
+                      solver=Solver(linear_solver="dense")),
+        "general": _run(ts, ts.contacts, q0, v0, solver=Solver(gamma=0.6)),
     }
-    aug = dataclasses.replace(ts.contacts, augmented=np.ones(ts.contacts.n_c, bool),
-                              eps=np.full(ts.contacts.n_c, 2e-6))
-    out["augmented"] = _run(ts, aug, q0, v0, augment_boost=0.9, augment_strict=False,
-                            max_augment=20)
+    aug = tuple(dataclasses.replace(c, augmented=True, eps=2e-6) for c in ts.contacts)
+    out["augmented"] = _run(ts, aug, q0, v0, solver=Solver(augment_boost=0.9,
+                                                           augment_strict=False,
+                                                           max_augment=20))
     start = ts.speed * 30.0 / np.pi
     profile = SpeedProfile.ramp(start, start + 200.0, 4000.0)
     out["profile"] = _run(ts, mixed, q0, v0, speed_profile=profile,

@@ -13,9 +13,10 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from rubdiag.simulation._system import Contacts, HarmonicForce
+from rubdiag.simulation import HarmonicForce, PointContact
 
-__all__ = ["TestSystem", "bladed_rotor_casing", "linear_response", "tip_casing_system"]
+__all__ = ["TestSystem", "bladed_rotor_casing", "linear_response", "point_contacts",
+           "tip_casing_system"]
 
 
 @dataclass(frozen=True)
@@ -26,7 +27,7 @@ class TestSystem:
     C: sp.csr_matrix
     K: sp.csr_matrix
     force: HarmonicForce
-    contacts: Contacts
+    contacts: tuple[PointContact, ...]
     speed: float  # rad/s
     disc_dofs: tuple[int, int]
     tip_dofs: np.ndarray  # (n_c, 2) y, z of the contact blade tips
@@ -35,6 +36,23 @@ class TestSystem:
     @property
     def n(self) -> int:
         return self.M.shape[0]
+
+
+def point_contacts(dof_a, dof_b, normal, tangent, gap, k_n, **law) -> tuple[PointContact, ...]:
+    """Point contacts between the DOF pairs (y, z) of the rows of ``dof_a`` and ``dof_b``
+    (-1: ground), each row's normal and tangent; ``gap``, ``k_n`` and the keywords ``law``
+    (PointContact's) a scalar or one value per contact."""
+    dof_a = np.asarray(dof_a).reshape(-1, 2)
+    n = dof_a.shape[0]
+    columns = {"dof_a": dof_a, "dof_b": dof_b, "normal": normal, "tangent": tangent,
+               "gap": gap, "k_n": k_n, **law}
+    for name, value in columns.items():
+        value = np.asarray(value)
+        pair = name in ("dof_a", "dof_b", "normal", "tangent")
+        columns[name] = np.broadcast_to(value.reshape(-1, 2) if pair else value,
+                                        (n, 2) if pair else (n,))
+    return tuple(PointContact(**{name: tuple(v[i].tolist()) if v.ndim == 2 else v[i].item()
+                                 for name, v in columns.items()}) for i in range(n))
 
 
 def linear_response(M, C, K, force: HarmonicForce) -> np.ndarray:
@@ -108,7 +126,7 @@ def tip_casing_system(
     tangent = np.c_[-np.sin(ths), np.cos(ths)]
     tip_d = np.array(tips[:n_contacts])
     cas_d = np.array(cas[:n_contacts])
-    contacts = Contacts.point(tip_d, cas_d, normal, tangent, gap=gap, k_n=k_n, mu=mu)
+    contacts = point_contacts(tip_d, cas_d, normal, tangent, gap=gap, k_n=k_n, mu=mu)
     force = HarmonicForce.unbalance(disc[0], disc[1], unbalance, speed)
     return TestSystem(M, C, K, force, contacts, speed, disc, tip_d, cas_d)
 
@@ -256,5 +274,5 @@ def bladed_rotor_casing(
             + (u[tip_d[:, 1]] - u[cas_d[:, 1]]) * normal[:, 1]
         )
         gap = gap_fraction * float(rel.min())
-    contacts = Contacts.point(tip_d, cas_d, normal, tangent, gap=gap, k_n=k_n, mu=mu)
+    contacts = point_contacts(tip_d, cas_d, normal, tangent, gap=gap, k_n=k_n, mu=mu)
     return TestSystem(M, C, K, force, contacts, speed, (dy, dz), tip_d, cas_d)

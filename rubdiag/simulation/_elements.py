@@ -4,8 +4,8 @@ Each kind of nonlinear element the integrator knows (its law is a kernel module 
 seam of :mod:`rubdiag._kernels.elements`) has one description here: a frozen dataclass in SI
 units, validated when it is made, which packs itself into what the kernel reads
 (:meth:`pack`) and states its step requirement. :class:`PointContact` and
-:class:`AnnularContact` are today's contact elements; :class:`rubdiag.simulation.Contacts`
-keeps describing many of them as arrays and converts to these.
+:class:`AnnularContact` are the contact elements (public: ``rubdiag.simulation``); the
+deprecated :class:`rubdiag.simulation.Contacts` arrays convert to them.
 
 Adding a kind (the kernel side is in :mod:`rubdiag._kernels.elements`): a frozen dataclass
 with
@@ -33,6 +33,7 @@ spring in K and dashpot in C.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import ClassVar, NamedTuple
 
@@ -41,7 +42,7 @@ import numpy as np
 from rubdiag import _check
 from rubdiag._kernels import annular_contact, contact_books, point_contact
 
-__all__ = ["AnnularContact", "Packed", "PointContact"]
+__all__ = ["AnnularContact", "Packed", "PointContact", "checked_elements", "gap_ramps", "impacts"]
 
 
 class Packed(NamedTuple):
@@ -54,6 +55,51 @@ class Packed(NamedTuple):
     state: np.ndarray       # its state at rest
     augmented: bool
     eps: float              # the multiplier's band (m), augmented only
+
+
+def impacts(element) -> bool:
+    """Whether ``element`` can close on impact (a contact, a pedestal's seat): its
+    description's ``impacts`` (True when it does not say: the safe side)."""
+    return bool(getattr(element, "impacts", True))
+
+
+def checked_elements(elements, n: int) -> tuple:
+    """``elements`` (a sequence of element descriptions, or None: none) as a tuple, each
+    element's DOFs checked against the system's n."""
+    if elements is None:
+        return ()
+    if isinstance(elements, str) or not isinstance(elements, Iterable):
+        raise _check.wrong_type("elements", type(elements).__name__,
+                                "a sequence of element descriptions, or None")
+    elements = tuple(elements)
+    for i, element in enumerate(elements):
+        if not callable(getattr(element, "pack", None)):
+            raise _check.wrong_type(f"elements[{i}]", type(element).__name__,
+                                    "an element description (PointContact, AnnularContact …)")
+        dofs = np.asarray(element.dofs())
+        if dofs.size and (dofs.min() < 0 or dofs.max() >= n):
+            raise _check.out_of_range(f"elements[{i}] DOFs", dofs.tolist(),
+                                      f"DOF indices in [0, {n})")
+    return elements
+
+
+def gap_ramps(gap_ramp, elements) -> list:
+    """Each element's gap ramp ``(t_ramp, gap at t = 0)``, or None (no ramp, or a kind
+    without a gap), from ``gap_ramp = (t_ramp, g_start)`` (s; m, scalar or one per
+    element, >= its gap) or None."""
+    gaps = np.array([getattr(el, "gap", np.nan) for el in elements], dtype=np.float64)
+    if gap_ramp is None:
+        return [None] * len(elements)
+    t_ramp = _check.number("gap_ramp[0] (t_ramp)", gap_ramp[0], lo=0.0)
+    g_start = np.broadcast_to(np.asarray(gap_ramp[1], dtype=np.float64),
+                              (len(elements),)).copy()
+    has_gap = np.isfinite(gaps)
+    if not np.all(np.isfinite(g_start[has_gap])) or np.any(g_start[has_gap] < gaps[has_gap]):
+        raise _check.out_of_range("gap_ramp[1] (g_start)", gap_ramp[1],
+                                  ">= every element's gap g0, finite")
+    if t_ramp == 0:     # no ramp: the elements start at their gaps
+        return [None] * len(elements)
+    return [(t_ramp, float(g)) if ok else None for g, ok in zip(g_start, has_gap, strict=True)]
 
 
 def _pair(name: str, value, ground: bool = False) -> tuple:
@@ -120,14 +166,34 @@ class _Contact:
 
 @dataclass(frozen=True, kw_only=True)
 class PointContact(_Contact):
-    """A point–point contact (:mod:`rubdiag._kernels.point_contact`): body a's DOFs
-    ``dof_a`` (y, z), body b's ``dof_b`` (-1: ground), the unit normal from a towards b and
-    the tangent (orthonormal, fixed), the gap at the coordinates' origin x = 0 (m; negative
-    when the origin lies inside the contact: coordinates measured from elsewhere than the
-    contact's rest, such as a rig run's gaps set at its static deflection), the normal and
-    tangential
-    stiffness (N/m), the Coulomb coefficient, and the augmented Lagrangian with its band
-    ``eps`` (m)."""
+    """A point–point contact (:mod:`rubdiag._kernels.point_contact`): a blade tip against
+    a casing node, along a fixed normal; SI units, checked when made.
+
+    Parameters
+    ----------
+    dof_a : tuple of int
+        Body a's DOFs (y, z): the blade tip.
+    dof_b : tuple of int
+        Body b's DOFs (y, z): the casing node; (-1, -1): ground.
+    normal : tuple of float
+        The unit normal from a towards b (y, z).
+    tangent : tuple of float
+        The unit tangent, orthogonal to ``normal``.
+    gap : float
+        The gap at the coordinates' origin x = 0 (m): negative when the origin lies inside
+        the contact (coordinates measured from elsewhere than the contact's rest, such as
+        a rig run's gaps set at its static deflection).
+    k_n : float
+        The normal penalty stiffness k_N (N/m, > 0).
+    k_t : float or None
+        The tangential (stick) stiffness k_T (N/m, > 0); None: ``k_n``.
+    mu : float
+        The Coulomb coefficient (>= 0; 0: frictionless).
+    augmented : bool
+        The augmented Lagrangian on: the penetration is held within ``eps``.
+    eps : float
+        The augmented Lagrangian's penetration tolerance ε (m, > 0).
+    """
 
     dof_a: tuple
     dof_b: tuple = (-1, -1)
@@ -164,11 +230,34 @@ class PointContact(_Contact):
 
 @dataclass(frozen=True, kw_only=True)
 class AnnularContact(_Contact):
-    """A shaft–stator annular clearance (:mod:`rubdiag._kernels.annular_contact`): the shaft
-    node's DOFs ``dof_a`` (y, z), the stator's ``dof_b`` (-1: ground), the radial clearance
-    (m, >= 0) about ``centre`` (m, the (y, z) of the relative displacement at the clearance's
-    centre; default the bearing line), the shaft's surface radius R (m, >= 0: the slip
-    includes Ω R), the stiffnesses, the Coulomb coefficient and the augmented Lagrangian."""
+    """A shaft–stator annular clearance (:mod:`rubdiag._kernels.annular_contact`): a seal
+    or a stator ring, whose normal follows the radial relative displacement; SI units,
+    checked when made.
+
+    Parameters
+    ----------
+    dof_a : tuple of int
+        The shaft node's DOFs (y, z).
+    dof_b : tuple of int
+        The stator's DOFs (y, z); (-1, -1): ground.
+    clearance : float
+        The radial clearance (m, >= 0).
+    radius : float
+        The shaft's surface radius R (m, >= 0): the slip includes the surface speed Ω R.
+    centre : tuple of float
+        The clearance's centre (m): the (y, z) of the relative displacement there; (0, 0):
+        the bearing line.
+    k_n : float
+        The normal penalty stiffness k_N (N/m, > 0).
+    k_t : float or None
+        The tangential (stick) stiffness k_T (N/m, > 0); None: ``k_n``.
+    mu : float
+        The Coulomb coefficient (>= 0; 0: frictionless).
+    augmented : bool
+        The augmented Lagrangian on: the penetration is held within ``eps``.
+    eps : float
+        The augmented Lagrangian's penetration tolerance ε (m, > 0).
+    """
 
     dof_a: tuple
     dof_b: tuple = (-1, -1)

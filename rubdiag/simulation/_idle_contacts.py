@@ -28,7 +28,6 @@ import dataclasses
 import numpy as np
 
 from rubdiag.simulation._result import EpisodeLog, SimulationDiverged, StatusLog, SystemResult
-from rubdiag.simulation._system import Contacts
 
 __all__ = ["IDLE_GAP_RATIO", "MIN_IDLE_GAP_M", "is_idle", "report_open"]
 
@@ -48,20 +47,24 @@ def is_idle(gap_m: float, approach_m: float) -> bool:
     return gap_m >= MIN_IDLE_GAP_M and gap_m >= IDLE_GAP_RATIO * approach_m
 
 
-def report_open(system: SystemResult, idle: Contacts, n_recorded: int,
+def report_open(system: SystemResult, idle: tuple, n_recorded: int,
                 check: bool = True) -> SystemResult:
-    """``system`` (simulated without the ``idle`` point contacts, physical DOFs) with them
+    """``system`` (simulated without the ``idle`` point contacts
+    (:class:`~rubdiag.simulation.PointContact`, physical DOFs)) with them
     put back first, open throughout. Its recorded columns past ``n_recorded`` are the idle
     contacts' tip DOFs then casing DOFs (y, z each), which give their gaps and slips and are
     then dropped. With ``check``, raises :class:`SimulationDiverged` (with the result) when
     a contact came within ``REACH_SHARE`` of its gap."""
-    n = idle.n_c
+    n = len(idle)
+    gaps = np.array([c.gap for c in idle])
+    normal = np.array([c.normal for c in idle]).reshape(n, 2)
+    tangent = np.array([c.tangent for c in idle]).reshape(n, 2)
     q = system.q
     tips = q[:, n_recorded:n_recorded + 2 * n].reshape(-1, n, 2)
     casing = q[:, n_recorded + 2 * n:n_recorded + 4 * n].reshape(-1, n, 2)
     rel = tips - casing
-    gap = idle.gap - np.einsum("sej,ej->se", rel, idle.normal)
-    slip = np.einsum("sej,ej->se", rel, idle.tangent)
+    gap = gaps - np.einsum("sej,ej->se", rel, normal)
+    slip = np.einsum("sej,ej->se", rel, tangent)
     zeros = np.zeros((q.shape[0], n))
     per_element = np.zeros(n)
     open_time = np.zeros((n, 3))
@@ -89,10 +92,10 @@ def report_open(system: SystemResult, idle: Contacts, n_recorded: int,
         max_penetration=np.r_[per_element, system.max_penetration],
         failure_element=system.failure_element + n if system.failure_element else 0,
         extra={**system.extra, "idle_contacts": n})
-    closest = float(np.min(gap / idle.gap)) if gap.size else 1.0
+    closest = float(np.min(gap / gaps)) if gap.size else 1.0
     if check and closest < REACH_SHARE:
         raise SimulationDiverged(
             f"a blade contact left out as out of reach came within {closest:.0%} of its gap "
-            f"({float(np.min(gap)):.3g} m of {float(idle.gap.min()):.3g} m); simulate the run "
+            f"({float(np.min(gap)):.3g} m of {float(gaps.min()):.3g} m); simulate the run "
             "with Reduction(keep_idle_contacts=True)", out)
     return out

@@ -16,10 +16,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rubdiag.simulation._elements import AnnularContact, PointContact
 from rubdiag.simulation._films import film_elements, film_equilibrium
 from rubdiag.simulation._idle_contacts import MIN_IDLE_GAP_M, is_idle
+from rubdiag.simulation._loads import HarmonicForce
 from rubdiag.simulation._run import Run
-from rubdiag.simulation._system import Contacts, HarmonicForce
 
 __all__ = ["RigSystem", "linear_approach", "rig_system"]
 
@@ -29,20 +30,22 @@ class RigSystem:
     """``M x'' + (C + Ω G) x' + K x = f(t) + contact forces`` in the coordinates x.
 
     ``M``, ``C``, ``K``, ``G``: sparse (full model) or dense (reduced); ``force``: the
-    unbalance at speed Ω, and the run's static load as order-0 terms; ``contacts``: in x's
-    numbering; ``x0``, ``v0``: the linear steady state at t = 0 (the static deflection
-    ``K⁻¹ f_static`` plus the harmonic steady state); ``approach``: the largest radial
-    approach of that state at the contacts (m); ``recovery``: None (x is q) or T with
-    ``q = T x``; ``linear_solver``: what the integrator uses ("sparse" or "dense");
-    ``model``: "full" or "reduced"; ``extra``: diagnostics of the reduction;
-    ``fault_elements``: the run's fault elements (a breathing crack, a loose pedestal), then
-    its journal bearings' films (:mod:`rubdiag.simulation._films`), in x's numbering; the
-    misaligned coupling's loads are in ``force``; ``K`` is without the springs a fault
-    element takes over (a loose pedestal's support in its direction);
-    ``gap_shift`` (n_c,): what each contact's gap was raised by so that it is the run's gap
-    at the static equilibrium (its static approach, m; zeros without a static load or with
-    its clearances ``"unloaded"``), over which ``approach`` is measured; ``idle``: the blade
-    contacts the run cannot close, left out of a reduced model (physical DOFs;
+    unbalance at speed Ω, and the run's static load as order-0 terms; ``contacts``: the
+    contact elements (a :class:`~rubdiag.simulation.PointContact` per blade, then an
+    :class:`~rubdiag.simulation.AnnularContact` per stator), in x's numbering; ``x0``,
+    ``v0``: the linear steady state at t = 0 (the static deflection ``K⁻¹ f_static`` plus
+    the harmonic steady state); ``approach``: the largest radial approach of that state at
+    the contacts (m); ``recovery``: None (x is q) or T with ``q = T x``; ``linear_solver``:
+    what the integrator uses ("sparse" or "dense"); ``model``: "full" or "reduced";
+    ``extra``: diagnostics of the reduction; ``fault_elements``: the run's fault elements
+    (a breathing crack, a loose pedestal), then its journal bearings' films
+    (:mod:`rubdiag.simulation._films`), in x's numbering; the misaligned coupling's loads
+    are in ``force``; ``K`` is without the springs a fault element takes over (a loose
+    pedestal's support in its direction); ``gap_shift`` (one per contact): what each
+    contact's gap was raised by so that it is the run's gap at the static equilibrium (its
+    static approach, m; zeros without a static load or with its clearances
+    ``"unloaded"``), over which ``approach`` is measured; ``idle``: the blade contacts the
+    run cannot close, left out of a reduced model (physical DOFs;
     :mod:`rubdiag.simulation._idle_contacts`), which the result reports open."""
 
     M: object
@@ -50,7 +53,7 @@ class RigSystem:
     K: object
     G: object
     force: HarmonicForce
-    contacts: Contacts
+    contacts: tuple
     x0: np.ndarray
     v0: np.ndarray
     approach: float
@@ -60,7 +63,7 @@ class RigSystem:
     extra: dict
     fault_elements: tuple = ()
     gap_shift: np.ndarray | None = None
-    idle: Contacts = dataclasses.field(default_factory=Contacts.empty)
+    idle: tuple = ()
 
     def damping(self, speed: float):
         """``C + Ω G`` at spin speed Ω (rad/s)."""
@@ -86,7 +89,7 @@ def rig_system(run: Run, model) -> RigSystem:
             x_static = q_static = _static_state(model, f_static, speed)
             force = force + _static_force(f_static, speed)
         contacts, approach, shift = _contacts(run, model, q_hat, q_static)
-        idle = Contacts.empty()
+        idle = ()
         force = _with_fault_loads(force, run, model, speed, lambda dofs: dofs)
         fault_elements = () if run.faults is None else run.faults.elements(run.rig)
         fault_elements += film_elements(run.rig, model.dofs)
@@ -161,17 +164,10 @@ class _Reduced:
         contacts, self.approach, shift = _contacts(run, model, self.q_hat, self.q_static)
         n_blade = 0 if blade_contacts or run.contact_law is None else len(run.contact_law.blades)
         self.shift = shift[n_blade:]
-        self.idle = _rows(contacts, slice(0, n_blade))
-        contacts = _rows(contacts, slice(n_blade, None))
-        self.contacts = dataclasses.replace(contacts, dof_a=index(contacts.dof_a),
-                                            dof_b=index(contacts.dof_b))
+        self.idle = contacts[:n_blade]
+        self.contacts = tuple(_renumbered(c, index) for c in contacts[n_blade:])
         # the fault nodes are boundary coordinates: a load there is a load on its coordinate
         self.force = _with_fault_loads(force, run, model, speed, index)
-
-
-def _rows(contacts: Contacts, rows: slice) -> Contacts:
-    """The elements ``rows`` of ``contacts``."""
-    return Contacts(*(getattr(contacts, f.name)[rows] for f in dataclasses.fields(Contacts)))
 
 
 def linear_approach(run: Run, model, of: str | None = None) -> float:
@@ -251,8 +247,8 @@ def _reduced_equilibrium(reduced, model, f_r, films, speed: float) -> np.ndarray
 
 
 def _renumbered(element, index):
-    """A fault element with its physical DOFs renumbered to the reduced coordinates."""
-    if hasattr(element, "dof_a"):               # a journal bearing's film (-1 stays ground)
+    """An element with its physical DOFs renumbered to the reduced coordinates."""
+    if hasattr(element, "dof_a"):               # a contact, a film (-1 stays ground)
         return dataclasses.replace(element,
                                    dof_a=tuple(int(i) for i in index(element.dof_a)),
                                    dof_b=tuple(int(i) for i in index(element.dof_b)))
@@ -323,17 +319,18 @@ def _with_fault_loads(force: HarmonicForce, run: Run, model, speed: float,
 
 
 def _contacts(run: Run, model, linear, static=None,
-              of: str | None = None) -> tuple[Contacts, float, np.ndarray]:
-    """Contact elements of the run (physical DOFs), the largest radial approach of the
-    linear response ``linear`` (complex amplitudes of every DOF) at them (m; ``of``
-    "blades" or "seals": at those only), and each contact's gap shift (m). With a static
-    deflection ``static`` (real, every DOF; None: none) and clearances "loaded", each blade
-    contact's gap is raised by its static approach (its shift), each stator is centred on
-    the static state, and the approach is the harmonic's alone; with "unloaded", the
-    approach is an upper bound, |static| + the harmonic's largest excursion."""
+              of: str | None = None) -> tuple[tuple, float, np.ndarray]:
+    """Contact elements of the run (physical DOFs; the blades', then the stators'), the
+    largest radial approach of the linear response ``linear`` (complex amplitudes of every
+    DOF) at them (m; ``of`` "blades" or "seals": at those only), and each contact's gap
+    shift (m). With a static deflection ``static`` (real, every DOF; None: none) and
+    clearances "loaded", each blade contact's gap is raised by its static approach (its
+    shift), each stator is centred on the static state, and the approach is the harmonic's
+    alone; with "unloaded", the approach is an upper bound, |static| + the harmonic's
+    largest excursion."""
     if of not in (None, "blades", "seals"):
         raise ValueError(f"of = {of!r} (allowed: None, 'blades', 'seals')")
-    contacts = Contacts.empty()
+    contacts = ()
     start = 0.0
     shifts = []
     loaded = static is not None and run.static_load.clearances == "loaded"
@@ -344,11 +341,6 @@ def _contacts(run: Run, model, linear, static=None,
             raise ValueError("contact.blades must equal the rig's contact blades (the "
                              "contact geometry belongs to the rig)")
         n = len(law.blades)
-        contacts = Contacts.point(geo.tip_dofs, geo.casing_dofs, geo.normal, geo.tangent,
-                                  np.full(n, run.gap_m), law.normal_stiffness_n_m,
-                                  k_t=law.tangential_stiffness_n_m,
-                                  mu=law.friction_coefficient, augmented=law.augmented,
-                                  eps=law.penetration_tolerance_m)
         rel = linear[geo.tip_dofs] - linear[geo.casing_dofs]          # (n, 2) complex
         approach = np.abs(np.sum(rel * geo.normal, axis=1))
         shift = np.zeros(n)
@@ -356,9 +348,18 @@ def _contacts(run: Run, model, linear, static=None,
             sag = np.sum((static[geo.tip_dofs] - static[geo.casing_dofs]) * geo.normal, axis=1)
             if loaded:      # the gap is the clearance at the static state (g = g0 - x)
                 shift = sag
-                contacts = dataclasses.replace(contacts, gap=contacts.gap + shift)
             else:
                 approach = approach + np.abs(sag)
+        gaps = np.full(n, run.gap_m) + shift
+        contacts = tuple(
+            PointContact(dof_a=tuple(geo.tip_dofs[i].tolist()),
+                         dof_b=tuple(geo.casing_dofs[i].tolist()),
+                         normal=tuple(geo.normal[i].tolist()),
+                         tangent=tuple(geo.tangent[i].tolist()), gap=float(gaps[i]),
+                         k_n=law.normal_stiffness_n_m, k_t=law.tangential_stiffness_n_m,
+                         mu=law.friction_coefficient, augmented=law.augmented,
+                         eps=law.penetration_tolerance_m)
+            for i in range(n))
         start = float(approach.max()) if of != "seals" else 0.0
         shifts.append(shift)
     for sc in run.rig.stator_contacts:
@@ -372,9 +373,9 @@ def _contacts(run: Run, model, linear, static=None,
         # "loaded": the stator is aligned on the loaded rotor, centred on its static state
         centre = static[dofs] if loaded else np.zeros(2)
         clearance = sc.clearance_m if run.seal_clearance_m is None else run.seal_clearance_m
-        contacts = contacts + Contacts.annular(
-            np.array([dofs]), np.array([clearance]), np.array([radius]),
-            sc.stiffness_n_m, mu=sc.friction_coefficient, centre=centre)
+        contacts += (AnnularContact(dof_a=tuple(dofs), clearance=clearance, radius=radius,
+                                    k_n=sc.stiffness_n_m, mu=sc.friction_coefficient,
+                                    centre=tuple(centre.tolist())),)
         a, b = linear[dofs[0]], linear[dofs[1]]
         orbit = np.sqrt(0.5 * (abs(a) ** 2 + abs(b) ** 2 + abs(a * a + b * b)))
         if static is not None and not loaded:

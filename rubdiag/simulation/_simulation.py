@@ -33,13 +33,17 @@ from rubdiag.model._io import rig_from_dict, rig_to_dict
 from rubdiag.model._rig import BladeContact, Unbalance
 from rubdiag.reduce import Reduction
 from rubdiag.simulation._faults import Crack, Faults, Looseness
+from rubdiag.simulation._grid import TimeGrid
 from rubdiag.simulation._idle_contacts import report_open
+from rubdiag.simulation._linear_system import LinearSystem
 from rubdiag.simulation._misalignment import Misalignment
+from rubdiag.simulation._recording import Recording
 from rubdiag.simulation._result import EpisodeLog, SimulationDiverged, StatusLog, SystemResult
 from rubdiag.simulation._rig_cache import damped_model
 from rubdiag.simulation._rig_system import rig_system
 from rubdiag.simulation._run import SPEED_TOLERANCE, Run
 from rubdiag.simulation._sensors import Sensor, sensor_dofs, sensor_signals
+from rubdiag.simulation._solver import Solver
 from rubdiag.simulation._speed_profile import SpeedProfile
 from rubdiag.simulation._static_load import StaticLoad
 from rubdiag.simulation._system import simulate_system
@@ -129,38 +133,40 @@ def _simulate(run: Run, progress, raise_on_failure: bool) -> SimulationResult:
     speed = run.speed_rad_s
     rs = rig_system(run, model)
     gap_ramp = None
-    if len(rs.contacts) and run.gap_ramp_s > 0:
-        g0 = rs.contacts.gap
+    if rs.contacts and run.gap_ramp_s > 0:
+        g0 = np.array([c.gap for c in rs.contacts])
         # the approach is over each gap's static shift (zero unless gaps are "loaded")
         g_start = np.maximum(g0, rs.gap_shift + _RAMP_MARGIN * rs.approach)
         # the fault elements and films have no gap: their entries are not read
         g_start = np.r_[g_start, np.full(len(rs.fault_elements), np.nan)]
         gap_ramp = (run.gap_ramp_s, g_start if rs.fault_elements else g_start[: len(g0)])
-    elements = rs.contacts.elements() + rs.fault_elements if rs.fault_elements else rs.contacts
+    elements = rs.contacts + rs.fault_elements
     points = response_points(run.rig)
     record = [_dof(model, p) for p in points]
     idle = rs.idle
-    if len(idle):       # their tips and casing nodes too, for their gaps and slips
-        record += [*idle.dof_a.ravel(), *idle.dof_b.ravel()]
+    if idle:       # their tips and casing nodes too, for their gaps and slips
+        record += [d for c in idle for d in c.dof_a] + [d for c in idle for d in c.dof_b]
     info = {"linear_approach_m": rs.approach, "model": rs.model, **rs.extra}
     try:
         profile = run.speed_profile
         varying = {} if profile is None else {
             "gyroscopic": rs.G, "speed_profile": profile, "speed_tolerance": SPEED_TOLERANCE}
         system = simulate_system(
-            rs.M, rs.C if profile else rs.damping(speed), rs.K, rs.force, elements,
-            rs.x0, rs.v0,
-            duration=run.duration_s, dt=run.dt_s, dt_min=run.dt_min_s,
-            fixed_step=run.fixed_step, output_dt=run.output_dt_s, record_dofs=record,
-            dt_max=run.dt_max_s, step_error=run.step_error,
-            sensor_dofs=sensor_dofs(run), gap_ramp=gap_ramp, omega=speed,
-            linear_solver=rs.linear_solver, recovery=rs.recovery,
-            progress=progress, raise_on_failure=True, **varying)
-        if len(idle):
+            LinearSystem(M=rs.M, C=rs.C if profile else rs.damping(speed), K=rs.K,
+                         force=rs.force, q0=rs.x0, v0=rs.v0, omega=speed,
+                         recovery=rs.recovery, **varying),
+            elements,
+            TimeGrid(duration=run.duration_s, dt=run.dt_s, dt_min=run.dt_min_s,
+                     fixed_step=run.fixed_step, output_dt=run.output_dt_s,
+                     dt_max=run.dt_max_s),
+            Recording(record_dofs=record, sensor_dofs=sensor_dofs(run), progress=progress),
+            solver=Solver(linear_solver=rs.linear_solver, step_error=run.step_error),
+            gap_ramp=gap_ramp)
+        if idle:
             system = report_open(system, idle, len(points))
     except SimulationDiverged as exc:
         failed = exc.result
-        if len(idle) and "idle_contacts" not in failed.extra:
+        if idle and "idle_contacts" not in failed.extra:
             failed = report_open(failed, idle, len(points), check=False)
         failed.extra.update(info)
         partial = SimulationResult(run, points, failed, time.perf_counter() - start_time)

@@ -6,7 +6,16 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from rubdiag.simulation import Contacts, HarmonicForce, simulate_system
+from rubdiag.simulation import (
+    AnnularContact,
+    HarmonicForce,
+    LinearSystem,
+    PointContact,
+    Recording,
+    Solver,
+    TimeGrid,
+    simulate_system,
+)
 
 OPEN, SLIDING, STICKING = 1, 2, 3
 
@@ -25,13 +34,13 @@ def test_no_force_while_open_and_eq1_when_closed(penalty_run):
     assert np.all(fn[gap > 0] == 0.0)
     closed = st != OPEN
     assert np.all(gap[closed] <= 0.0)
-    kn = s.contacts.k_n[0]
+    kn = s.contacts[0].k_n
     np.testing.assert_allclose(fn[closed], -kn * gap[closed], rtol=1e-12)
 
 
 def test_friction_cone_at_every_sample_and_every_step(penalty_run):
     s, res = penalty_run
-    mu = s.contacts.mu[0]
+    mu = s.contacts[0].mu
     assert np.all(np.abs(res.contact_ft) <= mu * res.contact_fn * (1 + 1e-12) + 1e-12)
     slide = res.contact_status == SLIDING
     np.testing.assert_allclose(np.abs(res.contact_ft[slide]), mu * res.contact_fn[slide],
@@ -42,7 +51,7 @@ def test_friction_cone_at_every_sample_and_every_step(penalty_run):
 
 def test_sticking_freezes_relative_tangential_displacement(penalty_run):
     s, res = penalty_run
-    kt = s.contacts.k_t[0]
+    kt = s.contacts[0].k_t
     # output_dt = dt: consecutive samples are consecutive steps
     both = (res.contact_status[1:] == STICKING) & (res.contact_status[:-1] == STICKING)
     assert both.sum() > 20
@@ -113,11 +122,12 @@ def test_augmentation_keeps_penetration_within_eps(boost):
     C = sp.csr_matrix((2, 2))
     runs = {}
     for aug in (False, True):
-        ct = Contacts.point([[0, 1]], [[-1, -1]], [[1.0, 0.0]], [[0.0, 1.0]], gap=g0, k_n=kn,
-                            mu=0.0, augmented=aug, eps=eps)
-        runs[aug] = simulate_system(M, C, K, None, ct, [0.0, 0.0], [v_in, 0.0],
-                                    duration=g0 / v_in + 2 * T_c, dt=T_c / 100,
-                                    output_dt=T_c / 100, augment_boost=boost)
+        ct = [PointContact(dof_a=(0, 1), normal=(1.0, 0.0), tangent=(0.0, 1.0), gap=g0,
+                           k_n=kn, mu=0.0, augmented=aug, eps=eps)]
+        runs[aug] = simulate_system(LinearSystem(M=M, C=C, K=K, v0=np.array([v_in, 0.0])),
+                                    ct, TimeGrid(duration=g0 / v_in + 2 * T_c, dt=T_c / 100,
+                                                 output_dt=T_c / 100),
+                                    solver=Solver(augment_boost=boost))
     pen, aug = runs[False], runs[True]
     assert pen.max_penetration[0] > 1.9 * eps
     assert aug.max_penetration[0] <= eps
@@ -133,7 +143,8 @@ def test_augmentation_keeps_penetration_within_eps(boost):
 def test_episode_log_growth_and_progress_do_not_change_results(penalty_run, make_rub_run):
     _, ref = penalty_run
     calls = []
-    _, res = make_rub_run(episode_capacity=1, progress=lambda t, T: calls.append((t, T)))
+    _, res = make_rub_run(outputs=Recording(progress=lambda t, T: calls.append((t, T))),
+                          solver=Solver(episode_capacity=1))
     assert len(res.episodes) == len(ref.episodes)
     np.testing.assert_array_equal(res.episodes.t_start, ref.episodes.t_start)
     np.testing.assert_array_equal(res.q, ref.q)
@@ -159,9 +170,9 @@ def test_annular_rub_slides_against_surface_speed_and_balances_energy():
     C = sp.diags([c, c]).tocsr()
     omega = 220.0  # above the critical sqrt(k/m) = 200 rad/s
     force = HarmonicForce.unbalance(0, 1, 2e-4, omega)
-    ct = Contacts.annular([[0, 1]], clearance=1e-3, radius=0.05, k_n=2e6, mu=0.2)
-    res = simulate_system(M, C, K, force, ct, [0.0, 0.0], [0.0, 0.0], duration=0.3, dt=2e-5,
-                          output_dt=2e-5, omega=omega)
+    ct = [AnnularContact(dof_a=(0, 1), clearance=1e-3, radius=0.05, k_n=2e6, mu=0.2)]
+    res = simulate_system(LinearSystem(M=M, C=C, K=K, force=force, omega=omega), ct,
+                          TimeGrid(duration=0.3, dt=2e-5, output_dt=2e-5))
     st = res.contact_status[:, 0]
     closed = st != OPEN
     assert closed.sum() > 100

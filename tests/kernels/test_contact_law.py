@@ -7,7 +7,16 @@ import scipy.sparse as sp
 
 from rubdiag._kernels import annular_contact, point_contact
 from rubdiag._kernels.records import OPEN, SLIDING, STICKING
-from rubdiag.simulation import Contacts, HarmonicForce, simulate_system
+from rubdiag.simulation import (
+    AnnularContact,
+    HarmonicForce,
+    LinearSystem,
+    PointContact,
+    Solver,
+    TimeGrid,
+    simulate_system,
+)
+from rubdiag.simulation._kernel_args import b_matrix
 
 KN, KT = 1e7, 5e6
 
@@ -138,17 +147,20 @@ def test_one_step_matches_full_newton_reference(kind, centre, mu):
     h = 2e-4
     if kind == 1:
         th = 0.4
-        contacts = Contacts.point(
-            [[0, 1], [2, 3]], [[4, 5], [-1, -1]],
-            [[np.cos(th), np.sin(th)], [1.0, 0.0]], [[-np.sin(th), np.cos(th)], [0.0, 1.0]],
-            gap=[1e-4, 2e-4], k_n=[3e6, 8e6], k_t=[2e6, 1e6], mu=mu,
-        )
+        contacts = [
+            PointContact(dof_a=(0, 1), dof_b=(4, 5), normal=(np.cos(th), np.sin(th)),
+                         tangent=(-np.sin(th), np.cos(th)), gap=1e-4, k_n=3e6, k_t=2e6,
+                         mu=mu),
+            PointContact(dof_a=(2, 3), normal=(1.0, 0.0), tangent=(0.0, 1.0), gap=2e-4,
+                         k_n=8e6, k_t=1e6, mu=mu),
+        ]
     else:
         # an off-centre clearance (a stator aligned on a displaced rotor) measures the
         # displacement from its centre
-        contacts = Contacts.annular([[0, 1], [2, 3]], clearance=[1e-4, 2e-4], radius=0.02,
-                                    k_n=[3e6, 8e6], k_t=[2e6, 1e6], mu=mu,
-                                    centre=centre or (0.0, 0.0))
+        contacts = [AnnularContact(dof_a=dofs, clearance=gap, radius=0.02, k_n=k_n, k_t=k_t,
+                                   mu=mu, centre=centre or (0.0, 0.0))
+                    for dofs, gap, k_n, k_t in (((0, 1), 1e-4, 3e6, 2e6),
+                                                ((2, 3), 2e-4, 8e6, 1e6))]
     c = np.zeros(2) if centre is None else np.array(centre)
     omega = 50.0
     rng = np.random.default_rng(1)
@@ -157,12 +169,13 @@ def test_one_step_matches_full_newton_reference(kind, centre, mu):
     v0[[0, 1, 2, 3]] = [0.9, 0.5, 1.4, -0.6]  # drives both elements deep into contact
     force = HarmonicForce([0, 3], [20.0 + 5j, -7.0], [300.0, 300.0])
     res = simulate_system(
-        sp.csr_matrix(M), sp.csr_matrix(C), sp.csr_matrix(K), force, contacts, q0, v0,
-        duration=h, dt=h, fixed_step=True, omega=omega, newton_tol=1e-16,
+        LinearSystem(M=sp.csr_matrix(M), C=sp.csr_matrix(C), K=sp.csr_matrix(K), force=force,
+                     q0=q0, v0=v0, omega=omega),
+        contacts, TimeGrid(duration=h, dt=h, fixed_step=True), solver=Solver(newton_tol=1e-16),
     )
     assert np.all(res.contact_status[-1] != OPEN)  # the step really closes both
     # reference: Newmark (β = 1/4, γ = 1/2) in standard form, all n unknowns, scipy root
-    B = contacts.b_matrix(n)
+    B = b_matrix([el.pack(0.0) for el in contacts], n)
     a0 = np.linalg.solve(M, force.evaluate(0.0, n) - C @ v0 - K @ q0)
     keff = K + 2 / h * C + 4 / h**2 * M
     rhs = force.evaluate(h, n) + M @ (4 / h**2 * q0 + 4 / h * v0 + a0) + C @ (2 / h * q0 + v0)
@@ -171,10 +184,9 @@ def test_one_step_matches_full_newton_reference(kind, centre, mu):
     def resid(q):
         d = B @ q
         p = np.concatenate([
-            _py_law(contacts.kind[e], d[2 * e : 2 * e + 2] - c, dn[2 * e : 2 * e + 2] - c,
-                    contacts.gap[e], contacts.k_n[e], contacts.k_t[e], mu, 0.0,
-                    omega * contacts.radius[e] * h)
-            for e in range(contacts.n_c)
+            _py_law(el.kernel.KIND, d[2 * e : 2 * e + 2] - c, dn[2 * e : 2 * e + 2] - c,
+                    el.gap, el.k_n, el.k_t, mu, 0.0, omega * getattr(el, "radius", 0.0) * h)
+            for e, el in enumerate(contacts)
         ])
         return (keff @ q - rhs - B.T @ p) / np.abs(np.diag(keff))
 

@@ -5,7 +5,15 @@ import pytest
 import scipy.linalg as sl
 import scipy.sparse as sp
 
-from rubdiag.simulation import Contacts, HarmonicForce, simulate_system
+from rubdiag.simulation import (
+    HarmonicForce,
+    LinearSystem,
+    PointContact,
+    Recording,
+    Solver,
+    TimeGrid,
+    simulate_system,
+)
 
 
 def _chain(n=6, m=0.5, k=2e5, c_alpha=0.0, c_beta=0.0):
@@ -24,7 +32,8 @@ def test_undamped_free_vibration_conserves_energy_to_roundoff():
     rng = np.random.default_rng(0)
     q0 = rng.standard_normal(6) * 1e-3
     v0 = rng.standard_normal(6) * 0.1
-    res = simulate_system(M, C, K, None, None, q0, v0, duration=0.2, dt=1e-4, output_dt=1e-3)
+    res = simulate_system(LinearSystem(M=M, C=C, K=K, q0=q0, v0=v0), None,
+                          TimeGrid(duration=0.2, dt=1e-4, output_dt=1e-3))
     e = res.kinetic + res.strain
     assert np.ptp(e) / e[0] < 1e-12
     # the step never changed (nothing to resolve)
@@ -44,8 +53,8 @@ def test_steady_harmonic_response_matches_analytic():
     # start at rest; the transient (slowest decay ~ 1/(alpha/2) = 0.07 s) dies out
     period = 2 * np.pi / w
     dt = period / 200
-    res = simulate_system(M, C, K, force, None, np.zeros(6), np.zeros(6),
-                          duration=60 * period, dt=dt, output_dt=dt)
+    res = simulate_system(LinearSystem(M=M, C=C, K=K, force=force), None,
+                          TimeGrid(duration=60 * period, dt=dt, output_dt=dt))
     last = res.t >= res.t[-1] - 10 * period
     t = res.t[last]
     basis = np.c_[np.cos(w * t), -np.sin(w * t)]
@@ -85,8 +94,8 @@ def test_fixed_step_convergence_is_second_order():
     errs = []
     dts = [2e-4, 1e-4, 5e-5, 2.5e-5]
     for dt in dts:
-        res = simulate_system(M, C, K, force, None, q0, v0, duration=T, dt=dt,
-                              fixed_step=True, output_dt=T)
+        res = simulate_system(LinearSystem(M=M, C=C, K=K, force=force, q0=q0, v0=v0), None,
+                              TimeGrid(duration=T, dt=dt, fixed_step=True, output_dt=T))
         errs.append(np.abs(res.q_final - exact).max())
     orders = np.log2(np.array(errs[:-1]) / np.array(errs[1:]))
     assert np.all(np.abs(orders - 2.0) < 0.15), orders
@@ -102,16 +111,17 @@ def test_mass_striking_spring_stop_contact_duration(mode):
     M = sp.diags([m, m]).tocsr()
     K = sp.diags([0.0, 1e3]).tocsr()  # only the z DOF has a spring: y is free
     C = sp.csr_matrix((2, 2))
-    ct = Contacts.point([[0, 1]], [[-1, -1]], [[1.0, 0.0]], [[0.0, 1.0]], gap=g0, k_n=kn,
-                        mu=0.0)
+    ct = [PointContact(dof_a=(0, 1), normal=(1.0, 0.0), tangent=(0.0, 1.0), gap=g0, k_n=kn,
+                       mu=0.0)]
     duration = g0 / v_in + 3 * T_c
     if mode == "fixed":
-        kw = dict(dt=T_c / 100, fixed_step=True)
+        grid, solver = TimeGrid(duration=duration, dt=T_c / 100, fixed_step=True), Solver()
     else:
         # the largest step spans half the contact: the step control must refine
-        kw = dict(dt=T_c / 2, dt_min=T_c / 2**10, gap_jump=1e-6)
-    res = simulate_system(M, C, K, None, ct, [0.0, 0.0], [v_in, 0.0], duration=duration,
-                          **kw)
+        grid = TimeGrid(duration=duration, dt=T_c / 2, dt_min=T_c / 2**10)
+        solver = Solver(gap_jump=1e-6)
+    res = simulate_system(LinearSystem(M=M, C=C, K=K, v0=np.array([v_in, 0.0])), ct, grid,
+                          solver=solver)
     ep = res.episodes
     assert len(ep) == 1 and ep.complete[0]
     assert abs(ep.duration[0] - T_c) / T_c < 0.01, ep.duration[0] / T_c
@@ -129,16 +139,18 @@ def test_numerical_damping_gamma_dissipates_and_is_first_order():
     rng = np.random.default_rng(1)
     q0 = rng.standard_normal(6) * 1e-3
     v0 = np.zeros(6)
-    res = simulate_system(M, C, K, None, None, q0, v0, duration=0.05, dt=1e-4, gamma=0.6,
-                          output_dt=1e-4)
+    system = LinearSystem(M=M, C=C, K=K, q0=q0, v0=v0)
+    res = simulate_system(system, None, TimeGrid(duration=0.05, dt=1e-4, output_dt=1e-4),
+                          solver=Solver(gamma=0.6))
     e = res.kinetic + res.strain
     assert np.all(np.diff(e) <= 1e-15 * e[0]) and e[-1] < 0.9 * e[0]
     assert np.abs(res.dissipated_viscous).max() < 1e-9 * e[0]  # C = 0: round-off only
     exact = _exact_forced(M.toarray(), C.toarray(), K.toarray(), np.zeros(6, complex), 0.0,
                           q0, v0, 0.05)
     errs = [
-        np.abs(simulate_system(M, C, K, None, None, q0, v0, duration=0.05, dt=dt, gamma=0.6,
-                               fixed_step=True, output_dt=0.05).q_final - exact).max()
+        np.abs(simulate_system(system, None, TimeGrid(duration=0.05, dt=dt, fixed_step=True,
+                                                      output_dt=0.05),
+                               solver=Solver(gamma=0.6)).q_final - exact).max()
         for dt in (5e-5, 2.5e-5, 1.25e-5)
     ]
     orders = np.log2(np.array(errs[:-1]) / np.array(errs[1:]))
@@ -147,9 +159,9 @@ def test_numerical_damping_gamma_dissipates_and_is_first_order():
 
 def test_result_frame_and_final_state():
     M, C, K = _chain(c_alpha=5.0)
-    res = simulate_system(M, C, K, HarmonicForce([0], [1.0], [100.0]), None, np.zeros(6),
-                          np.zeros(6), duration=0.01, dt=1e-4, output_dt=1e-3,
-                          record_dofs=[1, 4])
+    res = simulate_system(LinearSystem(M=M, C=C, K=K, force=HarmonicForce([0], [1.0], [100.0])),
+                          None, TimeGrid(duration=0.01, dt=1e-4, output_dt=1e-3),
+                          Recording(record_dofs=[1, 4]))
     df = res.to_frame()
     assert list(df.columns[:2]) == ["q_1", "q_4"] and len(df) == 11
     np.testing.assert_allclose(df.index.to_numpy(), np.arange(11) * 1e-3, rtol=1e-12)

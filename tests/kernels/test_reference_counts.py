@@ -58,15 +58,16 @@ import json
 import numpy as np
 import rubdiag._kernels.newmark as nm
 from rubdiag._kernels import annular_contact, elements, point_contact
-from rubdiag.simulation import Contacts, HarmonicForce, simulate_system
+from rubdiag.simulation import (AnnularContact, HarmonicForce, LinearSystem, PointContact,
+                                Solver, TimeGrid, simulate_system)
 
 M, K = np.eye(2), np.diag([100.0, 400.0])
-c = Contacts.point(np.array([[0, 1]]), np.array([[-1, -1]]), np.array([[1.0, 0.0]]),
-                   np.array([[0.0, 1.0]]), np.array([1e-3]), 1e5, mu=0.3)
-c = c + Contacts.annular(np.array([[0, 1]]), np.array([2e-3]), 0.01, 1e5)
+c = [PointContact(dof_a=(0, 1), normal=(1.0, 0.0), tangent=(0.0, 1.0), gap=1e-3, k_n=1e5,
+                  mu=0.3),
+     AnnularContact(dof_a=(0, 1), clearance=2e-3, radius=0.01, k_n=1e5)]
 for solver in ("sparse", "dense"):   # both linear paths compiled
-    simulate_system(M, 0.01 * K, K, HarmonicForce([0], [10.0], 3.0), c, np.zeros(2),
-                    np.zeros(2), duration=0.05, dt=1e-3, linear_solver=solver)
+    simulate_system(LinearSystem(M=M, C=0.01 * K, K=K, force=HarmonicForce([0], [10.0], 3.0)),
+                    c, TimeGrid(duration=0.05, dt=1e-3), solver=Solver(linear_solver=solver))
 counts = {}
 for prefix, module in (("", nm), ("", elements), ("point_contact.", point_contact),
                        ("annular_contact.", annular_contact)):

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from testsystems import bladed_rotor_casing, linear_response
 
-from rubdiag.simulation import simulate_system
+from rubdiag.simulation import LinearSystem, Recording, TimeGrid, simulate_system
 
 
 @pytest.mark.slow
@@ -14,9 +14,12 @@ def test_rig_like_rub_run_is_sound(mu):
     u = linear_response(s.M, s.C, s.K, s.force)
     amp = float(np.abs(u[s.tip_dofs[:, 0]]).max())
     res = simulate_system(
-        s.M, s.C, s.K, s.force, s.contacts, u.real, (1j * s.speed * u).real, duration=1.0,
-        dt=1e-5, output_dt=1e-4, gap_ramp=(0.05, 1.2 * amp), omega=s.speed,
-        record_dofs=[s.disc_dofs[0], int(s.tip_dofs[0, 0]), int(s.casing_dofs[0, 0])],
+        LinearSystem(M=s.M, C=s.C, K=s.K, force=s.force, q0=u.real,
+                     v0=(1j * s.speed * u).real, omega=s.speed),
+        s.contacts, TimeGrid(duration=1.0, dt=1e-5, output_dt=1e-4),
+        Recording(record_dofs=[s.disc_dofs[0], int(s.tip_dofs[0, 0]),
+                               int(s.casing_dofs[0, 0])]),
+        gap_ramp=(0.05, 1.2 * amp),
     )
     assert res.success
     assert len(res.episodes) > 20

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from testsystems import linear_response, tip_casing_system
 
-from rubdiag.simulation import simulate_system
+from rubdiag.simulation import LinearSystem, TimeGrid, simulate_system
 
 # stated tolerance of the energy balance: |W_ext + W_drive - ΔE - D_visc - D_fric| over the
 # run, relative to the largest mechanical energy of the run
@@ -22,9 +22,10 @@ def test_corner_runs_without_divergence(k_n, dt, mu):
     amp = float(np.abs(u[s.tip_dofs[:, 0]]).max())  # ~120 µm linear orbit vs 50 µm gap
     duration = 0.02 if dt == 1e-4 else 0.012
     res = simulate_system(
-        s.M, s.C, s.K, s.force, s.contacts, u.real, (1j * s.speed * u).real,
-        duration=duration, dt=dt, output_dt=1e-4 if dt == 1e-4 else 1e-5,
-        gap_ramp=(0.005, 1.5 * amp), omega=s.speed,
+        LinearSystem(M=s.M, C=s.C, K=s.K, force=s.force, q0=u.real,
+                     v0=(1j * s.speed * u).real, omega=s.speed),
+        s.contacts, TimeGrid(duration=duration, dt=dt, output_dt=1e-4 if dt == 1e-4 else 1e-5),
+        gap_ramp=(0.005, 1.5 * amp),
     )
     assert res.success
     assert np.all(np.isfinite(res.q_final))

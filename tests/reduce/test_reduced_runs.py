@@ -78,16 +78,15 @@ def test_reduced_contact_obeys_the_contact_law(rubbing):
 
 def test_recovery_records_every_physical_dof_by_default():
     # a 2-DOF system integrated in modal coordinates, recovered to 3 "physical" DOFs
-    from rubdiag.simulation import HarmonicForce, simulate_system
+    from rubdiag.simulation import HarmonicForce, LinearSystem, Solver, TimeGrid, simulate_system
 
     T = np.array([[1.0, 0.0], [0.5, 0.5], [0.0, 1.0]])
     M, K = np.eye(2), np.diag([100.0, 400.0])
     force = HarmonicForce([0], [1.0], 3.0)
-    result = simulate_system(M, 0.01 * K, K, force, None, np.zeros(2), np.zeros(2),
-                             duration=0.1, dt=1e-3, fixed_step=True, linear_solver="dense",
-                             recovery=T)
+    grid = TimeGrid(duration=0.1, dt=1e-3, fixed_step=True)
+    result = simulate_system(LinearSystem(M=M, C=0.01 * K, K=K, force=force, recovery=T),
+                             None, grid, solver=Solver(linear_solver="dense"))
     assert result.q.shape[1] == 3
-    sparse = simulate_system(M, 0.01 * K, K, force, None, np.zeros(2), np.zeros(2),
-                             duration=0.1, dt=1e-3, fixed_step=True)
+    sparse = simulate_system(LinearSystem(M=M, C=0.01 * K, K=K, force=force), None, grid)
     np.testing.assert_allclose(result.q, sparse.q @ T.T, rtol=1e-10, atol=1e-14)
     np.testing.assert_allclose(result.q_final, T @ sparse.q_final, rtol=1e-10, atol=1e-14)

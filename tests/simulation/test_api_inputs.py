@@ -8,7 +8,7 @@ from testsystems import tip_casing_system
 
 from rubdiag import _check
 from rubdiag.model import paper_rig
-from rubdiag.simulation import Contacts, GapRampInWindow, HarmonicForce, Run, simulate
+from rubdiag.simulation import GapRampInWindow, HarmonicForce, PointContact, Run, simulate
 
 
 @pytest.mark.parametrize("run", ["x", None, 3.0])
@@ -47,7 +47,7 @@ def test_float_or_bool_dof_indices_are_refused(dofs):
     with pytest.raises(TypeError, match="integer indices"):
         HarmonicForce(dofs, [1.0], s.speed)
     with pytest.raises(TypeError, match="integer indices"):
-        Contacts.point(np.array([dofs * 2]), (-1, -1), (1.0, 0.0), (0.0, 1.0), 1e-4, 1e7)
+        PointContact(dof_a=dofs * 2, normal=(1.0, 0.0), tangent=(0.0, 1.0), gap=1e-4, k_n=1e7)
 
 
 def test_a_gap_ramp_reaching_into_the_analysis_window_is_warned_about():

@@ -24,9 +24,8 @@ from rubdiag._kernels import records
 from rubdiag.assembly._assemble import dof_map
 from rubdiag.assembly._elements import disc_matrices, shaft_element
 from rubdiag.model._io import paper_rig
-from rubdiag.simulation import simulate_system
+from rubdiag.simulation import LinearSystem, Recording, TimeGrid, simulate_system
 from rubdiag.simulation._crack import BreathingCrack, crack_compliance
-from rubdiag.simulation._descriptions import LinearSystem, Recording, TimeGrid
 from rubdiag.simulation._loads import HarmonicForce
 from rubdiag.simulation._speed_profile import SpeedProfile
 

@@ -1,5 +1,5 @@
-"""The element seam (issue 25): a kind added outside rubdiag, the element descriptions, the
-described-object call of simulate_system and its old call."""
+"""The element seam: a kind added outside rubdiag, the element descriptions, and the call of
+simulate_system on described objects (the deprecated Contacts arrays convert to them)."""
 
 from __future__ import annotations
 
@@ -14,10 +14,18 @@ from ground_spring_kind import GroundSpring
 from testsystems import linear_response, tip_casing_system
 
 from rubdiag._kernels import extend
-from rubdiag.simulation import Contacts, HarmonicForce, simulate_system
+from rubdiag.simulation import (
+    AnnularContact,
+    Contacts,
+    HarmonicForce,
+    LinearSystem,
+    PointContact,
+    Recording,
+    Solver,
+    TimeGrid,
+    simulate_system,
+)
 from rubdiag.simulation import _system as system_module
-from rubdiag.simulation._descriptions import LinearSystem, Recording, Solver, TimeGrid
-from rubdiag.simulation._elements import AnnularContact, PointContact
 
 #: the seam and K give the same discrete equations: they differ by round-off only
 SEAM_RTOL = 1e-12
@@ -76,12 +84,13 @@ def test_extended_kernel_runs_the_builtin_kinds_bit_for_bit():
     kernel: extending adds a kind, it changes none."""
     ts = tip_casing_system(gap=30e-6)
     u = linear_response(ts.M, ts.C, ts.K, ts.force)
-    args = (ts.M, ts.C, ts.K, ts.force, ts.contacts, u.real, (1j * ts.speed * u).real)
-    options = {"duration": 0.02, "dt": 1e-5, "omega": ts.speed}
-    builtin = simulate_system(*args, **options)
+    system = LinearSystem(M=ts.M, C=ts.C, K=ts.K, force=ts.force, q0=u.real,
+                          v0=(1j * ts.speed * u).real, omega=ts.speed)
+    grid = TimeGrid(duration=0.02, dt=1e-5)
+    builtin = simulate_system(system, ts.contacts, grid)
     extended = extend.kernel_with((ground_spring_kind,))
     with mock.patch.object(system_module, "kernel_for", lambda elements: extended):
-        other = simulate_system(*args, **options)
+        other = simulate_system(system, ts.contacts, grid)
     assert builtin.max_normal_force.max() > 0
     for field in ("q", "contact_fn", "contact_ft", "contact_status", "dissipated_friction"):
         assert np.array_equal(getattr(builtin, field), getattr(other, field)), field
@@ -93,29 +102,45 @@ def test_kind_code_of_a_builtin_kind_is_refused():
         extend.kernel_with((clash,))
 
 
-def test_described_call_equals_the_old_call_bit_for_bit():
+def test_deprecated_contacts_run_as_their_elements_bit_for_bit():
+    """A Contacts warns that it is deprecated, and simulate_system runs it as the element
+    descriptions it converts to: the same arrays, bit for bit."""
     ts = tip_casing_system(gap=30e-6)
-    q0 = np.zeros(ts.n)
-    old = simulate_system(ts.M, ts.C, ts.K, ts.force, ts.contacts, q0, q0, duration=0.01,
-                          dt=1e-5, output_dt=1e-4, omega=ts.speed, gamma=0.6,
-                          sensor_dofs=[0], gap_ramp=(0.005, 60e-6))
-    new = simulate_system(
-        LinearSystem(M=ts.M, C=ts.C, K=ts.K, force=ts.force, omega=ts.speed),
-        ts.contacts.elements(), TimeGrid(duration=0.01, dt=1e-5, output_dt=1e-4),
-        Recording(sensor_dofs=[0]), solver=Solver(gamma=0.6), gap_ramp=(0.005, 60e-6))
+    with pytest.warns(DeprecationWarning, match="Contacts is deprecated .*PointContact"):
+        arrays = Contacts.point(ts.tip_dofs, ts.casing_dofs,
+                                [c.normal for c in ts.contacts],
+                                [c.tangent for c in ts.contacts], 30e-6, 1e7)
+    u = linear_response(ts.M, ts.C, ts.K, ts.force)
+    system = LinearSystem(M=ts.M, C=ts.C, K=ts.K, force=ts.force, q0=u.real,
+                          v0=(1j * ts.speed * u).real, omega=ts.speed)
+    grid = TimeGrid(duration=0.01, dt=1e-5, output_dt=1e-4)
+    options = {"solver": Solver(gamma=0.6), "gap_ramp": (0.005, 60e-6)}
+    old = simulate_system(system, arrays, grid, Recording(sensor_dofs=[0]), **options)
+    new = simulate_system(system, ts.contacts, grid, Recording(sensor_dofs=[0]), **options)
+    assert new.max_normal_force.max() > 0       # the contacts close
     for field in dataclasses.fields(old):
         a, b = getattr(old, field.name), getattr(new, field.name)
         if isinstance(a, np.ndarray):
             assert np.array_equal(a, b), field.name
 
 
-def test_old_call_refuses_an_unknown_keyword_like_python():
+def test_the_call_refuses_what_is_not_its_described_objects():
     ts = tip_casing_system()
-    with pytest.raises(TypeError, match="unexpected keyword argument 'dt_maximum'"):
-        simulate_system(ts.M, ts.C, ts.K, ts.force, None, np.zeros(ts.n), np.zeros(ts.n),
-                        duration=0.01, dt=1e-5, dt_maximum=1e-4)
+    system = LinearSystem(M=ts.M, C=ts.C, K=ts.K)
+    grid = TimeGrid(duration=0.01, dt=1e-5)
+    with pytest.raises(ValueError, match=r"system = .*wrong type .*LinearSystem"):
+        simulate_system(ts.M, ts.contacts, grid)
+    with pytest.raises(ValueError, match=r"grid = .*wrong type .*TimeGrid"):
+        simulate_system(system, ts.contacts, {"duration": 0.01, "dt": 1e-5})
+    with pytest.raises(ValueError, match=r"outputs = .*wrong type .*Recording"):
+        simulate_system(system, ts.contacts, grid, Solver())
+    with pytest.raises(ValueError, match=r"solver = .*wrong type .*Solver"):
+        simulate_system(system, ts.contacts, grid, solver=Recording())
+    with pytest.raises(TypeError, match="positional"):
+        simulate_system(system, ts.contacts, grid, Recording(), Solver())
 
 
+@pytest.mark.filterwarnings("ignore::DeprecationWarning")
 def test_contacts_convert_to_one_description_per_element_in_order():
     point = Contacts.point([[0, 1]], [[2, 3]], [[0.0, 1.0]], [[-1.0, 0.0]], 1e-4, 1e7, mu=0.2)
     ring = Contacts.annular([[4, 5]], 2e-4, 0.05, 3e7, mu=0.1, augmented=True, eps=1e-6)
@@ -158,8 +183,8 @@ def test_element_dofs_outside_the_system_are_refused():
                         TimeGrid(duration=0.01, dt=1e-3))
 
 
-def test_sparse_input_of_the_described_call():
-    """LinearSystem takes sparse matrices as the old call does."""
+def test_sparse_and_dense_matrices_give_the_same_run():
+    """LinearSystem takes dense and sparse matrices alike."""
     M, C, K = chain()
     a = simulate_system(LinearSystem(M=M, C=C, K=K, q0=np.ones(4) * 1e-4), None,
                         TimeGrid(duration=0.01, dt=1e-3))

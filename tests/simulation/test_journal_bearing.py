@@ -19,7 +19,7 @@ import scipy.sparse as sp
 from scipy.optimize import brentq
 
 from rubdiag import _fluidfilm as ff
-from rubdiag.simulation import HarmonicForce, simulate_system
+from rubdiag.simulation import HarmonicForce, LinearSystem, TimeGrid, simulate_system
 from rubdiag.simulation._journal import JournalBearing
 
 MASS, G = 10.0, 9.81
@@ -48,8 +48,9 @@ def run(omega: float, offset, duration: float = 1.0):
     zero = sp.csr_matrix((2, 2))
     weight = HarmonicForce([0], [-LOAD], [omega], order=0.0, law="constant")
     film = JournalBearing(dof_a=(0, 1), mu_pa_s=MU, radius_m=R, length_m=L, clearance_m=C)
-    result = simulate_system(M, zero, zero, weight, [film], position + np.asarray(offset),
-                             np.zeros(2), duration=duration, dt=1e-5, omega=omega)
+    system = LinearSystem(M=M, C=zero, K=zero, force=weight,
+                          q0=position + np.asarray(offset), omega=omega)
+    result = simulate_system(system, [film], TimeGrid(duration=duration, dt=1e-5))
     return result, position
 
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rubdiag.simulation import HarmonicForce, simulate_system
+from rubdiag.simulation import HarmonicForce, LinearSystem, Recording, TimeGrid, simulate_system
 from rubdiag.simulation._speed_profile import SpeedProfile
 
 SPEED = 60.0    # rad/s
@@ -46,8 +46,8 @@ def test_an_order_k_load_at_constant_speed_is_the_harmonic_response_at_k_omega(o
     s = 2j / h * np.tan(w * h / 2)      # the trapezoid rule's steady state: d/dt -> s
     Q = np.linalg.solve(K + s * C + s * s * M, scale * amp)
     X = np.linalg.solve(K + 1j * w * C - w * w * M, scale * amp)
-    res = simulate_system(M, C, K, force, None, Q.real, (s * Q).real, duration=0.2, dt=h,
-                          fixed_step=True)
+    res = simulate_system(LinearSystem(M=M, C=C, K=K, force=force, q0=Q.real, v0=(s * Q).real),
+                          None, TimeGrid(duration=0.2, dt=h, fixed_step=True))
     expected = (Q[None, :] * np.exp(1j * w * res.t[:, None])).real
     peak = np.abs(Q).max()
     assert np.abs(res.q - expected).max() < 1e-10 * peak
@@ -59,11 +59,11 @@ def test_an_order_k_load_at_constant_speed_is_the_harmonic_response_at_k_omega(o
 
 def test_order_k_at_speed_omega_is_order_one_at_k_omega_bit_for_bit():
     M, C, K = _two_dof()
-    args = dict(duration=0.05, dt=1e-4, fixed_step=True)
-    ordered = simulate_system(M, C, K, HarmonicForce([0, 1], [5.0, -5j], SPEED, order=3),
-                              None, np.zeros(2), np.zeros(2), **args)
-    plain = simulate_system(M, C, K, HarmonicForce([0, 1], [5.0, -5j], 3 * SPEED), None,
-                            np.zeros(2), np.zeros(2), **args)
+    grid = TimeGrid(duration=0.05, dt=1e-4, fixed_step=True)
+    ordered = simulate_system(LinearSystem(M=M, C=C, K=K, force=HarmonicForce(
+        [0, 1], [5.0, -5j], SPEED, order=3)), None, grid)
+    plain = simulate_system(LinearSystem(M=M, C=C, K=K, force=HarmonicForce(
+        [0, 1], [5.0, -5j], 3 * SPEED)), None, grid)
     assert np.array_equal(ordered.q, plain.q)
     assert np.abs(plain.q).max() > 1e-5
 
@@ -95,9 +95,10 @@ def test_each_law_along_a_ramp_applies_its_formula(order):
     force = HarmonicForce(np.arange(n), np.tile([amp, -1j * amp], len(laws)),
                           profile.start_rad_s, order=order,
                           law=[law for law in laws for _ in range(2)], table=TABLE)
-    res = simulate_system(M, C, K, force, None, np.zeros(n), np.zeros(n), duration=0.3,
-                          dt=1e-4, fixed_step=True, sensor_dofs=np.arange(n),
-                          speed_profile=profile, gyroscopic=np.zeros((n, n)))
+    res = simulate_system(LinearSystem(M=M, C=C, K=K, force=force, speed_profile=profile,
+                                       gyroscopic=np.zeros((n, n))),
+                          None, TimeGrid(duration=0.3, dt=1e-4, fixed_step=True),
+                          Recording(sensor_dofs=np.arange(n)))
     t = res.sensor_dt * np.arange(res.sensor_q.shape[0])
     applied = m * res.sensor_a + c * res.sensor_v + k * res.sensor_q
     off_knots = np.min(np.abs(t[:, None] - np.array(profile.times_s)[None, :]), axis=1) > 1e-9

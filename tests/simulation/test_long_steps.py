@@ -11,7 +11,15 @@ import pytest
 
 from rubdiag._kernels import records
 from rubdiag._kernels.newmark import _interpolate_sensors, _local_error
-from rubdiag.simulation import Contacts, HarmonicForce, simulate_system
+from rubdiag.simulation import (
+    HarmonicForce,
+    LinearSystem,
+    PointContact,
+    Recording,
+    Solver,
+    TimeGrid,
+    simulate_system,
+)
 
 DT = 1e-5
 
@@ -23,11 +31,16 @@ def oscillator(f_n=60.0, zeta=0.02):
     return np.eye(2), c * np.eye(2), k * np.eye(2)
 
 
-def run(force, contacts=None, duration=0.4, step_error=None, dt_max=None, **options):
-    M, C, K = oscillator()
-    return simulate_system(M, C, K, force, contacts, np.zeros(2), np.zeros(2),
-                           duration=duration, dt=DT, output_dt=1e-4, sensor_dofs=[0, 1],
-                           step_error=step_error, dt_max=dt_max, **options)
+def run(force, contacts=None, duration=0.4, step_error=None, dt_max=None, fixed_step=False,
+        progress=None, system=None):
+    """The oscillator (or ``system``'s M, C, K) from rest, sampled at 10 kHz with both DOFs
+    as sensors."""
+    M, C, K = oscillator() if system is None else system
+    return simulate_system(LinearSystem(M=M, C=C, K=K, force=force), contacts,
+                           TimeGrid(duration=duration, dt=DT, output_dt=1e-4, dt_max=dt_max,
+                                    fixed_step=fixed_step),
+                           Recording(sensor_dofs=[0, 1], progress=progress),
+                           solver=Solver(step_error=step_error))
 
 
 def test_interpolation_is_exact_for_a_cubic_motion():
@@ -112,9 +125,8 @@ def test_converges_to_the_base_step_run_as_the_tolerance_shrinks():
     force = HarmonicForce([0, 1], [1.0, 50.0], 2 * np.pi * 40.0)
 
     def go(tol):
-        return simulate_system(M, C, K, force, None, np.zeros(2), np.zeros(2), duration=0.3,
-                               dt=DT, output_dt=1e-4, sensor_dofs=[0, 1], step_error=tol,
-                               dt_max=None if tol is None else 8 * DT)
+        return run(force, duration=0.3, step_error=tol, dt_max=None if tol is None else 8 * DT,
+                   system=(M, C, K))
 
     base = go(None)
     diffs = []
@@ -129,8 +141,8 @@ def test_converges_to_the_base_step_run_as_the_tolerance_shrinks():
 
 def impact_oscillator(gap=1.0e-5):
     """The oscillator against a wall at ``gap`` along y (a point contact to ground)."""
-    return Contacts.point(np.array([[0, 1]]), np.array([[-1, -1]]), np.array([[1.0, 0.0]]),
-                          np.array([[0.0, 1.0]]), np.array([gap]), 1e7, mu=0.0)
+    return [PointContact(dof_a=(0, 1), normal=(1.0, 0.0), tangent=(0.0, 1.0), gap=gap,
+                         k_n=1e7, mu=0.0)]
 
 
 def test_impacts_are_neither_missed_nor_taken_in_long_steps():
@@ -193,10 +205,12 @@ def test_a_run_up_with_long_steps_follows_the_base_step_run():
     force = HarmonicForce([0, 1], [1.0, -1j], w0)
 
     def go(tol):
-        return simulate_system(M, C, K, force, None, np.zeros(2), np.zeros(2), duration=0.3,
-                               dt=DT, output_dt=1e-4, sensor_dofs=[0, 1], omega=w0,
-                               gyroscopic=np.zeros((2, 2)), speed_profile=profile,
-                               step_error=tol, dt_max=None if tol is None else 4 * DT)
+        return simulate_system(
+            LinearSystem(M=M, C=C, K=K, force=force, omega=w0, gyroscopic=np.zeros((2, 2)),
+                         speed_profile=profile),
+            None, TimeGrid(duration=0.3, dt=DT, output_dt=1e-4,
+                           dt_max=None if tol is None else 4 * DT),
+            Recording(sensor_dofs=[0, 1]), solver=Solver(step_error=tol))
 
     base, long = go(None), go(1e-5)
     assert long.extra["speed_stretches"] > 1

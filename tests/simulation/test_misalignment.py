@@ -17,7 +17,7 @@ import pytest
 
 from rubdiag.assembly._dofs import DofMap
 from rubdiag.assembly._elements import shaft_element
-from rubdiag.simulation import simulate_system
+from rubdiag.simulation import LinearSystem, Recording, TimeGrid, simulate_system
 from rubdiag.simulation._misalignment import Misalignment
 
 NODES = (1, 2, 3, 4, 5)
@@ -213,7 +213,8 @@ def test_a_run_shows_2x_at_the_linear_response_to_the_2x_moment():
     q0 = sum(x.real for x in lines.values())
     v0 = sum((1j * k * omega * x).real for k, x in lines.items())
     dt = 1e-5
-    res = simulate_system(M, D, K, force, None, q0, v0, duration=0.2, dt=dt, fixed_step=True)
+    res = simulate_system(LinearSystem(M=M, C=D, K=K, force=force, q0=q0, v0=v0), None,
+                          TimeGrid(duration=0.2, dt=dt, fixed_step=True))
     probe = [DOFS.index(3, "y"), DOFS.index(3, "z")]
     steps = round(5 * 0.02 / dt)       # 5 revolutions of 2000 steps
     t, q = res.t[-steps:], res.q[-steps:, probe]
@@ -263,8 +264,9 @@ def test_on_the_paper_rig_the_2x_at_the_discs_is_the_linear_response():
     v0 = sum((1j * k * omega * x).real for k, x in lines.items())
     probe = [model.dofs.index(node, d) for node in (11, 19) for d in ("y", "z")]
     dt = 1e-5
-    res = simulate_system(model.M, D, model.K, force, None, q0, v0, duration=0.1, dt=dt,
-                          fixed_step=True, record_dofs=probe)
+    res = simulate_system(LinearSystem(M=model.M, C=D, K=model.K, force=force, q0=q0, v0=v0),
+                          None, TimeGrid(duration=0.1, dt=dt, fixed_step=True),
+                          Recording(record_dofs=probe))
     steps = round(2 * 0.04 / dt)          # two revolutions at 25 rev/s
     t, q = res.t[-steps:], res.q[-steps:]
     measured = 2.0 / steps * (q * np.exp(-2j * omega * t)[:, None]).sum(axis=0)

@@ -24,8 +24,7 @@ import pytest
 
 from rubdiag._kernels import pedestal as law_module
 from rubdiag._kernels import records
-from rubdiag.simulation import HarmonicForce, simulate_system
-from rubdiag.simulation._descriptions import LinearSystem, Solver, TimeGrid
+from rubdiag.simulation import HarmonicForce, LinearSystem, Solver, TimeGrid, simulate_system
 from rubdiag.simulation._pedestal import LoosePedestal, lift_off_fraction
 
 DISC_MASS, PEDESTAL_MASS = 10.0, 5.0         # kg

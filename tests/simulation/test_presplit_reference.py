@@ -12,6 +12,7 @@ would fail at the zero crossings of waveforms that differ by round-off).
 
 from __future__ import annotations
 
+import dataclasses
 import json
 
 import numpy as np
@@ -80,18 +81,19 @@ def test_table2_cell_equals_the_reference_bit_for_bit():
 
 
 def test_profiled_run_gives_the_same_bits_and_counts_every_section(short):
-    """``simulate_system(profile=True)`` only reads the cycle counter: the same arrays, bit
-    for bit, and every section of a step has taken some cycles."""
-    from functools import partial
+    """``Recording(profile=True)`` only reads the cycle counter: the same arrays, bit for
+    bit, and every section of a step has taken some cycles."""
     from unittest import mock
 
     from rubdiag._kernels.newmark import PROFILE_SECTIONS
     from rubdiag.simulation import _simulation as simulation_module
-    from rubdiag.simulation import simulate
-    from rubdiag.simulation._system import simulate_system
+    from rubdiag.simulation import simulate, simulate_system
 
-    with mock.patch.object(simulation_module, "simulate_system",
-                           partial(simulate_system, profile=True)):
+    def profiled_run(system, elements, grid, outputs, **options):
+        return simulate_system(system, elements, grid,
+                               dataclasses.replace(outputs, profile=True), **options)
+
+    with mock.patch.object(simulation_module, "simulate_system", profiled_run):
         system = simulate(reference.short_run()).system
     profiled = reference.arrays(system)
     for name, value in short.items():

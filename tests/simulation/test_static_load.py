@@ -19,7 +19,15 @@ import pytest
 import rubdiag
 from rubdiag.assembly._assemble import assemble
 from rubdiag.dataset import point_id, run_id
-from rubdiag.simulation import HarmonicForce, Run, simulate, simulate_system
+from rubdiag.simulation import (
+    AnnularContact,
+    HarmonicForce,
+    LinearSystem,
+    Run,
+    TimeGrid,
+    simulate,
+    simulate_system,
+)
 from rubdiag.simulation._rig_cache import damped_model
 from rubdiag.simulation._rig_system import rig_system
 from rubdiag.simulation._simulation import run_from_dict, run_to_dict
@@ -64,8 +72,8 @@ def test_order_zero_is_a_static_load_with_the_constant_law_only():
 
 def test_a_static_load_settles_at_the_static_deflection():
     M, C, K = _two_dof()
-    res = simulate_system(M, C, K, _static(), None, np.zeros(2), np.zeros(2), duration=1.5,
-                          dt=1e-3, fixed_step=True)
+    res = simulate_system(LinearSystem(M=M, C=C, K=K, force=_static()), None,
+                          TimeGrid(duration=1.5, dt=1e-3, fixed_step=True))
     x_static = np.linalg.solve(K, F_STATIC)
     assert np.abs(res.q[0]).max() == 0.0 and np.abs(res.q[50] - x_static).max() > 1e-4
     # measured 2e-15 relative at 1.5 s: the transient (decay rate ~35 /s) is gone
@@ -75,8 +83,8 @@ def test_a_static_load_settles_at_the_static_deflection():
 def test_started_at_the_static_deflection_there_is_no_transient():
     M, C, K = _two_dof()
     x_static = np.linalg.solve(K, F_STATIC)
-    res = simulate_system(M, C, K, _static(), None, x_static, np.zeros(2), duration=0.2,
-                          dt=1e-4, fixed_step=True)
+    res = simulate_system(LinearSystem(M=M, C=C, K=K, force=_static(), q0=x_static), None,
+                          TimeGrid(duration=0.2, dt=1e-4, fixed_step=True))
     assert np.abs(res.q - x_static).max() < 1e-12 * np.abs(x_static).max()    # measured 0
 
 
@@ -91,13 +99,13 @@ def test_with_a_harmonic_load_the_static_load_adds_its_deflection_at_every_sampl
     speed = profile.start_rad_s if ramp else SPEED
     unbalance = HarmonicForce.unbalance(0, 1, 2e-3, speed)
     x_static = np.linalg.solve(K, F_STATIC)
-    options = dict(duration=0.4, dt=1e-4, fixed_step=True)
-    if ramp:
-        options.update(speed_profile=profile, gyroscopic=np.zeros((2, 2)))
+    grid = TimeGrid(duration=0.4, dt=1e-4, fixed_step=True)
+    varying = dict(speed_profile=profile, gyroscopic=np.zeros((2, 2))) if ramp else {}
     q0 = np.array([1e-5, -2e-5])
-    plain = simulate_system(M, C, K, unbalance, None, q0, np.zeros(2), **options)
-    loaded = simulate_system(M, C, K, unbalance + _static(speed), None, q0 + x_static,
-                             np.zeros(2), **options)
+    plain = simulate_system(LinearSystem(M=M, C=C, K=K, force=unbalance, q0=q0, **varying),
+                            None, grid)
+    loaded = simulate_system(LinearSystem(M=M, C=C, K=K, force=unbalance + _static(speed),
+                                          q0=q0 + x_static, **varying), None, grid)
     assert np.abs(plain.q).max() > 1e-4            # the harmonic part is not small
     diff = loaded.q - plain.q
     # measured 6e-15 (constant speed) and 3e-14 (ramp) of the static deflection
@@ -257,7 +265,8 @@ def test_the_loaded_gaps_hold_in_the_reduced_model_and_the_ramp_starts_above_the
                          static_load=StaticLoad(gravity_m_s2=-9.81), reduction=Reduction())
     model = damped_model(run.rig)
     system = rig_system(run, model)
-    assert np.abs(system.contacts.gap - system.gap_shift - 0.45e-3).max() < 1e-15
+    gaps = np.array([c.gap for c in system.contacts])
+    assert np.abs(gaps - system.gap_shift - 0.45e-3).max() < 1e-15
     assert 60e-6 < system.approach < 100e-6          # the harmonic orbit alone, not the sag
     result = simulate(run)                            # with the default gap ramp
     assert result.system.contact_fn.max() == 0.0
@@ -278,10 +287,11 @@ def test_a_seal_aligned_on_the_loaded_rotor_is_centred_on_its_sag():
                          static_load=gravity)
     model = damped_model(rig)
     system = rig_system(run, model)
-    seal = system.contacts.kind == 2
+    seal = np.array([isinstance(c, AnnularContact) for c in system.contacts])
     sag = _sag(model, gravity, 11)
     assert sag[0] < -0.3e-3                                    # downwards, beyond the seal
-    np.testing.assert_allclose(system.contacts.centre[seal][0], sag, rtol=1e-9)
+    np.testing.assert_allclose(system.contacts[np.flatnonzero(seal)[0]].centre, sag,
+                               rtol=1e-9)
     assert system.approach < 0.1e-3          # the orbit alone: the sag is not an approach
     loaded = simulate(run)
     assert loaded.system.contact_fn[:, seal].max() == 0.0
