@@ -21,13 +21,12 @@ from rubdiag.plotting._modal import campbell_figure, deflection_figure, unbalanc
 from rubdiag.plotting._run import run_figure, save_run_figures
 from rubdiag.plotting._runup import (
     bode_figure,
-    order_map_figure,
     polar_figure,
     rub_orders_figure,
     runup_figures,
     save_runup_figures,
-    waterfall_figure,
 )
+from rubdiag.plotting._runup_maps import order_map_figure, waterfall_figure
 from rubdiag.plotting._spectra import order_spectra_figure
 
 __all__ = [

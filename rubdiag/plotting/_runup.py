@@ -1,4 +1,5 @@
-"""Figures of run-ups and coast-downs: waterfall, order map, Bode, polar and rub-order plots.
+"""Figures of run-ups and coast-downs: Bode, polar and rub-order plots here, the waterfall
+and the order map in :mod:`rubdiag.plotting._runup_maps`; :func:`runup_figures` all of them.
 
 The inputs are the order analyses of :mod:`rubdiag.signal` — plain arrays and
 :func:`~rubdiag.signal.order_track` DataFrames — so measured and simulated records plot alike.
@@ -33,67 +34,37 @@ import re
 from pathlib import Path
 
 import numpy as np
-from matplotlib import patheffects
-from matplotlib.colors import LogNorm
 from matplotlib.lines import Line2D
-from matplotlib.ticker import (
-    FuncFormatter,
-    LogLocator,
-    MaxNLocator,
-    MultipleLocator,
-    NullFormatter,
-)
+from matplotlib.ticker import MaxNLocator, MultipleLocator
 
-from rubdiag._figures import new_figure, save_figure
+from rubdiag._figures import save_figure
 from rubdiag.plotting._run import DPI
+from rubdiag.plotting._runup_axes import (
+    ROUND_STEPS,
+    criticals,
+    figure_axes,
+    log_labels,
+    round_ticks,
+)
+from rubdiag.plotting._runup_maps import order_map_figure, waterfall_figure
 from rubdiag.signal._leakage import tracking_leakage
 from rubdiag.signal._orders import order_label
 
-__all__ = ["COLOURS", "ORDERS", "RUB_ORDERS", "bode_figure", "order_map_figure", "polar_figure",
-           "rub_orders_figure", "runup_figures", "save_runup_figures", "waterfall_figure"]
+__all__ = ["COLOURS", "RUB_ORDERS", "bode_figure", "polar_figure", "rub_orders_figure",
+           "runup_figures", "save_runup_figures"]
 
 COLOURS = ("#2471a3", "#c0392b", "#229954", "#7d3c98", "#d68910")
-ORDERS = (0.5, 1, 1.5, 2, 3, 4)     # order lines of the colour maps
 RUB_ORDERS = (0.5, 1.5, 2, 3)       # the panels of rub_orders_figure
-CMAP = "magma"
 _LINEAR = dict(color="0.2", ls="--", lw=1.3)
 _CRITICAL = dict(color="0.35", ls=":", lw=1.0)
 _LEAKAGE = dict(ls="--", lw=0.9, alpha=0.85)
-_PLAIN = FuncFormatter(lambda v, _pos=None: f"{v:g}")
-_OUTLINE = [patheffects.withStroke(linewidth=2.5, foreground="k")]
 _BOX = dict(boxstyle="round,pad=0.15", fc="w", ec="none", alpha=0.8)
-_ROUND = (1, 2, 2.5, 5, 10)          # tick steps: 100, 200, 250, 500 rpm …
-
-
-def _figure(size, left, right, bottom, top, fig=None, **subplots):
-    """Axes on ``fig`` (default a new figure of ``size`` at ``DPI``), placed by fixed margins
-    (inches): constrained layout measures every label again."""
-    fig = new_figure(figsize=size, dpi=DPI) if fig is None else fig
-    width, height = fig.get_size_inches()
-    axes = fig.subplots(**subplots)
-    fig.subplots_adjust(left=left / width, right=1 - right / width, bottom=bottom / height,
-                        top=1 - top / height)
-    return fig, axes
-
-
-def _ticks(ax, x: int | None = 8, y: int | None = 6) -> None:
-    """At most about ``x``/``y`` ticks at round steps (fewer tick objects draw faster)."""
-    for axis, n in ((ax.xaxis, x), (ax.yaxis, y)):
-        if n is not None:
-            axis.set_major_locator(MaxNLocator(n, steps=_ROUND))
 
 
 def _phase_ticks(ax, lo: float, hi: float) -> None:
     """Phase ticks at multiples of 45°, 90°, 180° … , at most about six."""
     turns = max(0.0, np.ceil(np.log2(max(hi - lo, 1.0) / (6 * 45.0))))
     ax.yaxis.set_major_locator(MultipleLocator(45.0 * 2.0**turns))
-
-
-def _log_labels(axis) -> None:
-    """Decades of a log axis as plain numbers (0.1, 1, 10 …); no minor labels."""
-    axis.set_major_locator(LogLocator(base=10.0))
-    axis.set_major_formatter(_PLAIN)
-    axis.set_minor_formatter(NullFormatter())
 
 
 def _vector(df, order, name) -> tuple[np.ndarray, np.ndarray]:
@@ -116,13 +87,9 @@ def _sweep(rpm: np.ndarray, i: int) -> dict:
                 marker=">" if rpm[-1] >= rpm[0] else "<", markevery=max(1, rpm.size // 15))
 
 
-def _criticals(critical_rpm) -> np.ndarray:
-    return np.atleast_1d(np.asarray([] if critical_rpm is None else critical_rpm, dtype=float))
-
-
 def _mark_critical(axes, critical_rpm) -> None:
     """Thin vertical lines at the critical speeds, named in the first axes' legend."""
-    for j, c in enumerate(_criticals(critical_rpm)):
+    for j, c in enumerate(criticals(critical_rpm)):
         for ax in axes:
             label = "critical speed" if j == 0 and ax is axes[0] else None
             ax.axvline(c, gid="critical", label=label, **_CRITICAL)
@@ -144,123 +111,6 @@ def _contact_bars(ax, tracks: dict, contact_rpm) -> None:
                 f"{name}: contact {first:.0f} → {last:.0f} rpm",
                 transform=ax.get_xaxis_transform(), ha="center", va="bottom",
                 fontsize="small", color=colour)
-
-
-# --- colour maps -------------------------------------------------------------------------
-
-def _colour_map(x, rpm, amplitude, *, per_rpm, xlabel, orders, critical_rpm, unit, scale,
-                dynamic_range_db, title, x_max=None, fig=None):
-    """The shared body of the waterfall and the order map: rpm upwards, ``x`` across."""
-    x, rpm = np.asarray(x, dtype=float), np.asarray(rpm, dtype=float)
-    amp = np.asarray(amplitude, dtype=float) * scale
-    if x.ndim != 1 or rpm.ndim != 1 or amp.shape != (x.size, rpm.size) or rpm.size < 2:
-        raise ValueError(f"amplitude has shape {amp.shape} (allowed: ({x.size}, {rpm.size}), "
-                         "one column per speed, at least two speeds)")
-    keep = (x > 0) & (x <= (x[-1] if x_max is None else x_max))    # not the mean
-    sort = np.argsort(rpm, kind="stable")          # a coast-down is drawn the right way up
-    fig, (ax, cax) = _figure((8.0, 6.2), 0.85, 0.85, 0.65, 0.75, fig, ncols=2,
-                             gridspec_kw=dict(width_ratios=(36, 1), wspace=0.05))
-    top = float(np.nanmax(amp[keep]))
-    norm = LogNorm(top * 10.0 ** (-dynamic_range_db / 20.0), top)
-    mesh = ax.pcolormesh(x[keep], rpm[sort], np.maximum(amp[keep][:, sort].T, norm.vmin),
-                         norm=norm, cmap=CMAP, shading="nearest", rasterized=True)
-    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
-    for k in orders:
-        whole = float(k).is_integer()
-        xs = [k * y0 / 60.0, k * y1 / 60.0] if per_rpm else [k, k]
-        # white with a dark edge: visible on the darkest and the brightest colours
-        ax.plot(xs, [y0, y1], color="w", lw=1.1 if whole else 0.8, ls="--" if whole else ":",
-                alpha=1.0 if whole else 0.75, gid=f"order {order_label(k)}",
-                path_effects=[patheffects.withStroke(linewidth=2.4, foreground="0.15")])
-        # labels where the line leaves the map: fractional orders one row further out
-        text = dict(text=f"{k:g}×", color="k" if whole else "0.4", annotation_clip=False,
-                    fontsize="medium" if whole else "small", textcoords="offset points")
-        if xs[1] <= x1:                     # through the top
-            ax.annotate(xy=(xs[1], y1), xytext=(0, 2 if whole else 14), va="bottom",
-                        ha="center", **text)
-        elif per_rpm and xs[0] < x1:        # through the right-hand side
-            ax.annotate(xy=(x1, 60.0 * x1 / k), xytext=(2, 0), va="center", ha="left", **text)
-    for c in _criticals(critical_rpm):
-        ax.axhline(c, color="#5dade2", lw=1.0, ls="-.", gid="critical")
-        ax.text(0.99, c, f"critical {c:.0f} rpm", transform=ax.get_yaxis_transform(),
-                ha="right", va="bottom", color="#aed6f1", path_effects=_OUTLINE)
-    ax.set(xlim=(x0, x1), ylim=(y0, y1), xlabel=xlabel, ylabel="speed (rpm)")
-    ax.set_title(title, pad=30)
-    _ticks(ax)
-    bar = fig.colorbar(mesh, cax=cax)
-    bar.set_label(f"peak amplitude ({unit})")
-    _log_labels(bar.ax.yaxis)
-    return fig
-
-
-def waterfall_figure(f_hz, rpm, amplitude, orders=ORDERS, critical_rpm=None, max_hz=None,
-                     unit: str = "µm", scale: float = 1e6, dynamic_range_db: float = 60.0,
-                     title: str = "Waterfall", *, fig=None):
-    """Short-time spectra as a colour map: frequency across, speed upwards, order lines.
-
-    Parameters
-    ----------
-    f_hz, rpm, amplitude
-        As returned by :func:`rubdiag.signal._waterfall` (its ``t_s`` is not needed):
-        amplitude of shape ``(f_hz.size, rpm.size)``. Segments are drawn in speed order,
-        so a coast-down reads like a run-up.
-    orders : sequence of float
-        Order lines ``f = k × rpm / 60`` drawn in white and labelled where they leave the
-        map; whole orders dashed, fractional ones dotted and fainter.
-    critical_rpm : float or sequence of float, optional
-        Critical speed(s), drawn as horizontal dash-dotted lines.
-    max_hz : float, optional
-        Right end of the frequency axis; default 5 % beyond the highest order at the
-        highest speed.
-    unit, scale
-        The colour bar's unit and the factor that turns ``amplitude`` into it (default m
-        to µm).
-    dynamic_range_db : float
-        Colours span this range below the largest amplitude shown (log scale, 60 dB: three
-        decades); anything lower is drawn in the lowest colour.
-    title : str
-    fig : matplotlib.figure.Figure, optional
-        An empty figure to draw the map and its colour bar on; default a new 8 × 6.2 in one.
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
-    if max_hz is None:
-        max_hz = 1.05 * max(orders, default=1.0) * float(np.max(rpm)) / 60.0
-    return _colour_map(f_hz, rpm, amplitude, per_rpm=True, xlabel="frequency (Hz)",
-                       orders=orders, critical_rpm=critical_rpm, unit=unit, scale=scale,
-                       dynamic_range_db=dynamic_range_db, title=title, x_max=max_hz, fig=fig)
-
-
-def order_map_figure(orders, rpm, amplitude, guides=ORDERS, critical_rpm=None,
-                     max_order=None, unit: str = "µm", scale: float = 1e6,
-                     dynamic_range_db: float = 60.0, title: str = "Order map", *, fig=None):
-    """Order spectra against speed as a colour map: order across, speed upwards.
-
-    Parameters
-    ----------
-    orders, rpm, amplitude
-        As returned by :func:`rubdiag.signal.rpm_order_map`: amplitude of shape
-        ``(orders.size, rpm.size)``.
-    guides : sequence of float
-        Orders marked by vertical white lines (whole orders dashed, fractional dotted).
-    max_order : float, optional
-        Right end of the order axis; default 2.5 times the highest guide (10 with the
-        default guides), as far as the map goes.
-    critical_rpm, unit, scale, dynamic_range_db, title, fig
-        As for :func:`waterfall_figure`.
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
-    if max_order is None:
-        max_order = 2.5 * max(guides, default=4.0)
-    return _colour_map(orders, rpm, amplitude, per_rpm=False, xlabel="order (f / 1×)",
-                       orders=guides, critical_rpm=critical_rpm, unit=unit, scale=scale,
-                       dynamic_range_db=dynamic_range_db, title=title, x_max=max_order,
-                       fig=fig)
 
 
 # --- order tracks ------------------------------------------------------------------------
@@ -329,7 +179,7 @@ def bode_figure(tracks: dict, linear=None, critical_rpm=None, contact_rpm=None,
         the linear response, else the first track, whose value at its lowest speed lies
         within ±180°).
     """
-    fig, (ax_a, ax_p) = _figure((8.5, 7.0), 0.9, 0.25, 0.6, 0.95, fig, nrows=2, sharex=True,
+    fig, (ax_a, ax_p) = figure_axes((8.5, 7.0), 0.9, 0.25, 0.6, 0.95, fig, nrows=2, sharex=True,
                                 gridspec_kw=dict(height_ratios=(3, 2), hspace=0.07))
     ref, highest, peaks = None, 0.0, []
     if linear is not None:
@@ -367,7 +217,7 @@ def bode_figure(tracks: dict, linear=None, critical_rpm=None, contact_rpm=None,
                                       shrinkA=2, shrinkB=6))
     _mark_critical((ax_a, ax_p), critical_rpm)
     _contact_bars(ax_a, tracks, contact_rpm)
-    for c in _criticals(critical_rpm):
+    for c in criticals(critical_rpm):
         ax_p.text(c, 0.96, f" critical {c:.0f} rpm", transform=ax_p.get_xaxis_transform(),
                   ha="left", va="top", fontsize="small", color="0.3")
     ax_a.set(ylabel=f"{order:g}× amplitude ({unit})")
@@ -376,7 +226,7 @@ def bode_figure(tracks: dict, linear=None, critical_rpm=None, contact_rpm=None,
     ax_a.set_title(title or f"Bode plot, {order:g}×", pad=26)
     for ax in (ax_a, ax_p):
         ax.grid(alpha=0.3)
-    _ticks(ax_a)
+    round_ticks(ax_a)
     handles, labels = ax_a.get_legend_handles_labels()
     ax_a.legend(handles, labels, loc="lower center", bbox_to_anchor=(0.5, 1.0), ncols=4,
                 fontsize="small", frameon=False)
@@ -407,10 +257,10 @@ def polar_figure(tracks: dict, linear=None, critical_rpm=None, order: float = 1,
     matplotlib.figure.Figure
         ``A cos θ`` across, ``A sin θ`` upwards, equal scales.
     """
-    fig, ax = (ax.figure, ax) if ax is not None else _figure((7.0, 7.6), 0.95, 0.3, 1.25, 0.5)
+    fig, ax = (ax.figure, ax) if ax is not None else figure_axes((7.0, 7.6), 0.95, 0.3, 1.25, 0.5)
     ax.axhline(0.0, color="0.6", lw=0.8)
     ax.axvline(0.0, color="0.6", lw=0.8)
-    critical = _criticals(critical_rpm)
+    critical = criticals(critical_rpm)
     marked = []
     if linear is not None:
         rpm_l, z_l = np.asarray(linear[0], dtype=float), np.asarray(linear[1]) * scale
@@ -426,7 +276,7 @@ def polar_figure(tracks: dict, linear=None, critical_rpm=None, order: float = 1,
         ax.annotate("", (z[-1].real, z[-1].imag), xytext=(z[-2].real, z[-2].imag),
                     arrowprops=dict(arrowstyle="-|>", color=style["color"], lw=1.4,
                                     mutation_scale=16, shrinkA=0, shrinkB=0))
-        ticks = MaxNLocator(n_labels, steps=_ROUND).tick_values(rpm.min(), rpm.max())
+        ticks = MaxNLocator(n_labels, steps=ROUND_STEPS).tick_values(rpm.min(), rpm.max())
         ticks = ticks[(ticks >= rpm.min()) & (ticks <= rpm.max())]
         at = _at(rpm, z, ticks)
         ax.plot(at.real, at.imag, "o", ms=5, color=style["color"], ls="none",
@@ -448,7 +298,7 @@ def polar_figure(tracks: dict, linear=None, critical_rpm=None, order: float = 1,
     ax.set(xlabel=f"A cos θ ({unit})", ylabel=f"A sin θ ({unit})")
     ax.set_title(title or f"Polar plot, {order:g}× (labels: speed in rpm)")
     ax.grid(alpha=0.3)
-    _ticks(ax, 7, 7)
+    round_ticks(ax, 7, 7)
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.09), ncols=2, fontsize="small",
               frameon=False)
     return fig
@@ -486,7 +336,7 @@ def rub_orders_figure(tracks: dict, orders=RUB_ORDERS, critical_rpm=None, contac
     matplotlib.figure.Figure
     """
     n = len(orders)
-    fig, axes = _figure((8.5, 1.7 * n + 1.6), 0.9, 0.25, 0.6, 1.0, fig, nrows=n, sharex=True,
+    fig, axes = figure_axes((8.5, 1.7 * n + 1.6), 0.9, 0.25, 0.6, 1.0, fig, nrows=n, sharex=True,
                         sharey=True, squeeze=False, gridspec_kw=dict(hspace=0.08))
     axes = axes[:, 0]
     leaks = {name: _leakage(df, orders, revs_per_bin) for name, df in tracks.items()}
@@ -502,11 +352,11 @@ def rub_orders_figure(tracks: dict, orders=RUB_ORDERS, critical_rpm=None, contac
                             color=COLOURS[i % len(COLOURS)], **_LEAKAGE)
         ax.set_ylabel(f"{k:g}× ({unit})")
         ax.grid(alpha=0.3)
-        _log_labels(ax.yaxis)
+        log_labels(ax.yaxis)
     _mark_critical(axes, critical_rpm)
     _contact_bars(axes[0], tracks, contact_rpm)
     axes[-1].set_xlabel("speed (rpm)")
-    _ticks(axes[-1], 8, None)
+    round_ticks(axes[-1], 8, None)
     axes[0].set_title(title, pad=26)
     handles, labels = axes[0].get_legend_handles_labels()
     bins = {int(leak.attrs["revs_per_bin"]) for leak in leaks.values() if leak is not None}

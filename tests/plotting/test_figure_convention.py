@@ -21,12 +21,11 @@ from rubdiag.plotting._modal import campbell_figure, unbalance_figure
 from rubdiag.plotting._runup import (
     RUB_ORDERS,
     bode_figure,
-    order_map_figure,
     polar_figure,
     rub_orders_figure,
     save_runup_figures,
-    waterfall_figure,
 )
+from rubdiag.plotting._runup_maps import order_map_figure, waterfall_figure
 from rubdiag.plotting._spectra import order_spectra_figure
 from rubdiag.signal import order_label
 

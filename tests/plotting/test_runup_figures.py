@@ -12,15 +12,13 @@ from matplotlib.image import imread
 
 from rubdiag.plotting._run import DPI
 from rubdiag.plotting._runup import (
-    ORDERS,
     RUB_ORDERS,
     bode_figure,
-    order_map_figure,
     polar_figure,
     rub_orders_figure,
     save_runup_figures,
-    waterfall_figure,
 )
+from rubdiag.plotting._runup_maps import ORDERS, order_map_figure, waterfall_figure
 from rubdiag.signal import order_label, order_track
 
 CRITICAL = 1500.0
