@@ -39,7 +39,9 @@ from rubdiag.learn._columns import (
     read_dataset,
     shaft_channels,
 )
-from rubdiag.learn._evaluate import Evaluation, audit_columns, cross_predict, cross_validate
+from rubdiag.learn._controls import audit_columns
+from rubdiag.learn._cross_predict import cross_predict
+from rubdiag.learn._evaluate import Evaluation, cross_validate
 from rubdiag.learn._features import DEFAULT_FAMILIES, FAMILIES, OrderFeatures, SelectColumns
 from rubdiag.learn._figures import confusion_figure, importances_figure, noise_curve_figure
 from rubdiag.learn._metrics import Score

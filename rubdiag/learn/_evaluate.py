@@ -8,8 +8,9 @@
 * grouped permutation importances on the held-out rows (each derived feature permuted in
   every channel at once, and each channel as a whole);
 * the baselines — the same estimator on the 1× levels only, on the speed only, on the
-  design factors only (those every run shows: :func:`baseline_factors`) — and the score
-  with and without casing channels;
+  design factors only (those every run shows:
+  :func:`~rubdiag.learn._controls.baseline_factors`) — and the score with and without
+  casing channels;
 * the pipeline trained on labels shuffled between design points (``n_shuffles`` shuffles),
   each scored against the permutation-null interval of its own prediction: no more of them
   outside than chance allows (if more, something leaks through the split);
@@ -20,7 +21,9 @@
   ``audit_threshold`` macro-F1 on the same folds).
 
 A test row whose class is absent from its training fold cannot be predicted: it is
-counted (``unscored``) and left out of every score, never scored as a miss.
+counted (``unscored``) and left out of every score, never scored as a miss
+(:mod:`rubdiag.learn._cross_predict`). The baselines, the shuffled-label control and the
+audit are :mod:`rubdiag.learn._controls`.
 """
 
 from __future__ import annotations
@@ -30,37 +33,22 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from sklearn.base import clone
-from sklearn.tree import DecisionTreeClassifier
 from threadpoolctl import threadpool_limits  # installed with scikit-learn
 
 from rubdiag import _check, _progress
-from rubdiag.dataset._labels import MEASURES
 from rubdiag.dataset._schema import SEPARATOR
+from rubdiag.learn import _controls
 from rubdiag.learn._caveats import training_warnings
 from rubdiag.learn._channel_choice import ChannelChoice, choose_channels
-from rubdiag.learn._columns import (
-    TARGET_COLUMNS,
-    TARGETS,
-    casing_channels,
-    factor_columns,
-    read_dataset,
-)
+from rubdiag.learn._columns import TARGET_COLUMNS, TARGETS, read_dataset
 from rubdiag.learn._confusers import rub_confusers
-from rubdiag.learn._features import DEFAULT_FAMILIES, FAMILIES, OrderFeatures, _check_families
-from rubdiag.learn._metrics import (
-    Score,
-    confusion,
-    group_permutations,
-    macro_f1,
-    null_interval,
-    score,
-)
-from rubdiag.learn._pipelines import baseline_pipeline, make_pipeline
-from rubdiag.learn._splits import Fold, folds
+from rubdiag.learn._cross_predict import CrossPrediction, cross_predict, held_out_scores
+from rubdiag.learn._features import DEFAULT_FAMILIES, OrderFeatures, _check_families
+from rubdiag.learn._metrics import confusion, macro_f1
+from rubdiag.learn._pipelines import make_pipeline
+from rubdiag.learn._splits import folds
 
-__all__ = ["CrossPrediction", "Evaluation", "baseline_factors", "condition_factors",
-           "cross_predict", "cross_validate", "resolve_channels", "target_values"]
+__all__ = ["Evaluation", "cross_validate", "resolve_channels", "target_values"]
 
 
 def target_values(data: pd.DataFrame, target: str) -> np.ndarray:
@@ -84,67 +72,6 @@ def resolve_channels(data: pd.DataFrame, channels) -> list[str]:
     than their noise floor: the default), ``"shaft"`` (every channel not on the casing),
     ``"all"``, or names (:func:`rubdiag.learn._channel_choice.choose_channels`)."""
     return choose_channels(data, channels).channels
-
-
-@dataclass
-class CrossPrediction:
-    """Held-out predictions of one pipeline over the folds of a split."""
-
-    predicted: np.ndarray        # class per row; "" where not scored
-    scored: np.ndarray           # bool per row
-    unscored: dict               # class -> rows not scored (absent from a training fold)
-    fitted: list                 # (fold, fitted pipeline or None)
-
-
-def cross_predict(pipeline, data: pd.DataFrame, y: np.ndarray, splits: list[Fold],
-                  test_data: pd.DataFrame | None = None, on_fold=None):
-    """Fit a clone of ``pipeline`` on each training side, predict its test side — of
-    ``test_data`` when given (the same rows measured otherwise, e.g. with more noise).
-    ``on_fold()``, when given, is called after each fold (e.g. a progress bar's
-    ``update``).
-
-    Parameters
-    ----------
-    pipeline : sklearn estimator
-        Unfitted.
-    data : pandas.DataFrame
-        A dataset's rows (:func:`read_dataset`).
-    y : numpy.ndarray
-        The target of every row.
-    splits : list of Fold
-        The folds.
-    test_data : pandas.DataFrame or None
-        The rows predicted; None: ``data``.
-    on_fold : callable or None
-        Called after each fold.
-
-    Returns
-    -------
-    CrossPrediction
-        The held-out class of every row (``predicted``, "" where not ``scored``), the rows
-        not scored per class (``unscored``) and the fitted pipelines.
-    """
-    test_data = data if test_data is None else test_data
-    predicted = np.full(len(data), "", dtype=object)
-    scored = np.zeros(len(data), dtype=bool)
-    unscored: dict[str, int] = {}
-    fitted = []
-    for fold in _progress.counted(splits, on_fold):
-        train_classes = set(y[fold.train])
-        ok = np.array([v in train_classes for v in y[fold.test]], dtype=bool)
-        for v in y[fold.test][~ok]:
-            unscored[v] = unscored.get(v, 0) + 1
-        if len(train_classes) < 2 or not ok.any():
-            for v in y[fold.test][ok]:
-                unscored[v] = unscored.get(v, 0) + 1
-            fitted.append((fold, None))
-            continue
-        model = clone(pipeline).fit(data.iloc[fold.train], y[fold.train])
-        test = fold.test[ok]
-        predicted[test] = model.predict(test_data.iloc[test])
-        scored[test] = True
-        fitted.append((fold, model))
-    return CrossPrediction(predicted, scored, unscored, fitted)
 
 
 @dataclass
@@ -309,7 +236,7 @@ def cross_validate(data, target: str = "rub", split: str = "group", estimator: s
     parts = 1 + importances + 4 * baselines + n_shuffles + audit
     with _progress.shared(progress, parts * len(splits), "evaluate", "fit") as bar:
         cp = cross_predict(pipeline, data, y, splits, on_fold=bar.update)
-        scores = _scores(y, cp, groups, classes, n_bootstrap, seed)
+        scores = held_out_scores(y, cp, groups, classes, n_bootstrap, seed)
         cm = confusion(y[cp.scored], cp.predicted[cp.scored], classes)
         ev = Evaluation(
             target=target, split=split, estimator=estimator, channels=channels,
@@ -331,25 +258,21 @@ def cross_validate(data, target: str = "rub", split: str = "group", estimator: s
             ev.importances, ev.channel_importances = _importances(
                 cp, data, y, classes, n_repeats, seed, bar.update)
         if baselines:
-            ev.baselines = _baselines(data, y, splits, groups, classes, channels, estimator,
-                                      n_bootstrap, seed, bar.update)
+            ev.baselines = _controls.baselines(data, y, splits, groups, classes, channels,
+                                               estimator, n_bootstrap, seed, bar.update)
             with _progress.part(bar, len(splits)) as tick:    # no fits without a casing
-                ev.casing = _casing(data, y, splits, groups, classes, channels, families,
-                                    estimator, scores, n_bootstrap, seed, tick)
-        ev.shuffled = _shuffled(pipeline, data, y, groups, split, n_splits, bands, classes,
-                                n_null, n_shuffles, seed, bar.update)
+                ev.casing = _controls.casing_scores(data, y, splits, groups, classes, channels,
+                                                    families, estimator, scores, n_bootstrap,
+                                                    seed, tick)
+        ev.shuffled = _controls.shuffled_control(
+            pipeline, data, y, groups, lambda labels: folds(
+                data, split, labels, n_splits=n_splits, bands=bands, seed=seed),
+            classes, n_null, n_shuffles, seed, bar.update)
         if audit:
-            ev.audit = audit_columns(data, y, splits, classes, audit_threshold, seed,
-                                     on_fold=bar.update)
+            ev.audit = _controls.audit_columns(data, y, splits, classes, audit_threshold,
+                                               seed, on_fold=bar.update)
     ev.warnings = training_warnings(ev)
     return ev
-
-
-def _scores(y, cp: CrossPrediction, groups, classes, n_bootstrap, seed) -> dict[str, Score]:
-    s = cp.scored
-    if not s.any():
-        raise ValueError("no test row could be scored: every fold lacks a class in training")
-    return score(y[s], cp.predicted[s], groups[s], classes, n_bootstrap, seed)
 
 
 def _per_class(cm: np.ndarray, classes) -> pd.DataFrame:
@@ -411,195 +334,3 @@ def _importances(cp: CrossPrediction, data, y, classes, n_repeats, seed, on_fold
 
 #: Feature values per prediction call of the permutation importances (8 MB of float64).
 _PERMUTED_CELLS = 1_000_000
-
-
-def _baselines(data, y, splits, groups, classes, channels, estimator, n_bootstrap, seed,
-               on_fold=None):
-    """The same estimator on what should not be enough: 1× levels, speed, design factors
-    (``left_out``: the factors left out of that baseline, :func:`baseline_factors`). A
-    baseline without a column is not fitted: NaN scores."""
-    rows = []
-    factors, left_out = baseline_factors(data)
-    candidates = [
-        ("1x level only", [f"{c}{SEPARATOR}amp_1x" for c in channels], []),
-        ("speed only", ["speed_rpm"], []),
-        ("design factors only", factors, left_out),
-    ]
-    for name, columns, unused in candidates:
-        if columns:
-            cp = cross_predict(baseline_pipeline(columns, estimator, seed), data, y, splits,
-                               on_fold=on_fold)
-            s = _scores(y, cp, groups, classes, n_bootstrap, seed)
-        else:
-            for _ in _progress.counted(splits, on_fold):     # the bar counts its folds
-                pass
-            s = dict.fromkeys(("macro_f1", "balanced_accuracy"), Score(np.nan, np.nan, np.nan))
-        rows.append({"baseline": name, "columns": ", ".join(columns),
-                     "left_out": ", ".join(unused),
-                     "macro_f1": s["macro_f1"], "balanced_accuracy": s["balanced_accuracy"]})
-    return pd.DataFrame(rows).set_index("baseline")
-
-
-def condition_factors(data: pd.DataFrame) -> list[str]:
-    """The numeric design factors: the conditions of a run (speed, gap, a fault's
-    severity …). The ``fault`` factor is not one: it names the faults the design meant
-    the run to have — the label as designed — and it is text."""
-    return [c for c in factor_columns(data) if pd.api.types.is_numeric_dtype(data[c])]
-
-
-def baseline_factors(data: pd.DataFrame) -> tuple[list[str], list[str]]:
-    """The design factors the design-factors baseline reads, and those it leaves out.
-
-    A factor blank (NaN) in some runs is blank by design for some level — a crack's depth
-    where no crack acted, the gap where nothing rubs, the speed ratio of a whirling run
-    (:func:`rubdiag.dataset._faults.shown_point`): where it is blank tells the level, and a
-    baseline reading it is an oracle. So is, in a design with a fault factor, a factor
-    whose column holds the run's own measure of that name: ``interference_ratio``, which
-    the row shows as measured (the linear approach over the gap: about 0.001 where the
-    casing is out of reach, 1.2 and up where the design made the run rub; in a design where
-    every run rubs it is the designed condition, and stays). Such factors are left out; the
-    audit
-    (:func:`audit_columns`) still lists any factor that separates the classes.
-
-    Returns
-    -------
-    (list of str, list of str)
-        The :func:`condition_factors` every run shows, and those blank in some run.
-    """
-    factors = condition_factors(data)
-    faults = "faults" in data.columns          # some level keeps the contacts out of reach
-    blank = [c for c in factors if data[c].isna().any() or (faults and c in MEASURES)]
-    return [c for c in factors if c not in blank], blank
-
-
-def _casing(data, y, splits, groups, classes, channels, families, estimator, scores,
-            n_bootstrap, seed, on_fold=None) -> dict | None:
-    """Macro-F1 with and without the casing channels (one of the two is the model's)."""
-    casing = casing_channels(data)
-    if not casing:
-        return None
-    used = [c for c in channels if c in casing]
-    other = ([c for c in channels if c not in casing] if used
-             else [*channels, *casing])
-    if not other:
-        return {"with": scores["macro_f1"], "without": None}
-    pipe = make_pipeline(estimator, channels=other, families=families, random_state=seed)
-    s = _scores(y, cross_predict(pipe, data, y, splits, on_fold=on_fold), groups, classes,
-                n_bootstrap, seed)["macro_f1"]
-    return ({"with": scores["macro_f1"], "without": s} if used
-            else {"with": s, "without": scores["macro_f1"]})
-
-
-def _shuffled(pipeline, data, y, groups, split, n_splits, bands, classes, n_null,
-              n_shuffles, seed, on_fold=None) -> dict:
-    """The pipeline on labels shuffled between design points, scored against them, and
-    its chance interval, for ``n_shuffles`` shuffles. Whole points' labels move, so
-    replicates keep one label between them as in the data: were a point's replicates on
-    both sides of a split, a model would recognise them and score above chance (a
-    row-by-row shuffle would hide that). The null moves labels within each test fold
-    (:func:`null_interval`), or across folds where a point's rows lie in several (a split
-    that is not grouped).
-
-    One shuffle lands outside its 95 % interval 1 time in 20 without any leak, so a
-    single one cannot tell an unlucky draw from a leak; the verdict is on all of them:
-    no more outside than :func:`allowed_outside` (a binomial 95 % bound)."""
-    runs = []
-    for r in range(n_shuffles):
-        rng = np.random.default_rng(np.random.SeedSequence([seed, 1, r]))
-        shuffled = y[group_permutations(groups, 1, rng)[0]]
-        splits = folds(data, split, shuffled, n_splits=n_splits, bands=bands, seed=seed)
-        cp = cross_predict(pipeline, data, shuffled, splits, on_fold=on_fold)
-        s = cp.scored
-        value = macro_f1(shuffled[s], cp.predicted[s], classes)
-        lo, hi = null_interval(shuffled[s], cp.predicted[s], classes, n_null, seed,
-                               groups=groups[s], strata=fold_of_rows(splits, groups, s))
-        runs.append({"macro_f1": value, "null_lo": lo, "null_hi": hi,
-                     "inside": lo <= value <= hi})
-    outside = sum(not run["inside"] for run in runs)
-    allowed = allowed_outside(n_shuffles)
-    return {"macro_f1": float(np.median([run["macro_f1"] for run in runs])),
-            "null_lo": float(np.median([run["null_lo"] for run in runs])),
-            "null_hi": float(np.median([run["null_hi"] for run in runs])),
-            "n_shuffles": n_shuffles, "n_outside": outside, "allowed_outside": allowed,
-            "inside": outside <= allowed, "shuffles": runs}
-
-
-def allowed_outside(n_shuffles: int, level: float = 0.05) -> int:
-    """How many of ``n_shuffles`` controls may land outside their 95 % intervals without
-    a leak: the least k with P(Binomial(n, 0.05) > k) <= ``level`` (0 for one shuffle,
-    1 for 2–7, 2 for 8–16 …)."""
-    from scipy.stats import binom
-
-    k = 0
-    while binom.sf(k, n_shuffles, 0.05) > level:
-        k += 1
-    return k
-
-
-def fold_of_rows(splits, groups, rows) -> np.ndarray | None:
-    """The test fold of each of ``rows`` (a mask), or None when a group's rows lie in
-    several folds."""
-    fold = np.full(len(groups), -1)
-    for i, f in enumerate(splits):
-        fold[f.test] = i
-    fold, groups = fold[rows], np.asarray(groups)[rows]
-    per_group = pd.Series(fold).groupby(groups).nunique()
-    return fold if (per_group == 1).all() else None
-
-
-def audit_columns(data, y, splits, classes, threshold: float = 0.9, seed: int = 0,
-                  on_fold=None):
-    """Every single column that alone separates the classes: a depth-2 tree on it, cross-
-    predicted on ``splits``, reaches ``threshold`` macro-F1. Candidates: every derived
-    feature of every channel in every family (levels and absolute frequencies included)
-    and every design factor; sorted by score. ``on_fold()``, when given, is called after
-    each fold's trees.
-
-    Parameters
-    ----------
-    data : pandas.DataFrame
-        A dataset's rows (:func:`read_dataset`).
-    y : numpy.ndarray
-        The target of every row.
-    splits : list of Fold
-        The folds.
-    classes : list of str
-        The classes.
-    threshold : float
-        Macro-F1 from which a column separates the classes (0-1).
-    seed : int
-        Seed of the trees.
-    on_fold : callable or None
-        Called after each fold.
-
-    Returns
-    -------
-    pandas.DataFrame
-        ``column``, ``kind`` and ``macro_f1`` of each such column, best first.
-    """
-    everything = OrderFeatures(channels=None, families=FAMILIES).fit(data)
-    Z = everything.transform(data)
-    names = list(everything.get_feature_names_out())
-    factors = condition_factors(data)
-    Z = np.column_stack([Z, np.nan_to_num(data[factors].to_numpy(dtype=float))])
-    kinds = ["feature"] * len(names) + ["factor"] * len(factors)
-    names += factors
-    yi = np.searchsorted(classes, y)           # classes are sorted
-    tree = DecisionTreeClassifier(max_depth=2, class_weight="balanced", random_state=seed)
-    varying = [j for j in range(len(names)) if np.ptp(Z[:, j]) != 0.0]
-    true, pred = [], {j: [] for j in varying}
-    for fold in _progress.counted(splits, on_fold):
-        if len(set(yi[fold.train])) < 2:
-            continue
-        test = fold.test[np.isin(yi[fold.test], yi[fold.train])]
-        true.append(yi[test])
-        for j in varying:
-            x = Z[:, [j]]
-            pred[j].append(clone(tree).fit(x[fold.train], yi[fold.train]).predict(x[test]))
-    rows = []
-    for j in varying:
-        f1 = macro_f1(np.concatenate(true), np.concatenate(pred[j]), range(len(classes)))
-        if f1 >= threshold:
-            rows.append({"column": names[j], "kind": kinds[j], "macro_f1": f1})
-    frame = pd.DataFrame(rows, columns=["column", "kind", "macro_f1"])
-    return frame.sort_values("macro_f1", ascending=False, kind="stable").reset_index(drop=True)

@@ -38,13 +38,9 @@ from threadpoolctl import threadpool_limits
 from rubdiag import _check
 from rubdiag.dataset._schema import SEPARATOR
 from rubdiag.learn._columns import read_dataset
-from rubdiag.learn._evaluate import (
-    cross_predict,
-    cross_validate,
-    fold_of_rows,
-    resolve_channels,
-    target_values,
-)
+from rubdiag.learn._controls import fold_of_rows
+from rubdiag.learn._cross_predict import cross_predict
+from rubdiag.learn._evaluate import cross_validate, resolve_channels, target_values
 from rubdiag.learn._features import DEFAULT_FAMILIES
 from rubdiag.learn._metrics import METRICS, null_interval, score
 from rubdiag.learn._pipelines import make_pipeline

@@ -6,7 +6,7 @@ casing was out of reach, 1.2 and up where the design made the run rub: an oracle
 import numpy as np
 import pandas as pd
 
-from rubdiag.learn._evaluate import baseline_factors
+from rubdiag.learn._controls import baseline_factors
 
 
 def rows(**extra):

@@ -19,7 +19,8 @@ from sklearn.model_selection import KFold
 from threadpoolctl import threadpool_limits
 
 from rubdiag.learn import audit_columns, cross_validate, folds, make_pipeline
-from rubdiag.learn._evaluate import allowed_outside, target_values
+from rubdiag.learn._controls import allowed_outside
+from rubdiag.learn._evaluate import target_values
 from rubdiag.learn._metrics import null_interval
 from rubdiag.learn._splits import Fold
 from rubdiag.signal._orders import HARMONICS
