@@ -7,6 +7,8 @@ import math
 
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
+from rubdiag._tolerances import ON_LEVEL
+
 __all__ = ["decade_labels"]
 
 _SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
@@ -16,7 +18,7 @@ def _decade(value: float, _pos=None) -> str:
     if value <= 0 or not math.isfinite(value):
         return ""
     exponent = math.log10(value)
-    if abs(exponent - round(exponent)) > 1e-9:
+    if abs(exponent - round(exponent)) > ON_LEVEL:
         return ""
     return "10" + str(round(exponent)).translate(_SUPERSCRIPT)
 
