@@ -21,10 +21,11 @@ a run without them keeps its ids.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from rubdiag import _check
 from rubdiag.simulation._crack import LAWS, BreathingCrack
+from rubdiag.simulation._described import WHEN_SET
 from rubdiag.simulation._misalignment import Misalignment
 from rubdiag.simulation._pedestal import LoosePedestal
 
@@ -244,7 +245,7 @@ class Faults:
 
     misalignment: Misalignment | None = None
     crack: Crack | None = None
-    looseness: Looseness | None = None
+    looseness: Looseness | None = field(default=None, metadata=WHEN_SET)   # added later
 
     def __post_init__(self):
         for name, kind in (("misalignment", Misalignment), ("crack", Crack),

@@ -12,13 +12,14 @@ from __future__ import annotations
 import dataclasses
 import math
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from rubdiag import _check
 from rubdiag.model._rig import BladeContact, Rig, Unbalance
 from rubdiag.reduce import Reduction
+from rubdiag.simulation._described import WHEN_SET
 from rubdiag.simulation._faults import Faults
 from rubdiag.simulation._sensors import Sensor, check_sensors
 from rubdiag.simulation._speed_profile import SpeedProfile
@@ -147,13 +148,14 @@ class Run:
     gap_ramp_s: float | None = None
     sensors: tuple[Sensor, ...] = ()
     label: str = ""
-    reduction: Reduction | None = None
-    speed_profile: SpeedProfile | None = None
-    static_load: StaticLoad | None = None
-    faults: Faults | None = None
-    step_error: float | None = None
-    dt_max_s: float | None = None
-    seal_clearance_m: float | None = None
+    # added after the first release: a run without them keeps its description and ids
+    reduction: Reduction | None = field(default=None, metadata=WHEN_SET)
+    speed_profile: SpeedProfile | None = field(default=None, metadata=WHEN_SET)
+    static_load: StaticLoad | None = field(default=None, metadata=WHEN_SET)
+    faults: Faults | None = field(default=None, metadata=WHEN_SET)
+    step_error: float | None = field(default=None, metadata=WHEN_SET)
+    dt_max_s: float | None = field(default=None, metadata=WHEN_SET)
+    seal_clearance_m: float | None = field(default=None, metadata=WHEN_SET)
 
     def __post_init__(self):
         if not isinstance(self.rig, Rig):

@@ -29,9 +29,10 @@ from rubdiag import _check
 from rubdiag._atomic import write_bytes
 from rubdiag._blas import one_thread
 from rubdiag._version import __version__
-from rubdiag.model._io import rig_from_dict, rig_to_dict
+from rubdiag.model._io import rig_from_dict
 from rubdiag.model._rig import BladeContact, Unbalance
 from rubdiag.reduce import Reduction
+from rubdiag.simulation._described import described
 from rubdiag.simulation._faults import Crack, Faults, Looseness
 from rubdiag.simulation._grid import TimeGrid
 from rubdiag.simulation._idle_contacts import report_open
@@ -469,43 +470,10 @@ def _jsonable(value):
 
 def run_to_dict(run: Run) -> dict:
     """``run`` as plain JSON-ready data (the rig as in its TOML file, SI units): what result
-    files store and run ids hash; :func:`run_from_dict` reads it back.
-
-    ``reduction`` is written only when set (``{"cutoff_hz": …, "tip_rotations": …}``): a
-    run of the full model
-    has the description it had before reductions existed, so its run id and its result
-    files stay as they were."""
-    out = {}
-    for f in dataclasses.fields(Run):
-        value = getattr(run, f.name)
-        if f.name == "reduction":
-            if value is not None:
-                out[f.name] = value.description()
-            continue
-        if f.name == "speed_profile":    # written only when set, like the reduction
-            if value is not None:
-                out[f.name] = {"times_s": list(value.times_s),
-                               "speeds_rad_s": list(value.speeds_rad_s)}
-            continue
-        if f.name in ("step_error", "dt_max_s", "seal_clearance_m"):  # only when set
-            if value is not None:
-                out[f.name] = value
-            continue
-        if f.name in ("static_load", "faults"):     # written only when set, like the reduction
-            if value is not None:
-                out[f.name] = dataclasses.asdict(value)
-                if f.name == "faults" and value.looseness is None:
-                    del out[f.name]["looseness"]    # a field added later: ids unchanged
-            continue
-        if f.name == "rig":
-            value = rig_to_dict(value)
-        elif f.name == "sensors":
-            value = [dataclasses.asdict(s) for s in value]
-        elif dataclasses.is_dataclass(value):
-            value = {k: (list(v) if isinstance(v, tuple) else v)
-                     for k, v in dataclasses.asdict(value).items()}
-        out[f.name] = value
-    return out
+    files store and run ids hash; :func:`run_from_dict` reads it back. Every field is
+    written but those added after the first release, which are written only when set
+    (:mod:`rubdiag.simulation._described`): a run that does not use them keeps its id."""
+    return described(run)
 
 
 def _faults_from_dict(data: dict) -> Faults:
