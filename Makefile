@@ -6,7 +6,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 OUT ?= out
 
-.PHONY: run test test-slow lint bench docs docs-check clean
+.PHONY: run test test-slow test-nojit lint bench docs docs-check clean
 
 # one stamp per set of dependencies: `make run` never installs the test tools
 $(VENV)/.runtime: pyproject.toml
@@ -33,6 +33,16 @@ test: $(VENV)/.dev
 
 test-slow: $(VENV)/.dev
 	$(BIN)/python -m pytest -n 2 --dist loadfile -m slow
+
+# the kernels as plain Python (NUMBA_DISABLE_JIT=1: the same source on the same arrays, to
+# the same bits): the kernel tests with their NumPy twins, and the element seam. NumPy
+# scalars warn where Numba's error_model="numpy" makes inf and nan silently: not errors here
+NOJIT_TESTS := tests/kernels tests/simulation/test_element_seam.py
+test-nojit: $(VENV)/.dev
+	NUMBA_DISABLE_JIT=1 $(BIN)/python -m pytest -n 2 --dist loadfile $(NOJIT_TESTS) \
+		-W "ignore:overflow encountered:RuntimeWarning" \
+		-W "ignore:invalid value encountered:RuntimeWarning" \
+		-W "ignore:divide by zero encountered:RuntimeWarning" $(PYTEST_ARGS)
 
 # the documentation site into docs/_build/html, warnings as errors; the notebooks and the
 # pages with code cells are executed on small inputs, one per core at a time, and their outputs

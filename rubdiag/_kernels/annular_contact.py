@@ -42,8 +42,32 @@ N_LOCAL = 2
 
 @njit(error_model="numpy", inline="always")
 def force(x0, x1, x0n, x1n, g0, kn, kt, mu, lam, e_n, drive):
-    """The law (as :func:`rubdiag._kernels.point_contact.force`) at the relative displacement
-    (x0, x1), clearance g0 and surface travel ``drive`` = Ω R h (m) of the step."""
+    """The law (module docstring) at the relative displacement (x0, x1).
+
+    Parameters
+    ----------
+    x0, x1 : float
+        The shaft's displacement from the clearance's centre, y and z (m).
+    x0n, x1n : float
+        The same at the step's start (m).
+    g0 : float
+        The radial clearance (m).
+    kn, kt : float
+        The normal and tangential stiffness (N/m).
+    mu : float
+        The Coulomb coefficient.
+    lam : float
+        The multiplier (N; 0 for pure penalty).
+    e_n : float
+        The elastic tangential displacement at the step's start (m).
+    drive : float
+        The surface travel Ω R h of the step (m).
+
+    Returns
+    -------
+    tuple
+        As :func:`rubdiag._kernels.point_contact.force`.
+    """
     r = math.sqrt(x0 * x0 + x1 * x1)
     gap = g0 - r
     z = lam - kn * gap
@@ -86,20 +110,37 @@ def force(x0, x1, x0n, x1n, g0, kn, kt, mu, lam, e_n, drive):
 
 
 @njit(error_model="numpy", inline="always")
-def law(e, el, wc, xs, par, es, track, trial, prog, jac):
-    """The seam's law for element ``e`` (:func:`rubdiag._kernels.elements.element_laws`)."""
-    r = el[e].row
-    h = prog[0].h
-    g1 = gap_at(par, e, prog[0].t_1, h)
-    e_n = es[0, e, E]
-    c0 = par[e, CENTRE_Y]
-    c1 = par[e, CENTRE_Z]
-    out = force(wc[D_NEW, r] - c0, wc[D_NEW, r + 1] - c1, xs[X_N, r] - c0,
-                xs[X_N, r + 1] - c1, g1, par[e, K_N], par[e, K_T], par[e, MU], trial[e].lam,
-                e_n, par[e, SPEED] * h)
+def law(e, elements, local_work, local_state, parameters, element_state, track, trial, progress,
+        jacobian):
+    """The seam's law for element ``e`` (module docstring).
+
+    Parameters
+    ----------
+    e : int
+        The element.
+    elements, local_work, local_state, parameters, element_state : ndarray
+        As for :func:`rubdiag._kernels.elements.element_laws`.
+    track, trial, progress, jacobian : ndarray
+        As for :func:`rubdiag._kernels.elements.element_laws`.
+
+    Returns
+    -------
+    int
+        The element's status.
+    """
+    r = elements[e].row
+    h = progress[0].h
+    g1 = gap_at(parameters, e, progress[0].t_1, h)
+    e_n = element_state[0, e, E]
+    c0 = parameters[e, CENTRE_Y]
+    c1 = parameters[e, CENTRE_Z]
+    out = force(local_work[D_NEW, r] - c0, local_work[D_NEW, r + 1] - c1,
+                local_state[X_N, r] - c0, local_state[X_N, r + 1] - c1, g1, parameters[e, K_N],
+                parameters[e, K_T], parameters[e, MU], trial[e].lam, e_n,
+                parameters[e, SPEED] * h)
     slip = track[e].slip
     if out[6] != OPEN:
         slip += out[10] - e_n
-    record(e, r, wc, jac, es, trial, out, slip)
+    record(e, r, local_work, jacobian, element_state, trial, out, slip)
     return out[6]
 

@@ -44,30 +44,66 @@ def parameters(**values: float) -> np.ndarray:
 
 
 @njit(error_model="numpy", inline="always")
-def gap_at(par, e, t, h):
+def gap_at(parameters, e, t, h):
     """Element ``e``'s gap g0 at time t: on the gap ramp (t < t_ramp) linearly from its start
     value at t = 0; at rest (``h`` = 0: the state at t = 0 before any step) the start value
-    itself."""
-    g0 = par[e, GAP]
-    t_ramp = par[e, T_RAMP]
+    itself.
+
+    Parameters
+    ----------
+    parameters : ndarray (n_e, n_par)
+        The elements' parameter rows (:data:`PARAMS`).
+    e : int
+        The element.
+    t : float
+        The time (s).
+    h : float
+        The step (s; 0 at rest).
+
+    Returns
+    -------
+    float
+        The gap (m).
+    """
+    g0 = parameters[e, GAP]
+    t_ramp = parameters[e, T_RAMP]
     ramp = t_ramp > 0.0 and t < t_ramp
     frac = 1.0 - t / t_ramp if ramp else 0.0
-    g = g0 + (par[e, GAP_START] - g0) * frac if ramp else g0
-    return g if h > 0.0 else par[e, GAP_START]
+    g = g0 + (parameters[e, GAP_START] - g0) * frac if ramp else g0
+    return g if h > 0.0 else parameters[e, GAP_START]
 
 
 @njit(error_model="numpy", inline="always")
-def record(e, r, wc, jac, es, trial, out, slip):
-    """What element ``e`` (local rows r, r + 1) keeps of its law's outputs ``out`` (the
-    kinds' ``force``: p, dp/dx, status, F_N, F_T, the new and the trial elastic tangential
-    displacement, gap, z) and its slip record: the force ``wc[P_NEW]``, the Jacobian, the
-    trial record and its new state (``e``, 0 when open; the trial one for the books)."""
-    wc[P_NEW, r] = out[0]
-    wc[P_NEW, r + 1] = out[1]
-    jac[r, 0] = out[2]
-    jac[r, 1] = out[3]
-    jac[r + 1, 0] = out[4]
-    jac[r + 1, 1] = out[5]
+def record(e, r, local_work, jacobian, element_state, trial, out, slip):
+    """What element ``e`` keeps of its law's outputs: the force, the Jacobian, the trial
+    record and its new state (``e``, 0 when open; the trial one for the books).
+
+    Parameters
+    ----------
+    e : int
+        The element.
+    r : int
+        Its first local row (it has two).
+    local_work : ndarray (WC_SIZE, m)
+        The force goes to row ``P_NEW`` (N).
+    jacobian : ndarray (m, N_LOCAL_MAX)
+        Its block of dp/dx (N/m), written.
+    element_state : ndarray (2, n_e, n_s)
+        Its trial state (``[1]``), written.
+    trial : ndarray (n_e) records.TRIAL
+        Its trial record, written.
+    out : tuple
+        The kind's ``force``: p (N), dp/dx (N/m), status, F_N, F_T (N), the new and the
+        trial elastic tangential displacement, gap (m), z (N).
+    slip : float
+        Its slip record (m).
+    """
+    local_work[P_NEW, r] = out[0]
+    local_work[P_NEW, r + 1] = out[1]
+    jacobian[r, 0] = out[2]
+    jacobian[r, 1] = out[3]
+    jacobian[r + 1, 0] = out[4]
+    jacobian[r + 1, 1] = out[5]
     status = out[6]
     trial[e].status = status
     trial[e].fn = out[7]
@@ -75,31 +111,40 @@ def record(e, r, wc, jac, es, trial, out, slip):
     trial[e].gap = out[11]
     trial[e].z = out[12]
     trial[e].slip = slip
-    es[1, e, E] = out[9] if status != OPEN else 0.0
-    es[1, e, E_TRIAL] = out[10]
+    element_state[1, e, E] = out[9] if status != OPEN else 0.0
+    element_state[1, e, E_TRIAL] = out[10]
 
 
 @njit(error_model="numpy")
-def books(e, el, par, es, track, trial, prog):
-    """Element ``e``'s energy terms and cone excess of the accepted step (module
-    docstring), from its trial record and state. (Every array is read on every path: an
-    array read in one branch only brings Numba's reference counting into the caller.)"""
-    t_n = prog[0].t_n
-    t_1 = prog[0].t_1
-    h = prog[0].h
-    t_ramp = par[e, T_RAMP]
-    k_n = par[e, K_N]
-    k_t = par[e, K_T]
-    speed = par[e, SPEED]
-    mu = par[e, MU]
+def books(e, elements, parameters, element_state, track, trial, progress):
+    """Element ``e``'s energy terms (J) and cone excess (N) of the accepted step (module
+    docstring), from its trial record and state, into ``trial[e]``. (Every array is read on
+    every path: an array read in one branch only brings Numba's reference counting into the
+    caller.)
+
+    Parameters
+    ----------
+    e : int
+        The element.
+    elements, parameters, element_state, track, trial, progress : ndarray
+        As for :func:`rubdiag._kernels.elements.element_books`.
+    """
+    t_n = progress[0].t_n
+    t_1 = progress[0].t_1
+    h = progress[0].h
+    t_ramp = parameters[e, T_RAMP]
+    k_n = parameters[e, K_N]
+    k_t = parameters[e, K_T]
+    speed = parameters[e, SPEED]
+    mu = parameters[e, MU]
     status = trial[e].status
     fn = trial[e].fn
     ft = trial[e].ft
     fn_n = track[e].fn
-    e_tr = es[1, e, E_TRIAL]
-    e_new = es[1, e, E]
-    g_1 = gap_at(par, e, t_1, h)
-    g_n = gap_at(par, e, t_n, h)
+    e_tr = element_state[1, e, E_TRIAL]
+    e_new = element_state[1, e, E]
+    g_1 = gap_at(parameters, e, t_1, h)
+    g_n = gap_at(parameters, e, t_n, h)
     ramp = t_ramp > 0.0 and t_n < t_ramp
     engaged = status != OPEN
     trial[e].w_ramp = 0.5 * (fn + fn_n) * (g_1 - g_n) if ramp else 0.0

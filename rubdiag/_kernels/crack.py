@@ -58,60 +58,79 @@ N_STATE = P0 + 8
 
 
 @njit(error_model="numpy", inline="always")
-def _rot_wc(wc, r, j, c, s):
+def _rot_wc(local_work, r, j, c, s):
     """Component j of ``Q(ψ)ᵀ x`` (the crack's frame) for the trial x at
-    ``wc[D_NEW, r .. r + 7]``."""
+    ``local_work[D_NEW, r .. r + 7]`` (m or rad), with ``c, s = cos ψ, sin ψ``."""
     if j % 2 == 0:
-        return c * wc[D_NEW, r + j] + s * wc[D_NEW, r + j + 1]
-    return -s * wc[D_NEW, r + j - 1] + c * wc[D_NEW, r + j]
+        return c * local_work[D_NEW, r + j] + s * local_work[D_NEW, r + j + 1]
+    return -s * local_work[D_NEW, r + j - 1] + c * local_work[D_NEW, r + j]
 
 
 @njit(error_model="numpy", inline="always")
-def _openness(e, wc, r, par, c, s, psi):
-    """f, and the engagement function z (module docstring)."""
-    if par[e, LAW] == MAYES:
+def _openness(e, local_work, r, parameters, c, s, psi):
+    """f, and the engagement function z (module docstring), of element e (its trial x at
+    ``local_work[D_NEW, r ..]``, its ``parameters`` row) at the angle ψ (rad; ``c, s = cos
+    ψ, sin ψ``)."""
+    if parameters[e, LAW] == MAYES:
         f = 0.5 * (1.0 + np.cos(psi))
         return f, f
     moment = 0.0
     for j in range(8):
-        moment += par[e, G0 + j] * _rot_wc(wc, r, j, c, s)
+        moment += parameters[e, G0 + j] * _rot_wc(local_work, r, j, c, s)
     return (1.0 if moment < 0.0 else 0.0), -moment
 
 
 @njit(error_model="numpy", inline="always")
-def law(e, el, wc, xs, par, es, track, trial, prog, jac):
-    r = el[e].row
-    psi = prog[0].phi + par[e, ANGLE]
+def law(e, elements, local_work, local_state, parameters, element_state, track, trial, progress,
+        jacobian):
+    """The seam's law for element ``e`` (module docstring).
+
+    Parameters
+    ----------
+    e : int
+        The element.
+    elements, local_work, local_state, parameters, element_state : ndarray
+        As for :func:`rubdiag._kernels.elements.element_laws`.
+    track, trial, progress, jacobian : ndarray
+        As for :func:`rubdiag._kernels.elements.element_laws`.
+
+    Returns
+    -------
+    int
+        The element's status.
+    """
+    r = elements[e].row
+    psi = progress[0].phi + parameters[e, ANGLE]
     c = np.cos(psi)
     s = np.sin(psi)
-    f, z = _openness(e, wc, r, par, c, s, psi)
+    f, z = _openness(e, local_work, r, parameters, c, s, psi)
     # p = -f Q ΔK Qᵀ x: ΔK Qᵀ x into P_NEW, then turned back pair by pair
     for i in range(8):
         acc = 0.0
         for j in range(8):
-            acc += par[e, DK0 + 8 * i + j] * _rot_wc(wc, r, j, c, s)
-        wc[P_NEW, r + i] = acc
+            acc += parameters[e, DK0 + 8 * i + j] * _rot_wc(local_work, r, j, c, s)
+        local_work[P_NEW, r + i] = acc
     for k in range(4):
-        a = wc[P_NEW, r + 2 * k]
-        b = wc[P_NEW, r + 2 * k + 1]
-        wc[P_NEW, r + 2 * k] = -f * (c * a - s * b)
-        wc[P_NEW, r + 2 * k + 1] = -f * (s * a + c * b)
+        a = local_work[P_NEW, r + 2 * k]
+        b = local_work[P_NEW, r + 2 * k + 1]
+        local_work[P_NEW, r + 2 * k] = -f * (c * a - s * b)
+        local_work[P_NEW, r + 2 * k + 1] = -f * (s * a + c * b)
     # dp/dx = -f Q ΔK Qᵀ, block by 2 x 2 block: R(ψ) D Rᵀ(ψ), R = [[c, -s], [s, c]]
     for i in range(0, 8, 2):
         for j in range(0, 8, 2):
             k = DK0 + 8 * i + j
-            d00 = par[e, k]
-            d01 = par[e, k + 1]
-            d10 = par[e, k + 8]
-            d11 = par[e, k + 9]
+            d00 = parameters[e, k]
+            d01 = parameters[e, k + 1]
+            d10 = parameters[e, k + 8]
+            d11 = parameters[e, k + 9]
             a00 = c * d00 - s * d10      # R D
             a01 = c * d01 - s * d11
             a10 = s * d00 + c * d10
             a11 = s * d01 + c * d11
-            jac[r + i, j] = -f * (a00 * c - a01 * s)
-            jac[r + i, j + 1] = -f * (a00 * s + a01 * c)
-            jac[r + i + 1, j] = -f * (a10 * c - a11 * s)
-            jac[r + i + 1, j + 1] = -f * (a10 * s + a11 * c)
+            jacobian[r + i, j] = -f * (a00 * c - a01 * s)
+            jacobian[r + i, j + 1] = -f * (a00 * s + a01 * c)
+            jacobian[r + i + 1, j] = -f * (a10 * c - a11 * s)
+            jacobian[r + i + 1, j + 1] = -f * (a10 * s + a11 * c)
     status = OPEN if f == 0.0 else SLIDING
     trial[e].status = status
     trial[e].fn = 0.0
@@ -119,41 +138,52 @@ def law(e, el, wc, xs, par, es, track, trial, prog, jac):
     trial[e].gap = np.inf
     trial[e].z = z
     trial[e].slip = 0.0
-    es[1, e, F] = f
-    es[1, e, PSI] = psi
+    element_state[1, e, F] = f
+    element_state[1, e, PSI] = psi
     for i in range(8):
-        es[1, e, X0 + i] = wc[D_NEW, r + i]
-        es[1, e, P0 + i] = wc[P_NEW, r + i]
-    _energy(e, es, trial, prog)
+        element_state[1, e, X0 + i] = local_work[D_NEW, r + i]
+        element_state[1, e, P0 + i] = local_work[P_NEW, r + i]
+    _energy(e, element_state, trial, progress)
     return status
 
 
 @njit(error_model="numpy", inline="always")
-def books(e, el, par, es, track, trial, prog):
-    """Nothing: the law keeps its books (:func:`_energy`). A books loop of its own in the
-    seam made Numba count six arrays' references once per element solve (the seam's note on
-    reference counting); the energy terms cost 24 products per evaluation of a crack."""
+def books(e, elements, parameters, element_state, track, trial, progress):
+    """Nothing: the law keeps its books (:func:`_energy`).
+
+    A books loop of its own in the seam made Numba count six arrays' references once per
+    element solve (the seam's note on reference counting); the energy terms cost 24
+    products per evaluation of a crack.
+
+    Parameters
+    ----------
+    e : int
+        The element.
+    elements, parameters, element_state, track, trial, progress : ndarray
+        As for :func:`rubdiag._kernels.elements.element_books`.
+    """
 
 
 @njit(error_model="numpy", inline="always")
-def _energy(e, es, trial, prog):
+def _energy(e, element_state, trial, progress):
     """The energy terms of element e's trial state (written at every evaluation of the law:
     the last one is the solution's), from the forces p = -S x, S = f Q ΔK_open Qᵀ
     (symmetric), kept in the state: the elastic energy ``½ x₁ᵀ S₁ x₁ = -½ x₁·p₁`` and the
     work of the turning, breathing stiffness over the step ``½ x_nᵀ (S₁ - S_n) x₁ = ½ (x₁·p_n
     - x_n·p₁)`` (booked as ``w_ramp``, which the ledger subtracts: ``-½ (...)``; none at
-    rest, h = 0). 24 products instead of three turned 8 x 8 quadratic forms."""
+    rest, h = 0) into ``trial[e]`` (J). 24 products instead of three turned 8 x 8 quadratic
+    forms."""
     elastic = 0.0
     s1 = 0.0
     s0 = 0.0
     for i in range(8):
-        x1 = es[1, e, X0 + i]
-        p1 = es[1, e, P0 + i]
+        x1 = element_state[1, e, X0 + i]
+        p1 = element_state[1, e, P0 + i]
         elastic += x1 * p1
-        s1 += es[0, e, X0 + i] * p1
-        s0 += x1 * es[0, e, P0 + i]
+        s1 += element_state[0, e, X0 + i] * p1
+        s0 += x1 * element_state[0, e, P0 + i]
     trial[e].elastic = -0.5 * elastic
     trial[e].dissipated = 0.0
-    trial[e].w_ramp = 0.5 * (s1 - s0) if prog[0].h > 0.0 else 0.0
+    trial[e].w_ramp = 0.5 * (s1 - s0) if progress[0].h > 0.0 else 0.0
     trial[e].w_surface = 0.0
     trial[e].cone = 0.0

@@ -19,7 +19,8 @@ from typing import NamedTuple
 
 import numba
 
-from rubdiag._kernels import elements, newmark
+from rubdiag._kernels import element_solve, newmark
+from rubdiag._kernels import elements as seam
 
 __all__ = ["Kernel", "kernel_with"]
 
@@ -32,27 +33,30 @@ class Kernel(NamedTuple):
     at_rest: object
 
 
-BUILTIN = Kernel(newmark.newmark_contact, elements.at_rest)
+BUILTIN = Kernel(newmark.newmark_contact, seam.at_rest)
 
 
 def _with_laws(kind, builtin):
     """``element_laws`` that runs ``builtin`` and then ``kind``'s law on its elements."""
-    each = elements.laws_of(kind, cache=False)
+    each = seam.laws_of(kind, cache=False)
 
-    def element_laws(el, wc, xs, par, es, track, trial, prog, jac):
-        builtin(el, wc, xs, par, es, track, trial, prog, jac)
-        each(el, wc, xs, par, es, track, trial, prog, jac)
+    def element_laws(elements, local_work, local_state, parameters, element_state, track,
+                     trial, progress, jacobian):
+        builtin(elements, local_work, local_state, parameters, element_state, track, trial,
+                progress, jacobian)
+        each(elements, local_work, local_state, parameters, element_state, track, trial,
+             progress, jacobian)
 
     return numba.njit(error_model="numpy")(element_laws)
 
 
 def _with_books(kind, builtin):
     """``element_books`` that runs ``builtin`` and then ``kind``'s books on its elements."""
-    each = elements.books_of(kind, cache=False)
+    each = seam.books_of(kind, cache=False)
 
-    def element_books(el, par, es, track, trial, prog):
-        builtin(el, par, es, track, trial, prog)
-        each(el, par, es, track, trial, prog)
+    def element_books(elements, parameters, element_state, track, trial, progress):
+        builtin(elements, parameters, element_state, track, trial, progress)
+        each(elements, parameters, element_state, track, trial, progress)
 
     return numba.njit(error_model="numpy")(element_books)
 
@@ -60,14 +64,15 @@ def _with_books(kind, builtin):
 def _rebound(func, swaps: dict):
     """``func`` compiled again (no disk cache) with the globals in ``swaps`` (old compiled
     function -> new) replaced."""
-    py = func.py_func
+    py = getattr(func, "py_func", func)     # NUMBA_DISABLE_JIT: the function itself
     scope = dict(py.__globals__)
     for name in py.__code__.co_names:
         if any(scope.get(name) is old for old in swaps):
             scope[name] = next(new for old, new in swaps.items() if scope[name] is old)
     clone = types.FunctionType(py.__code__, scope, py.__name__, py.__defaults__,
                                py.__closure__)
-    options = {k: v for k, v in func.targetoptions.items() if k not in ("cache", "nopython")}
+    options = {k: v for k, v in getattr(func, "targetoptions", {}).items()
+               if k not in ("cache", "nopython")}
     return numba.njit(**options)(clone)
 
 
@@ -77,18 +82,18 @@ def kernel_with(kinds: tuple = ()) -> Kernel:
     ``N_LOCAL``, ``law``); the built-in one for none."""
     if not kinds:
         return BUILTIN
-    taken = set(elements.KINDS)
+    taken = set(seam.KINDS)
     for module in kinds:
         if module.KIND in taken:
             raise ValueError(f"{module.__name__}.KIND = {module.KIND} is out of range "
                              f"(allowed: a code no other kind uses, not in {sorted(taken)})")
         taken.add(module.KIND)
-    laws, books = elements.element_laws, elements.element_books
+    laws, books = seam.element_laws, seam.element_books
     for module in kinds:
         laws = _with_laws(module, laws)
         books = _with_books(module, books)
-    swaps = {elements.element_laws: laws, elements.element_books: books}
-    solve = _rebound(elements.solve_elements, swaps)
-    at_rest = _rebound(elements.at_rest, swaps)
-    controller = _rebound(newmark.newmark_contact, {elements.solve_elements: solve})
+    swaps = {seam.element_laws: laws, seam.element_books: books}
+    solve = _rebound(element_solve.solve_elements, swaps)
+    at_rest = _rebound(seam.at_rest, swaps)
+    controller = _rebound(newmark.newmark_contact, {element_solve.solve_elements: solve})
     return Kernel(controller, at_rest)

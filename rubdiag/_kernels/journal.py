@@ -38,38 +38,57 @@ X, Y, PX, PY = range(len(STATE))
 
 
 @njit(error_model="numpy", inline="always")
-def law(e, el, wc, xs, par, es, track, trial, prog, jac):
-    """The seam's law for element ``e`` (:func:`rubdiag._kernels.elements.element_laws`)."""
-    r = el[e].row
-    x = wc[D_NEW, r]
-    y = wc[D_NEW, r + 1]
-    cv = prog[0].cv
-    cvv = prog[0].cvv
-    cva = prog[0].cva
-    vx = cv * (x - xs[X_N, r]) + cvv * xs[XV_N, r] + cva * xs[XA_N, r]
-    vy = cv * (y - xs[X_N, r + 1]) + cvv * xs[XV_N, r + 1] + cva * xs[XA_N, r + 1]
+def law(e, elements, local_work, local_state, parameters, element_state, track, trial, progress,
+        jacobian):
+    """The seam's law for element ``e`` (module docstring).
+
+    Parameters
+    ----------
+    e : int
+        The element.
+    elements, local_work, local_state, parameters, element_state : ndarray
+        As for :func:`rubdiag._kernels.elements.element_laws`.
+    track, trial, progress, jacobian : ndarray
+        As for :func:`rubdiag._kernels.elements.element_laws`.
+
+    Returns
+    -------
+    int
+        The element's status.
+    """
+    r = elements[e].row
+    x = local_work[D_NEW, r]
+    y = local_work[D_NEW, r + 1]
+    cv = progress[0].cv
+    cvv = progress[0].cvv
+    cva = progress[0].cva
+    vx = (cv * (x - local_state[X_N, r]) + cvv * local_state[XV_N, r]
+          + cva * local_state[XA_N, r])
+    vy = (cv * (y - local_state[X_N, r + 1]) + cvv * local_state[XV_N, r + 1]
+          + cva * local_state[XA_N, r + 1])
     fx, fy, fxx, fyx, fxy, fyy, fxu, fyu, fxv, fyv, thinnest = step_film_terms(
-        x, y, vx, vy, prog[0].omega, par[e, MU], par[e, RADIUS], par[e, LENGTH],
-        par[e, CLEARANCE])
-    wc[P_NEW, r] = fx
-    wc[P_NEW, r + 1] = fy
-    jac[r, 0] = fxx + cv * fxu
-    jac[r, 1] = fxy + cv * fxv
-    jac[r + 1, 0] = fyx + cv * fyu
-    jac[r + 1, 1] = fyy + cv * fyv
+        x, y, vx, vy, progress[0].omega, parameters[e, MU], parameters[e, RADIUS],
+        parameters[e, LENGTH], parameters[e, CLEARANCE])
+    local_work[P_NEW, r] = fx
+    local_work[P_NEW, r + 1] = fy
+    jacobian[r, 0] = fxx + cv * fxu
+    jacobian[r, 1] = fxy + cv * fxv
+    jacobian[r + 1, 0] = fyx + cv * fyu
+    jacobian[r + 1, 1] = fyy + cv * fyv
     trial[e].status = SLIDING
     trial[e].fn = 0.0
     trial[e].ft = 0.0
     trial[e].gap = thinnest
     trial[e].z = 1.0
     trial[e].slip = 0.0
-    es[1, e, X] = x
-    es[1, e, Y] = y
-    es[1, e, PX] = fx
-    es[1, e, PY] = fy
-    work = 0.5 * ((es[0, e, PX] + fx) * (x - es[0, e, X]) + (es[0, e, PY] + fy) * (y - es[0, e, Y]))
+    element_state[1, e, X] = x
+    element_state[1, e, Y] = y
+    element_state[1, e, PX] = fx
+    element_state[1, e, PY] = fy
+    work = 0.5 * ((element_state[0, e, PX] + fx) * (x - element_state[0, e, X])
+                  + (element_state[0, e, PY] + fy) * (y - element_state[0, e, Y]))
     trial[e].elastic = 0.0
-    trial[e].dissipated = -work if prog[0].h > 0.0 else 0.0
+    trial[e].dissipated = -work if progress[0].h > 0.0 else 0.0
     trial[e].w_ramp = 0.0
     trial[e].w_surface = 0.0
     trial[e].cone = 0.0
@@ -77,5 +96,13 @@ def law(e, el, wc, xs, par, es, track, trial, prog, jac):
 
 
 @njit(error_model="numpy", inline="always")
-def books(e, el, par, es, track, trial, prog):
-    """Nothing: the law keeps its books (module docstring)."""
+def books(e, elements, parameters, element_state, track, trial, progress):
+    """Nothing: the law keeps its books (module docstring).
+
+    Parameters
+    ----------
+    e : int
+        The element.
+    elements, parameters, element_state, track, trial, progress : ndarray
+        As for :func:`rubdiag._kernels.elements.element_books`.
+    """

@@ -29,7 +29,7 @@ import math
 from rubdiag._numba import njit
 
 __all__ = ["LAW_CONSTANT", "LAW_TABLE", "LAW_UNBALANCE", "LW_CODE", "LW_OMEGA", "LW_ORDER",
-           "load_factors"]
+           "load_factors", "shaft_at"]
 
 LAW_UNBALANCE = 0
 LAW_CONSTANT = 1
@@ -42,46 +42,59 @@ LW_CODE = 2
 
 
 @njit(error_model="numpy", inline="always")
-def _shaft(rot, t):
-    """``(Ω, Ω', φ)`` at time t for the speed profile's knots ``rot`` (n, 3) rows (t, Ω, φ):
-    Ω linear between knots, constant after the last, φ exact."""
-    k = rot.shape[0] - 1
-    while k > 0 and rot[k, 0] > t:  # the knots are few: a linear search from the end
+def shaft_at(knots, t):
+    """The shaft's speed, acceleration and angle at time t: Ω linear between the speed
+    profile's knots, constant after the last, φ exact.
+
+    Parameters
+    ----------
+    knots : ndarray (n_knots, 3)
+        The profile's knots, rows (t (s), Ω (rad/s), φ (rad)).
+    t : float
+        The time (s).
+
+    Returns
+    -------
+    tuple of float
+        ``(Ω (rad/s), Ω' (rad/s²), φ (rad))``.
+    """
+    k = knots.shape[0] - 1
+    while k > 0 and knots[k, 0] > t:  # the knots are few: a linear search from the end
         k -= 1
-    tau = t - rot[k, 0]
+    tau = t - knots[k, 0]
     alpha = 0.0
-    if k < rot.shape[0] - 1 and tau > 0.0:
-        alpha = (rot[k + 1, 1] - rot[k, 1]) / (rot[k + 1, 0] - rot[k, 0])
-    w = rot[k, 1] + alpha * tau
-    phi = rot[k, 2] + rot[k, 1] * tau + 0.5 * alpha * tau * tau
+    if k < knots.shape[0] - 1 and tau > 0.0:
+        alpha = (knots[k + 1, 1] - knots[k, 1]) / (knots[k + 1, 0] - knots[k, 0])
+    w = knots[k, 1] + alpha * tau
+    phi = knots[k, 2] + knots[k, 1] * tau + 0.5 * alpha * tau * tau
     return w, alpha, phi
 
 
 @njit(error_model="numpy", inline="always")
-def _table(table, g, w):
-    """a(Ω) of group g: linear between the knots ``table[g]`` (n >= 2, 2) rows (Ω, factor),
-    Ω increasing strictly, constant outside them (the caller pads a table with knots of its
-    last factor at higher speeds)."""
-    n = table.shape[1]
+def _table(group_tables, g, w):
+    """a(Ω) of group g at the speed w (rad/s): linear between the knots ``group_tables[g]``
+    (n >= 2, 2) rows (Ω (rad/s), factor), Ω increasing strictly, constant outside them (the
+    caller pads a table with knots of its last factor at higher speeds)."""
+    n = group_tables.shape[1]
     j = 1
-    while j < n - 1 and table[g, j, 0] < w:
+    while j < n - 1 and group_tables[g, j, 0] < w:
         j += 1
-    x0, x1 = table[g, j - 1, 0], table[g, j, 0]
-    a0, a1 = table[g, j - 1, 1], table[g, j, 1]
+    x0, x1 = group_tables[g, j - 1, 0], group_tables[g, j, 0]
+    a0, a1 = group_tables[g, j - 1, 1], group_tables[g, j, 1]
     u = min(max((w - x0) / (x1 - x0), 0.0), 1.0)
     return a0 + (a1 - a0) * u
 
 
 @njit(error_model="numpy", inline="always")
-def _factor(law, table, rotating, g, t, w, alpha, phi, w0):
-    """``(Re z, Im z)`` of group g at time t (module docstring): ``w``, ``alpha``, ``phi``
+def _factor(group_laws, group_tables, rotating, g, t, w, alpha, phi, w0):
+    """``(Re z, Im z)`` of group g at time t (s) (module docstring): ``w``, ``alpha``, ``phi``
     the profile's Ω, Ω', φ there and ``w0`` = Ω₀². Every array is read on every path (a
     table lookup even where unused): an array read in one branch only brings Numba's
     reference counting back (6 increfs per call)."""
-    k = law[g, LW_ORDER]
-    code = law[g, LW_CODE]
-    a_table = _table(table, g, w)
-    phase = law[g, LW_OMEGA] * t
+    k = group_laws[g, LW_ORDER]
+    code = group_laws[g, LW_CODE]
+    a_table = _table(group_tables, g, w)
+    phase = group_laws[g, LW_OMEGA] * t
     if rotating:
         phase = k * phi
     c, s = math.cos(phase), math.sin(phase)
@@ -96,13 +109,29 @@ def _factor(law, table, rotating, g, t, w, alpha, phi, w0):
 
 
 @njit(error_model="numpy")
-def load_factors(law, table, rot, t_n, t_1, zt):
-    """Each group's factor z at t_n and t_1 into ``zt`` (G, 4): e^{iωt} at constant speed
-    (``rot`` one knot), else following the profile's knots ``rot`` (module docstring)."""
-    rotating = rot.shape[0] > 1
-    w0 = rot[0, 1] * rot[0, 1]
-    w_n, alpha_n, phi_n = _shaft(rot, t_n)
-    w_1, alpha_1, phi_1 = _shaft(rot, t_1)
-    for g in range(zt.shape[0]):
-        zt[g, 0], zt[g, 1] = _factor(law, table, rotating, g, t_n, w_n, alpha_n, phi_n, w0)
-        zt[g, 2], zt[g, 3] = _factor(law, table, rotating, g, t_1, w_1, alpha_1, phi_1, w0)
+def load_factors(group_laws, group_tables, speed_knots, t_n, t_1, group_factors):
+    """Each group's factor z at t_n and t_1: e^{iωt} at constant speed (one knot), else
+    following the profile's knots (module docstring).
+
+    Parameters
+    ----------
+    group_laws : ndarray (G, 3)
+        Each group's row (ω (rad/s), order k, ``LAW_*`` code).
+    group_tables : ndarray (G, n_knots, 2)
+        Each group's (Ω (rad/s), factor) knots.
+    speed_knots : ndarray (n_knots, 3)
+        The shaft's speed profile (:func:`shaft_at`).
+    t_n, t_1 : float
+        The step's ends (s).
+    group_factors : ndarray (G, 4)
+        ``(Re z(t_n), Im z(t_n), Re z(t_1), Im z(t_1))`` per group, written.
+    """
+    rotating = speed_knots.shape[0] > 1
+    w0 = speed_knots[0, 1] * speed_knots[0, 1]
+    w_n, alpha_n, phi_n = shaft_at(speed_knots, t_n)
+    w_1, alpha_1, phi_1 = shaft_at(speed_knots, t_1)
+    for g in range(group_factors.shape[0]):
+        group_factors[g, 0], group_factors[g, 1] = _factor(group_laws, group_tables, rotating,
+                                                           g, t_n, w_n, alpha_n, phi_n, w0)
+        group_factors[g, 2], group_factors[g, 3] = _factor(group_laws, group_tables, rotating,
+                                                           g, t_1, w_1, alpha_1, phi_1, w0)

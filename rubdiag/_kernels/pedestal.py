@@ -62,7 +62,24 @@ X, X_START = range(len(STATE))
 
 @njit(error_model="numpy", inline="always")
 def force(x, k_s, k_l, f_0, x_c):
-    """The law at x (m): ``(p, dp/dx, status, seat force)`` (module docstring)."""
+    """The law at x (module docstring).
+
+    Parameters
+    ----------
+    x : float
+        The local coordinate, away from the seat (m).
+    k_s, k_l : float
+        The seat's and the retaining spring's stiffness (N/m).
+    f_0 : float
+        The dead load (N).
+    x_c : float
+        Where the seat is unloaded (m).
+
+    Returns
+    -------
+    tuple
+        ``(p (N), dp/dx (N/m), status, seat force (N))``.
+    """
     gap = x - x_c
     if gap < 0.0:
         return -f_0 - k_s * gap, -k_s, SEATED, -k_s * gap
@@ -71,43 +88,68 @@ def force(x, k_s, k_l, f_0, x_c):
 
 
 @njit(error_model="numpy", inline="always")
-def law(e, el, wc, xs, par, es, track, trial, prog, jac):
-    """The seam's law for element ``e`` (:func:`rubdiag._kernels.elements.element_laws`)."""
-    r = el[e].row
-    x = wc[D_NEW, r]
-    k_s = par[e, K_S]
-    x_c = par[e, X_C]
-    p, dp, status, fn = force(x, k_s, par[e, K_L], par[e, F_0], x_c)
-    wc[P_NEW, r] = p
-    jac[r, 0] = dp
+def law(e, elements, local_work, local_state, parameters, element_state, track, trial, progress,
+        jacobian):
+    """The seam's law for element ``e`` (module docstring).
+
+    Parameters
+    ----------
+    e : int
+        The element.
+    elements, local_work, local_state, parameters, element_state : ndarray
+        As for :func:`rubdiag._kernels.elements.element_laws`.
+    track, trial, progress, jacobian : ndarray
+        As for :func:`rubdiag._kernels.elements.element_laws`.
+
+    Returns
+    -------
+    int
+        The element's status.
+    """
+    r = elements[e].row
+    x = local_work[D_NEW, r]
+    k_s = parameters[e, K_S]
+    x_c = parameters[e, X_C]
+    p, dp, status, fn = force(x, k_s, parameters[e, K_L], parameters[e, F_0], x_c)
+    local_work[P_NEW, r] = p
+    jacobian[r, 0] = dp
     trial[e].status = status
     trial[e].fn = fn
     trial[e].ft = 0.0
     trial[e].gap = x - x_c
     trial[e].z = -k_s * (x - x_c)
     trial[e].slip = 0.0
-    es[1, e, X] = x
-    es[1, e, X_START] = xs[X_N, r]
-    _energy(e, par, es, trial)
+    element_state[1, e, X] = x
+    element_state[1, e, X_START] = local_state[X_N, r]
+    _energy(e, parameters, element_state, trial)
     return status
 
 
 @njit(error_model="numpy", inline="always")
-def books(e, el, par, es, track, trial, prog):
+def books(e, elements, parameters, element_state, track, trial, progress):
     """Nothing: the law keeps its books (:func:`_energy`; a books loop of its own in the seam
-    made Numba count six arrays' references once per element solve)."""
+    made Numba count six arrays' references once per element solve).
+
+    Parameters
+    ----------
+    e : int
+        The element.
+    elements, parameters, element_state, track, trial, progress : ndarray
+        As for :func:`rubdiag._kernels.elements.element_books`.
+    """
 
 
 @njit(error_model="numpy", inline="always")
-def _energy(e, par, es, trial):
-    """Element ``e``'s energy terms at its trial state (module docstring)."""
-    x = es[1, e, X]
-    gap = x - par[e, X_C]
-    k_s = par[e, K_S]       # both read: an array read in a branch only brings reference
-    k_l = par[e, K_L]       # counting into the caller
+def _energy(e, parameters, element_state, trial):
+    """Element ``e``'s energy terms at its trial state (module docstring), from its
+    ``parameters`` row and ``element_state``, into ``trial[e]`` (J)."""
+    x = element_state[1, e, X]
+    gap = x - parameters[e, X_C]
+    k_s = parameters[e, K_S]       # both read: an array read in a branch only brings reference
+    k_l = parameters[e, K_L]       # counting into the caller
     k = k_s if gap < 0.0 else k_l
     trial[e].elastic = 0.5 * k * gap * gap
     trial[e].dissipated = 0.0
-    trial[e].w_ramp = par[e, F_0] * (x - es[1, e, X_START])
+    trial[e].w_ramp = parameters[e, F_0] * (x - element_state[1, e, X_START])
     trial[e].w_surface = 0.0
     trial[e].cone = 0.0

@@ -33,13 +33,32 @@ N_LOCAL = 2
 
 @njit(error_model="numpy", inline="always")
 def force(x0, x1, x0n, x1n, g0, kn, kt, mu, lam, e_n):
-    """The law at local displacement (x0, x1), from (x0n, x1n) at the step's start (m); gap
-    parameter g0 (m), k_N, k_T (N/m), mu, multiplier lam (N), elastic tangential
-    displacement e_n at the step's start (m).
+    """The law at the local displacement (x0, x1) (module docstring).
 
-    Returns ``(p0, p1, j00, j01, j10, j11, status, fn, ft, e_new, e_tr, gap, z)``: the
-    generalised force, its Jacobian ``dp/dx``, the status, F_N (>= 0), F_T (signed), the new
-    and the trial elastic tangential displacement, the gap and ``z = lam - k_N gap``.
+    Parameters
+    ----------
+    x0, x1 : float
+        The relative displacement along the normal and the tangent (m).
+    x0n, x1n : float
+        The same at the step's start (m).
+    g0 : float
+        The gap parameter (m).
+    kn, kt : float
+        The normal and tangential stiffness (N/m).
+    mu : float
+        The Coulomb coefficient.
+    lam : float
+        The multiplier (N; 0 for pure penalty).
+    e_n : float
+        The elastic tangential displacement at the step's start (m).
+
+    Returns
+    -------
+    tuple
+        ``(p0, p1, j00, j01, j10, j11, status, fn, ft, e_new, e_tr, gap, z)``: the
+        generalised force (N), its Jacobian ``dp/dx`` (N/m), the status, F_N (>= 0), F_T
+        (signed) (N), the new and the trial elastic tangential displacement (m), the gap (m)
+        and ``z = lam - k_N gap`` (N).
     """
     gap = g0 - x0
     z = lam - kn * gap
@@ -56,14 +75,30 @@ def force(x0, x1, x0n, x1n, g0, kn, kt, mu, lam, e_n):
 
 
 @njit(error_model="numpy", inline="always")
-def law(e, el, wc, xs, par, es, track, trial, prog, jac):
-    """The seam's law for element ``e`` (:func:`rubdiag._kernels.elements.element_laws`)."""
-    r = el[e].row
-    g1 = gap_at(par, e, prog[0].t_1, prog[0].h)
-    x0 = wc[D_NEW, r]
-    x1 = wc[D_NEW, r + 1]
-    out = force(x0, x1, xs[X_N, r], xs[X_N, r + 1], g1, par[e, K_N], par[e, K_T],
-                par[e, MU], trial[e].lam, es[0, e, E])
-    record(e, r, wc, jac, es, trial, out, x1)
+def law(e, elements, local_work, local_state, parameters, element_state, track, trial, progress,
+        jacobian):
+    """The seam's law for element ``e`` (module docstring).
+
+    Parameters
+    ----------
+    e : int
+        The element.
+    elements, local_work, local_state, parameters, element_state : ndarray
+        As for :func:`rubdiag._kernels.elements.element_laws`.
+    track, trial, progress, jacobian : ndarray
+        As for :func:`rubdiag._kernels.elements.element_laws`.
+
+    Returns
+    -------
+    int
+        The element's status.
+    """
+    r = elements[e].row
+    g1 = gap_at(parameters, e, progress[0].t_1, progress[0].h)
+    x0 = local_work[D_NEW, r]
+    x1 = local_work[D_NEW, r + 1]
+    out = force(x0, x1, local_state[X_N, r], local_state[X_N, r + 1], g1, parameters[e, K_N],
+                parameters[e, K_T], parameters[e, MU], trial[e].lam, element_state[0, e, E])
+    record(e, r, local_work, jacobian, element_state, trial, out, x1)
     return out[6]
 

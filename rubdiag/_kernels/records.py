@@ -58,7 +58,9 @@ _F, _I = np.float64, np.int64
 
 
 def _record(*fields) -> np.dtype:
-    return np.dtype(list(fields), align=True)
+    # np.record as the scalar type: an element of the array takes its fields as attributes
+    # in NumPy as in Numba (``run[0].dt``), so the kernels also run as plain Python
+    return np.dtype((np.record, np.dtype(list(fields), align=True)))
 
 
 #: A run's parameters, and the end tick of the current call.
@@ -80,7 +82,7 @@ RUN = _record(
     ("sen_ticks", _I),       # ticks between sensor samples
     ("coupled", _I),         # dense system: its leading coordinates coupled in M and K
     ("kinematics", _I),      # 1: a kind reads the local velocity, acceleration or the angle
-    ("base", _I),            # the level of the base step: longer ones (lev < base) are long
+    ("base_level", _I),      # the level of the base step: longer ones (lev < base) are long
     ("tick_stop", _I),       # a long step does not cross this tick (the run's or stretch's end)
     ("step_error", _F),      # long steps' local error tolerance, of ``scale``; 0: none
 )

@@ -26,7 +26,19 @@ __all__ = ["LUFactors", "csr_matvec", "factorize", "lu_solve"]
 
 @njit
 def csr_matvec(indptr, indices, data, x, out):
-    """``out = A @ x`` for a CSR matrix ``A`` (out must not alias x)."""
+    """``out = A @ x`` for a CSR matrix A.
+
+    Parameters
+    ----------
+    indptr, indices : ndarray int
+        A's CSR pattern.
+    data : ndarray
+        A's values.
+    x : ndarray (n)
+        The operand.
+    out : ndarray (n)
+        The product, overwritten (must not alias x).
+    """
     n = indptr.shape[0] - 1
     for i in range(n):
         acc = 0.0
@@ -37,9 +49,24 @@ def csr_matvec(indptr, indices, data, x, out):
 
 @njit
 def lu_solve(l_ptr, l_idx, l_val, l_dinv, u_ptr, u_idx, u_val, u_dinv, perm_r, perm_c, b, x, w):
-    """Solve ``A x = b`` with SuperLU factors of A (see the module docstring).
+    """Solve ``A x = b`` with SuperLU factors of A (module docstring).
 
-    ``w`` is a work vector of length n; ``x`` may alias ``b`` but not ``w``.
+    Parameters
+    ----------
+    l_ptr, l_idx, l_val : ndarray
+        L without its diagonal, in CSR.
+    l_dinv : ndarray (n)
+        The inverse of L's diagonal.
+    u_ptr, u_idx, u_val, u_dinv : ndarray
+        The same for U.
+    perm_r, perm_c : ndarray (n) int
+        SuperLU's row and column permutations.
+    b : ndarray (n)
+        The right-hand side.
+    x : ndarray (n)
+        The solution, written (may alias b).
+    w : ndarray (n)
+        Work (must not alias x or b).
     """
     n = b.shape[0]
     for j in range(n):

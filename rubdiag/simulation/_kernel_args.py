@@ -1,7 +1,7 @@
 """The Python mirror of the kernel's arguments: fills the bundles the kernel reads and writes.
 
 :func:`rubdiag._kernels.newmark.newmark_contact` takes its inputs and outputs as bundles of
-preallocated arrays (:mod:`rubdiag._kernels.newmark`: ``Linear``, ``Elements``, ``State``,
+preallocated arrays (:mod:`rubdiag._kernels.interface`: ``Linear``, ``Elements``, ``State``,
 ``Outputs``, ``Logs``, ``Work``, the ``run`` record; the record types are
 :mod:`rubdiag._kernels.records`). This module makes each from checked inputs, packing every
 element description once (:meth:`pack`), and grows the logs when the kernel finds one full.
@@ -17,8 +17,7 @@ import scipy.sparse as sp
 from rubdiag._kernels import records
 from rubdiag._kernels.elements import KINDS, N_LOCAL_MAX
 from rubdiag._kernels.extend import Kernel, kernel_with
-from rubdiag._kernels.newmark import (
-    PROFILE_SECTIONS,
+from rubdiag._kernels.interface import (
     WC_SIZE,
     WN_SIZE,
     Elements,
@@ -28,6 +27,7 @@ from rubdiag._kernels.newmark import (
     State,
     Work,
 )
+from rubdiag._kernels.newmark import PROFILE_SECTIONS
 from rubdiag.simulation._elements import Packed, impacts
 from rubdiag.simulation._grid import Ticks
 from rubdiag.simulation._solver import Settings
@@ -103,7 +103,7 @@ def coupled(M: np.ndarray, K: np.ndarray) -> int:
 
 
 def element_bundle(packed: Sequence[Packed], lev_req, aug_k, elements) -> Elements:
-    """The elements as the kernel reads them (:data:`~rubdiag._kernels.newmark.Elements`)."""
+    """The elements as the kernel reads them (:data:`~rubdiag._kernels.interface.Elements`)."""
     ne = len(packed)
     el = np.zeros(ne, records.ELEMENT)
     m = sum(p.rows.shape[0] for p in packed)
@@ -211,7 +211,7 @@ def run_record(grid: Ticks, settings: Settings) -> np.ndarray:
     """The kernel's ``run`` record (the end tick is set per call)."""
     run = np.zeros(1, records.RUN)
     run["dt"] = grid.dt_max
-    run["base"] = grid.base
+    run["base_level"] = grid.base
     run["step_error"] = settings.step_error if grid.base else 0.0
     run["tick_stop"] = grid.tick_total
     run["newton_tol"] = settings.newton_tol

@@ -36,6 +36,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rubdiag import _check
+from rubdiag._kernels.interface import Force
 from rubdiag._kernels.load import (
     LAW_CONSTANT,
     LAW_TABLE,
@@ -44,7 +45,6 @@ from rubdiag._kernels.load import (
     LW_OMEGA,
     LW_ORDER,
 )
-from rubdiag._kernels.newmark import Force
 from rubdiag.simulation._speed_profile import SpeedProfile
 
 __all__ = ["LAWS", "HarmonicForce", "kernel_force", "load_vector"]
@@ -244,7 +244,7 @@ def _groups(force: HarmonicForce, rotating: bool):
 
 
 def kernel_force(force: HarmonicForce, rot: np.ndarray) -> Force:
-    """The kernel's load (:data:`rubdiag._kernels.newmark.Force`) for a speed profile's knots
+    """The kernel's load (:data:`rubdiag._kernels.interface.Force`) for a speed profile's knots
     ``rot`` (empty: constant speed, given to the kernel as one knot): at constant speed the
     amplitudes at the speed and a group per frequency; along a profile the amplitudes at Ω₀
     and a group per order, law and table."""

@@ -13,7 +13,7 @@ from typing import NamedTuple
 import numpy as np
 import scipy.sparse as sp
 
-from rubdiag._kernels.newmark import Factors
+from rubdiag._kernels.interface import Factors
 from rubdiag._kernels.sparse_lu import factorize
 from rubdiag.simulation._elements import impacts
 from rubdiag.simulation._grid import Ticks

@@ -2,7 +2,7 @@
 
 Ω(t) is piecewise linear through the knots and constant after the last one, so the shaft
 angle φ(t) = ∫ Ω dt (φ(0) = 0) is exact, piecewise quadratic. The unbalance load follows φ
-and includes the angular-acceleration term (:data:`rubdiag._kernels.newmark.Force`); the
+and includes the angular-acceleration term (:data:`rubdiag._kernels.interface.Force`); the
 gyroscopic term Ω(t) G is held at a reference speed over stretches of the run in which Ω
 stays within a relative ``tolerance`` of it, and the step operators are refactorised at each
 new stretch (:meth:`SpeedProfile.stretches`). A constant-speed run has no profile.

@@ -23,8 +23,7 @@ import numpy as np
 from rubdiag import _check
 from rubdiag._kernels import ensure_fresh_cache
 from rubdiag._kernels.elements import AUGMENT_FAILED, NEWTON_FAILED, SINGULAR
-from rubdiag._kernels.newmark import (
-    PROFILE_SECTIONS,
+from rubdiag._kernels.interface import (
     STATUS_DONE,
     STATUS_LOG_FULL,
     STATUS_NO_CONVERGENCE,
@@ -34,6 +33,7 @@ from rubdiag._kernels.newmark import (
     State,
     Work,
 )
+from rubdiag._kernels.newmark import PROFILE_SECTIONS
 from rubdiag._kernels.records import OPEN
 from rubdiag.simulation._contacts import Contacts
 from rubdiag.simulation._elements import checked_elements, gap_ramps

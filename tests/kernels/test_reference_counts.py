@@ -22,18 +22,24 @@ import os
 import subprocess
 import sys
 
+import numba
+import pytest
+
+pytestmark = pytest.mark.skipif(numba.config.DISABLE_JIT, reason="counts compiled code: none "
+                                "runs under NUMBA_DISABLE_JIT")
+
 #: called at every step (or every trial step): no reference counting at all (the parts
 #: inlined into their callers, such as ``_add_force``, are counted there)
-PER_STEP = ("_rhs_average", "_rhs_general", "_load_increment", "_clock", "_element_inputs",
-            "_level_needed", "_mk_products", "_mk_dense", "_matvec_t", "_dissipation",
-            "_energy_ledger", "_log_episodes", "_commit_elements", "_advance",
-            "_count_iterations", "_lap", "_logs_full", "_change_level", "_force_work",
+PER_STEP = ("rhs_average", "rhs_general", "load_increment", "_clock", "_element_inputs",
+            "level_needed", "mk_products", "mk_dense", "matvec_t", "dissipation",
+            "energy_ledger", "log_episodes", "commit_elements", "advance",
+            "_count_iterations", "_lap", "logs_full", "change_level", "force_work",
             # a sensor stream records at every step (12 increfs: 0.15-0.25 µs per step)
-            "_record_sensors",
+            "record_sensors",
             "load_factors", "csr_matvec", "lu_solve",
             # the long steps' parts called at every step
-            "_step_level", "_may_lengthen", "_interpolate_sensors", "_error_wanted",
-            "_error_level", "_reject",
+            "step_level", "may_lengthen", "interpolate_sensors", "error_wanted",
+            "error_level", "reject",
             # the seam: each kind's law and books on its elements, per Newton iteration
             "element_laws", "element_books")
 #: the CPU the guard compiles for (NUMBA_CPU_NAME): one whose inliner lets Numba prune
@@ -56,8 +62,9 @@ SOLVE_MAX = 17
 COUNT = """
 import json
 import numpy as np
-import rubdiag._kernels.newmark as nm
-from rubdiag._kernels import annular_contact, elements, point_contact
+from rubdiag._kernels import (annular_contact, element_solve, elements, increment, ledger,
+                              load, newmark, point_contact, products, recording, sparse_lu,
+                              step_control)
 from rubdiag.simulation import (AnnularContact, HarmonicForce, LinearSystem, PointContact,
                                 Solver, TimeGrid, simulate_system)
 
@@ -69,8 +76,10 @@ for solver in ("sparse", "dense"):   # both linear paths compiled
     simulate_system(LinearSystem(M=M, C=0.01 * K, K=K, force=HarmonicForce([0], [10.0], 3.0)),
                     c, TimeGrid(duration=0.05, dt=1e-3), solver=Solver(linear_solver=solver))
 counts = {}
-for prefix, module in (("", nm), ("", elements), ("point_contact.", point_contact),
-                       ("annular_contact.", annular_contact)):
+parts = (newmark, increment, products, step_control, ledger, recording, load, sparse_lu,
+         element_solve, elements)
+for prefix, module in ([("", m) for m in parts] + [("point_contact.", point_contact),
+                                                   ("annular_contact.", annular_contact)]):
     for name in dir(module):
         f = getattr(module, name)
         if hasattr(f, "inspect_llvm") and f.signatures:

@@ -2,7 +2,7 @@
 
 A Craig–Bampton model's fixed-interface modes do not couple to the boundary in K, nor to each
 other in M and K; ``simulate_system`` finds that tail (``coupled``) and the kernel forms M dq
-and K dq from the coupled block and the tail's diagonals only (``_mk_dense``).
+and K dq from the coupled block and the tail's diagonals only (``mk_dense``).
 """
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from scipy.stats import ortho_group
 
-from rubdiag._kernels.newmark import _mk_dense
+from rubdiag._kernels.products import mk_dense
 from rubdiag.simulation._kernel_args import coupled
 
 
@@ -50,7 +50,7 @@ def test_products_equal_the_full_products(n_b):
     M, K = _craig_bampton_like(n_b, 8 - n_b, seed=n_b)
     dq = np.random.default_rng(1).normal(size=8)
     mdq, kdq = np.empty(8), np.empty(8)
-    _mk_dense(coupled(M, K), M, K, dq, mdq, kdq)
+    mk_dense(coupled(M, K), M, K, dq, mdq, kdq)
     np.testing.assert_allclose(mdq, M @ dq, rtol=1e-13)
     np.testing.assert_allclose(kdq, K @ dq, rtol=1e-13)
 

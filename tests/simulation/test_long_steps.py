@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 from rubdiag._kernels import records
-from rubdiag._kernels.newmark import _interpolate_sensors, _local_error
+from rubdiag._kernels.recording import interpolate_sensors
+from rubdiag._kernels.step_control import local_error
 from rubdiag.simulation import (
     HarmonicForce,
     LinearSystem,
@@ -55,7 +56,7 @@ def test_interpolation_is_exact_for_a_cubic_motion():
     sq, sv, sa = (np.zeros((n + 1, 1)) for _ in range(3))
     for out, exact in ((sq, q), (sv, v), (sa, a)):
         out[0, 0], out[n, 0] = exact[0], exact[n]
-    _interpolate_sensors(0, n, h, sq, sv, sa)
+    interpolate_sensors(0, n, h, sq, sv, sa)
     np.testing.assert_allclose(sq[:, 0], q, rtol=1e-13, atol=0)
     np.testing.assert_allclose(sv[:, 0], v, rtol=1e-12, atol=0)
     np.testing.assert_allclose(sa[:, 0], a, rtol=1e-12, atol=0)
@@ -78,7 +79,7 @@ def test_error_estimate_is_zienkiewicz_xie():
         tmat = np.zeros((4, 8))
         tmat[:, :2] = [[1, 0], [0, 1], [1, 0], [0, 1]]
         expected = max(abs(e[[2]]).max(), abs(sen_map.T @ e).max(), abs(e[[4, 5]]).max())
-        got = _local_error(beta, h, dq, v, a, np.zeros(n), np.array([2]), np.zeros((0, 0)),
+        got = local_error(beta, h, dq, v, a, np.zeros(n), np.array([2]), np.zeros((0, 0)),
                            np.zeros(0, np.int64), sen_map, el, rmap, tmat, np.zeros((5, 4)))
         assert got == pytest.approx(expected, rel=1e-12)
 
