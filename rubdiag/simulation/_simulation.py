@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import dataclasses
 import io
-import itertools
 import json
 import time
 from collections.abc import Callable
@@ -54,7 +53,7 @@ __all__ = ["SimulationResult", "load_result", "response_points", "simulate"]
 _RAMP_MARGIN = 1.1    # the ramp starts 10 % above the largest linear approach
 
 # Version 2: contact elements numbered from 1 in the logs (format 1: from 0); the per-step
-# status-segment log. load_result converts format 1 files.
+# status-segment log. Format 1 files are refused: their runs are simulated again.
 FORMAT_VERSION = 2
 _LOGS = {"episodes": EpisodeLog, "status_segments": StatusLog}
 
@@ -398,6 +397,10 @@ def load_result(path: str | Path) -> SimulationResult:
         if version > FORMAT_VERSION:
             raise ValueError(f"{path}: result format {version} is newer than this rubdiag "
                              f"reads ({FORMAT_VERSION}): upgrade rubdiag")
+        if version < FORMAT_VERSION:
+            raise ValueError(f"{path}: result format {version} is older than this rubdiag "
+                             f"reads ({FORMAT_VERSION}: contact elements numbered from 1, "
+                             "the per-step status log): simulate the run again")
         fields = {}
         for f in dataclasses.fields(SystemResult):
             if f.name in _LOGS:
@@ -410,44 +413,9 @@ def load_result(path: str | Path) -> SimulationResult:
             else:   # JSON has no NaN: a NaN scalar (e.g. failure_time) was stored as null
                 value = meta["system"][f.name]
                 fields[f.name] = float("nan") if value is None else value
-    if version == 1:
-        fields = _from_format_1(fields, path)
     return SimulationResult(run=run_from_dict(meta["run"]), points=tuple(meta["points"]),
                             system=SystemResult(**fields), wall_s=meta["wall_s"],
                             version=meta["rubdiag_version"])
-
-
-def _from_format_1(fields: dict, path: Path) -> dict:
-    """Format 1 numbered contact elements from 0 and had no status-segment log: renumber,
-    and rebuild the segments from the sampled status (segments shorter than an output
-    interval are missing from such a file; a warning says so)."""
-    import warnings
-
-    episodes = fields["episodes"]
-    fields["episodes"] = dataclasses.replace(episodes, element=episodes.element + 1)
-    failed = int(fields["failure_element"])
-    fields["failure_element"] = failed + 1 if failed >= 0 else 0
-    fields["status_segments"] = _segments_from_samples(fields["t"], fields["contact_status"])
-    warnings.warn(f"{path}: a format-1 result file has no per-step status log; contact "
-                  "status segments were rebuilt from the sampled status (re-run the "
-                  "simulation for every short episode)", stacklevel=3)
-    return fields
-
-
-def _segments_from_samples(t: np.ndarray, status: np.ndarray) -> StatusLog:
-    """Status segments of sampled status: each closed sample stands for the interval up
-    to the next sample."""
-    rows = []
-    for e in range(status.shape[1]):
-        s = np.r_[1, status[:, e], 1]
-        change = np.flatnonzero(np.diff(s)) + 1        # indices into s where a run starts
-        for a, b in itertools.pairwise(change):
-            if s[a] != 1:
-                rows.append((e + 1, s[a], t[a - 1], t[min(b - 1, t.size - 1)]))
-    rows.sort(key=lambda r: r[3])
-    cols = list(zip(*rows, strict=True)) if rows else [(), (), (), ()]
-    return StatusLog(element=np.array(cols[0], np.int64), status=np.array(cols[1], np.int8),
-                     t_start=np.array(cols[2], float), t_end=np.array(cols[3], float))
 
 
 def _max(values: np.ndarray) -> float:

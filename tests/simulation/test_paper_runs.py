@@ -86,34 +86,24 @@ def test_result_file_round_trip(case_runs, tmp_path):
     assert back.summary() == result.summary()
 
 
-def test_format_1_files_are_converted(case_runs, tmp_path):
-    """Format 1 numbered contact elements from 0 and had no segment log: load_result
-    renumbers and rebuilds the segments from the sampled status, with a warning."""
+def test_format_1_files_are_refused_by_name(case_runs, tmp_path):
+    """Format 1 numbered contact elements from 0 and had no per-step status log: such a
+    file (or one without a format version, which format 1 wrote) is refused, naming its
+    format and what to do."""
     import json
 
-    result = case_runs[1]
-    path = result.save(tmp_path / "v2.npz")
+    path = case_runs[1].save(tmp_path / "v2.npz")
     with np.load(path) as archive:
-        entries = {k: archive[k] for k in archive.files if not k.startswith("status_segments")}
+        entries = {k: archive[k] for k in archive.files}
     meta = json.loads(str(entries["meta"]))
-    meta["format_version"] = 1
-    meta["system"]["failure_element"] = -1
-    entries["meta"] = np.array(json.dumps(meta))
-    entries["episodes.element"] = entries["episodes.element"] - 1
-    np.savez_compressed(tmp_path / "v1.npz", **entries)
-    with pytest.warns(UserWarning, match="rebuilt from the sampled status"):
-        old = load_result(tmp_path / "v1.npz")
-    np.testing.assert_array_equal(old.system.episodes.element, result.system.episodes.element)
-    assert old.system.failure_element == 0
-    assert old.summary() == result.summary()
-    # the rebuilt segments reproduce the sampled status (what format 1 knew)
-    seg, status = old.system.status_segments, result.system.contact_status
-    for k in range(1, status.shape[1] + 1):
-        mine = seg.element == k
-        closed_samples = np.flatnonzero(status[:, k - 1] != 1)
-        covered = sum(np.count_nonzero((result.t >= a) & (result.t < b))
-                      for a, b in zip(seg.t_start[mine], seg.t_end[mine], strict=True))
-        assert covered == closed_samples.size
+    for name, version in (("v1", {"format_version": 1}), ("none", {})):
+        old = {k: v for k, v in meta.items() if k != "format_version"} | version
+        np.savez_compressed(tmp_path / f"{name}.npz",
+                            **(entries | {"meta": np.array(json.dumps(old))}))
+        with pytest.raises(ValueError, match=rf"{name}\.npz: result format 1 is older than "
+                           r"this rubdiag reads \(2.*simulate the run again"):
+            load_result(tmp_path / f"{name}.npz")
+    assert load_result(path).summary() == case_runs[1].summary()
 
 
 @pytest.mark.filterwarnings("ignore::rubdiag.simulation.GapRampInWindow")   # no features here
