@@ -38,7 +38,7 @@ import numpy as np
 
 from rubdiag.dataset._schema import SCHEMA_VERSION
 from rubdiag.simulation import GapRampInWindow, Run
-from rubdiag.simulation._simulation import run_to_dict
+from rubdiag.simulation._run_dict import run_to_dict
 
 __all__ = ["SCHEMA_VERSION", "canonical_run", "point_id", "run_id", "run_ids"]
 

@@ -15,7 +15,8 @@ from rubdiag.simulation._recording import Recording
 from rubdiag.simulation._result import EpisodeLog, SimulationDiverged, SystemResult
 from rubdiag.simulation._run import GapRampInWindow, Run, critical_speed_for_case
 from rubdiag.simulation._sensors import Sensor, default_sensors
-from rubdiag.simulation._simulation import SimulationResult, load_result, response_points, simulate
+from rubdiag.simulation._simulation import response_points, simulate
+from rubdiag.simulation._simulation_result import SimulationResult, load_result
 from rubdiag.simulation._solver import Solver
 from rubdiag.simulation._speed_profile import SpeedProfile
 from rubdiag.simulation._system import simulate_system

@@ -16,7 +16,7 @@ from rubdiag.model import Unbalance
 from rubdiag.reduce import Reduction
 from rubdiag.simulation import Run, Sensor
 from rubdiag.simulation._faults import Crack, Faults
-from rubdiag.simulation._simulation import run_to_dict
+from rubdiag.simulation._run_dict import run_to_dict
 from rubdiag.simulation._speed_profile import SpeedProfile
 from rubdiag.simulation._static_load import StaticLoad
 
@@ -166,7 +166,7 @@ def test_equal_runs_have_equal_ids(run):
 
 
 def test_canonical_run_is_the_result_files_description(run):
-    from rubdiag.simulation._simulation import run_to_dict
+    from rubdiag.simulation._run_dict import run_to_dict
 
     stored = run_to_dict(run)
     canonical = canonical_run(run)
@@ -184,7 +184,7 @@ def test_schema_version_is_part_of_the_id(run, monkeypatch):
 
 
 def test_a_run_read_back_from_a_result_file_keeps_its_id(run):
-    from rubdiag.simulation._simulation import run_from_dict, run_to_dict
+    from rubdiag.simulation._run_dict import run_from_dict, run_to_dict
 
     for other in (run, dataclasses.replace(run, contact=dataclasses.replace(
             run.rig.contact, friction_coefficient=0.25), gap_ramp_s=0.101)):

@@ -13,7 +13,7 @@ from rubdiag.reduce import Reduction
 from rubdiag.simulation import Run
 from rubdiag.simulation._described import WHEN_SET, described
 from rubdiag.simulation._faults import Crack, Faults, Looseness
-from rubdiag.simulation._simulation import run_from_dict, run_to_dict
+from rubdiag.simulation._run_dict import run_from_dict, run_to_dict
 
 
 @dataclass(frozen=True)

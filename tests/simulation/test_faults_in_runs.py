@@ -14,7 +14,7 @@ from rubdiag.reduce import Reduction
 from rubdiag.simulation import Run, simulate
 from rubdiag.simulation._faults import Crack, Faults
 from rubdiag.simulation._misalignment import Misalignment
-from rubdiag.simulation._simulation import run_from_dict, run_to_dict
+from rubdiag.simulation._run_dict import run_from_dict, run_to_dict
 from rubdiag.simulation._static_load import StaticLoad
 
 #: the reduced model answers for responses within 5 % in its band (README, Reduced model)

@@ -25,7 +25,7 @@ from rubdiag.simulation import Run, simulate
 from rubdiag.simulation._faults import Faults, Looseness
 from rubdiag.simulation._pedestal import lift_off_fraction
 from rubdiag.simulation._rig_cache import forward_critical_speeds
-from rubdiag.simulation._simulation import run_from_dict, run_to_dict
+from rubdiag.simulation._run_dict import run_from_dict, run_to_dict
 from rubdiag.simulation._static_load import StaticLoad
 
 GRAVITY = StaticLoad(direction="y", gravity_m_s2=-9.81)

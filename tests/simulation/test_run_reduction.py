@@ -14,7 +14,7 @@ from rubdiag._check import ParameterTypeError
 from rubdiag.dataset import point_id, run_id
 from rubdiag.reduce import DEFAULT_CUTOFF_HZ, Reduction
 from rubdiag.simulation import GapRampInWindow, Run, load_result, simulate
-from rubdiag.simulation._simulation import run_from_dict, run_to_dict
+from rubdiag.simulation._run_dict import run_from_dict, run_to_dict
 
 
 @pytest.fixture(scope="module")

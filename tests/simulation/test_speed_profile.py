@@ -14,7 +14,7 @@ from scipy.integrate import quad
 
 from rubdiag.dataset._ids import run_id
 from rubdiag.simulation import Run, simulate
-from rubdiag.simulation._simulation import run_from_dict, run_to_dict
+from rubdiag.simulation._run_dict import run_from_dict, run_to_dict
 from rubdiag.simulation._speed_profile import SpeedProfile
 
 RPM = math.pi / 30

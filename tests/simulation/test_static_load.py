@@ -30,7 +30,7 @@ from rubdiag.simulation import (
 )
 from rubdiag.simulation._rig_cache import damped_model
 from rubdiag.simulation._rig_system import rig_system
-from rubdiag.simulation._simulation import run_from_dict, run_to_dict
+from rubdiag.simulation._run_dict import run_from_dict, run_to_dict
 from rubdiag.simulation._speed_profile import SpeedProfile
 from rubdiag.simulation._static_load import StaticLoad
 
