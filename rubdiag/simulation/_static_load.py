@@ -58,10 +58,10 @@ class StaticLoad:
     direction : {"y", "z"}
         The direction both loads act along.
     gravity_m_s2 : float
-        The acceleration of gravity along +direction (m/s², |g| <= 1000; -9.81 pulls
+        The acceleration of gravity along +direction (m/s², at most 1000 in size; -9.81 pulls
         towards -direction). Default 0: no gravity.
     force_n : float
-        The side load along +direction (N, |F| <= 1e6). Default 0: none.
+        The side load along +direction (N, at most 1e6 in size). Default 0: none.
     node : int or str or None
         Where the side load acts: a shaft node number, or a DOF map node label such as
         ``"casing 3"``. Required exactly when ``force_n`` is nonzero.
