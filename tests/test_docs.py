@@ -405,3 +405,44 @@ def test_the_step_and_dt_substitutions_are_the_csv_cells():
     assert values["dt_entries_2light"] == " / ".join(f"{e.median_2p5us:.0f}" for e in entries)
     runs = _csv("dt_convergence_runs.csv")
     assert values["dt_runs"] == str(len(runs))
+
+
+# ------------------------------------------------------------------------------------------
+# make docs executes the pages in parallel first (docs/execute_pages.py): Sphinx must then
+# find each one in the cache, so the script reads every page exactly as myst-nb does
+# ------------------------------------------------------------------------------------------
+execute_pages = importlib.import_module("execute_pages")      # docs/execute_pages.py
+
+
+def _myst_nb_hash(source: Path, tmp_path) -> str:
+    """The cache key of ``source`` as myst-nb's own reader in the Sphinx build makes it."""
+    from jupyter_cache import get_cache
+    from myst_nb.core.config import NbParserConfig
+    from myst_nb.core.read import create_nb_reader
+    from myst_parser.config.main import MdParserConfig
+
+    text = source.read_text(encoding="utf-8")
+    reader = create_nb_reader(str(source), MdParserConfig(), NbParserConfig(), text)
+    return get_cache(str(tmp_path / "cache")).create_hashed_notebook(reader.read(text))[1]
+
+
+def test_the_parallel_executor_runs_every_executed_page_once():
+    """Every notebook and every page with code cells, and nothing else."""
+    found = [source for source, _ in execute_pages.pages()]
+    assert len(found) == len(set(found))
+    notebooks = sorted((DOCS.parent / "notebooks").glob("*.ipynb"))
+    assert found[:len(notebooks)] == notebooks
+    pages = set(found[len(notebooks):])
+    assert DOCS / "tour.md" in pages and DOCS / "index.md" not in pages
+    assert all("```{code-cell}" in p.read_text(encoding="utf-8") for p in pages)
+
+
+@pytest.mark.parametrize("source", [DOCS / "tour.md", DOCS / "how-to" / "own-rig.md",
+                                    DOCS.parent / "notebooks" / "01_rig_and_modes.ipynb"],
+                         ids=lambda p: p.name)
+def test_the_parallel_executor_caches_a_page_under_myst_nbs_key(source, tmp_path):
+    from jupyter_cache import get_cache
+
+    cache = get_cache(str(tmp_path / "cache"))
+    assert cache.create_hashed_notebook(execute_pages.read(source))[1] == (
+        _myst_nb_hash(source, tmp_path))
