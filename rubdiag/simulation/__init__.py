@@ -8,6 +8,7 @@
 
 from rubdiag.simulation._contacts import Contacts
 from rubdiag.simulation._elements import AnnularContact, PointContact
+from rubdiag.simulation._faults import Crack, Faults, Looseness
 from rubdiag.simulation._grid import TimeGrid
 from rubdiag.simulation._linear_system import LinearSystem
 from rubdiag.simulation._loads import HarmonicForce
@@ -19,15 +20,19 @@ from rubdiag.simulation._simulation import response_points, simulate
 from rubdiag.simulation._simulation_result import SimulationResult, load_result
 from rubdiag.simulation._solver import Solver
 from rubdiag.simulation._speed_profile import SpeedProfile
+from rubdiag.simulation._static_load import StaticLoad
 from rubdiag.simulation._system import simulate_system
 
 __all__ = [
     "AnnularContact",
     "Contacts",
+    "Crack",
     "EpisodeLog",
+    "Faults",
     "GapRampInWindow",
     "HarmonicForce",
     "LinearSystem",
+    "Looseness",
     "PointContact",
     "Recording",
     "Run",
@@ -36,6 +41,7 @@ __all__ = [
     "SimulationResult",
     "Solver",
     "SpeedProfile",
+    "StaticLoad",
     "SystemResult",
     "TimeGrid",
     "critical_speed_for_case",

@@ -15,15 +15,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from rubdiag import _check
+from rubdiag._deprecation import REMOVED_IN
 from rubdiag._kernels.annular_contact import KIND as KIND_ANNULAR
 from rubdiag._kernels.point_contact import KIND as KIND_POINT
 from rubdiag.simulation._elements import AnnularContact, PointContact
 from rubdiag.simulation._kernel_args import b_matrix
 
 __all__ = ["Contacts"]
-
-#: the release that removes Contacts
-REMOVED_IN = "0.3"
 _FIELDS = ("kind", "dof_a", "dof_b", "normal", "tangent", "gap", "k_n", "k_t", "mu", "radius",
            "augmented", "eps", "centre")
 _PAIRS = ("dof_a", "dof_b", "normal", "tangent", "centre")

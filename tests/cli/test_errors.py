@@ -443,7 +443,7 @@ BEFORE_WORK = {"simulate-out-missing-folder", "simulate-out-folder",
                "simulate-duration-huge", *(c[0] for c in CATALOGUE if c[0].startswith("dataset")),
                "train-out-file", "train-out-not-a-model", "train-out-model-exists",
                *(c[0] for c in CATALOGUE if "-cutoff-" in c[0])}
-WORK = [("rubdiag.simulation", "simulate"), ("rubdiag.signal", "features"),
+WORK = [("rubdiag.simulation", "simulate"), ("rubdiag.signal", "signal_features"),
         ("rubdiag.runs", "run_features"), ("rubdiag.modal", "calibrate"),
         ("rubdiag.modal", "campbell"), ("rubdiag.paper", "table2"),
         ("rubdiag.plotting._run", "save_run_figures"), ("rubdiag.dataset", "generate"),
@@ -461,11 +461,14 @@ def run_main(argv):
                          ids=[c[0] for c in CATALOGUE])
 def test_bad_input_is_one_line_and_exit_2(request, d, capsys, monkeypatch, argv, fragment):
     if request.node.callspec.id in BEFORE_WORK:
+        import functools
         import importlib
 
         # import them all first: a module imported under the patch would keep the fake
         modules = [importlib.import_module(module) for module, _ in WORK]
         for module, (_, name) in zip(modules, WORK, strict=True):
+            # the fake keeps the signature: the command line reads its defaults from it
+            @functools.wraps(getattr(module, name))
             def work(*args, _name=name, **kwargs):
                 raise AssertionError(f"{_name}() ran before the output location was checked")
             monkeypatch.setattr(module, name, work)
