@@ -94,7 +94,11 @@ def commands() -> tuple:
 
     parser = build_parser()
     sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
-    return parser, dict(sub.choices)
+    commands = {}
+    for name, subparser in sub.choices.items():     # an alias maps to its command's parser
+        if all(subparser is not seen for seen in commands.values()):
+            commands[name] = subparser
+    return parser, commands
 
 
 #: the width (characters) of the help text on the command-line page: the pages' code width

@@ -103,3 +103,19 @@ def test_every_workflow_with_top_level_names(tmp_path):
     assert report["run_rub_episodes"] > 0      # a 0.7-mm gap at case 2's critical speed rubs
     assert report["in_sample"]                 # scored on its own training runs: it says so
     assert report["predicted"] == ["True"]     # the rubbing record is called rub
+
+
+def test_the_command_line_and_python_share_their_words():
+    """A command that does what a top-level function does has its name: ``rubdiag evaluate``
+    and ``rubdiag.evaluate`` both score a saved model, ``rubdiag generate`` (``dataset``)
+    and ``rubdiag.generate`` both make a dataset."""
+    import argparse
+
+    from rubdiag.cli import build_parser
+
+    parser = build_parser()
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    shared = {"simulate", "table2", "generate", "train", "evaluate", "predict", "calibrate",
+              "campbell"}
+    assert shared <= set(sub.choices) & set(rubdiag.__all__)
+    assert sub.choices["generate"] is sub.choices["dataset"]

@@ -11,7 +11,8 @@ from rubdiag.cli._quiet import add_quiet_option
 
 def register(sub) -> None:
     p = sub.add_parser(
-        "dataset", help="simulate a design of runs into a labelled feature dataset",
+        "dataset", aliases=["generate"],     # the Python word: rubdiag.generate
+        help="simulate a design of runs into a labelled feature dataset",
         description="Simulate every run of a design (TOML: [base], [sampling], [factors], "
         "[labels]), label it from what it did (rub, rub_state, severity) and write one row "
         "of features per run into DIR/features/ (parquet chunks, each written atomically). "
