@@ -19,6 +19,7 @@ import importlib
 import importlib.util
 import json
 import os
+import shutil
 import sys
 import tomllib
 from pathlib import Path
@@ -49,6 +50,7 @@ def version() -> str:
 
 def write_all(folder: Path) -> None:
     """Every generated page into ``folder``."""
+    shutil.rmtree(folder / "api" / "generated", ignore_errors=True)   # stubs of renamed names
     _write(folder / "api" / "rubdiag.rst", top_level_page())
     for name in SUBPACKAGES:
         _write(folder / "api" / f"{name}.rst", api_page(f"rubdiag.{name}"))
