@@ -35,9 +35,17 @@ test-slow: $(VENV)/.dev
 	$(BIN)/python -m pytest -n 2 --dist loadfile -m slow
 
 # the kernels as plain Python (NUMBA_DISABLE_JIT=1: the same source on the same arrays, to
-# the same bits): the kernel tests with their NumPy twins, and the element seam. NumPy
-# scalars warn where Numba's error_model="numpy" makes inf and nan silently: not errors here
-NOJIT_TESTS := tests/kernels tests/simulation/test_element_seam.py
+# the same bits): the kernel tests with their NumPy twins, the element seam, the dense
+# products, and the unit tests of the long steps' parts and of the crack's and pedestal's
+# laws (their runs take minutes as Python). NumPy scalars warn where Numba's
+# error_model="numpy" makes inf and nan silently: not errors here
+NOJIT_TESTS := tests/kernels tests/simulation/test_element_seam.py tests/reduce/test_modal_tail.py \
+	tests/simulation/test_long_steps.py::test_interpolation_is_exact_for_a_cubic_motion \
+	tests/simulation/test_long_steps.py::test_error_estimate_is_zienkiewicz_xie \
+	tests/simulation/test_crack.py::test_mayes_law_open_at_zero_shut_at_pi_and_turned_between \
+	tests/simulation/test_crack.py::test_gasch_law_opens_when_the_moment_stretches_the_mouth \
+	tests/simulation/test_pedestal_looseness.py::test_law_force_jacobian_and_lift_off \
+	tests/simulation/test_pedestal_looseness.py::test_law_on_the_seam_records_and_books
 test-nojit: $(VENV)/.dev
 	NUMBA_DISABLE_JIT=1 $(BIN)/python -m pytest -n 2 --dist loadfile $(NOJIT_TESTS) \
 		-W "ignore:overflow encountered:RuntimeWarning" \

@@ -32,7 +32,7 @@ from bench_breakdown import profiled_system  # benchmarks/ is on sys.path as a s
 
 from rubdiag._kernels.newmark import PROFILE_SECTIONS
 from rubdiag.model import paper_rig
-from rubdiag.reduce import Reduction, reduced
+from rubdiag.reduce import Reduction, _reduced
 from rubdiag.reduce._spec import DEFAULT_CUTOFF_HZ
 from rubdiag.simulation import Run, simulate
 from rubdiag.simulation import _simulation as simulation_module
@@ -75,9 +75,9 @@ def main() -> None:
     for reduction in reductions:
         costs = []
         for _ in range(args.repeat):
-            reduced._reduced_model.cache_clear()
+            _reduced._reduced_model.cache_clear()
             start = time.perf_counter()
-            model = reduced.reduced_model(rig, reduction)
+            model = _reduced.reduced_model(rig, reduction)
             costs.append(time.perf_counter() - start)
         print(f"one-time reduction: {statistics.median(costs):.3f} s "
               f"({model.n_full} -> {model.n_reduced} coordinates, cutoff "

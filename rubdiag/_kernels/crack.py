@@ -9,7 +9,7 @@ this law adds the crack's stiffness loss, ``p = -f ΔK(ψ) x`` with
   semidefinite, in the crack's frame whose y axis is the crack normal:
   :class:`rubdiag.simulation._crack.BreathingCrack`) turned with the crack; Q(ψ) turns each
   node's (u_y, u_z) and (θ_y, θ_z) pairs by ``ψ = φ + angle`` (φ the shaft angle,
-  ``prog[0].phi`` at the step's end, set by the kernel's clock);
+  ``progress[0].phi`` at the step's end, set by the kernel's clock);
 * the breathing function f in [0, 1]:
 
   - Mayes & Davies: ``f = (1 + cos ψ) / 2`` (Mayes I.W., Davies W.G.R., "Analysis of the
@@ -34,7 +34,7 @@ structure over the step, ``½ x_nᵀ (S_1 - S_n) x_1`` with ``S = f ΔK(ψ)`` (t
 trapezoidal remainder), so that the energy ledger closes: a time-varying stiffness
 exchanges energy with the drive.
 
-Parameters (``par`` row): the law code, the angle offset (rad), g (8), ΔK_open (64, row
+Parameters (a ``parameters`` row): the law code, the angle offset (rad), g (8), ΔK_open (64, row
 major). State: f, ψ and x at the step's end (the books read the start's from the committed
 state).
 """
@@ -58,7 +58,7 @@ N_STATE = P0 + 8
 
 
 @njit(error_model="numpy", inline="always")
-def _rot_wc(local_work, r, j, c, s):
+def _in_crack_frame(local_work, r, j, c, s):
     """Component j of ``Q(ψ)ᵀ x`` (the crack's frame) for the trial x at
     ``local_work[D_NEW, r .. r + 7]`` (m or rad), with ``c, s = cos ψ, sin ψ``."""
     if j % 2 == 0:
@@ -76,7 +76,7 @@ def _openness(e, local_work, r, parameters, c, s, psi):
         return f, f
     moment = 0.0
     for j in range(8):
-        moment += parameters[e, G0 + j] * _rot_wc(local_work, r, j, c, s)
+        moment += parameters[e, G0 + j] * _in_crack_frame(local_work, r, j, c, s)
     return (1.0 if moment < 0.0 else 0.0), -moment
 
 
@@ -108,7 +108,7 @@ def law(e, elements, local_work, local_state, parameters, element_state, track, 
     for i in range(8):
         acc = 0.0
         for j in range(8):
-            acc += parameters[e, DK0 + 8 * i + j] * _rot_wc(local_work, r, j, c, s)
+            acc += parameters[e, DK0 + 8 * i + j] * _in_crack_frame(local_work, r, j, c, s)
         local_work[P_NEW, r + i] = acc
     for k in range(4):
         a = local_work[P_NEW, r + 2 * k]

@@ -136,7 +136,7 @@ def solve_elements(flexibility, local_work, local_force, local_state, elements, 
 
     Augmented Lagrangian (the study's eq. 2): after each converged Newton solve, every
     engaged element with ``aug`` and ``|gap| >= eps`` updates its multiplier ``lam <- max(0,
-    lam - aug_k (gap + aug_shift eps))`` (``aug_k`` at the step's level) and the Newton
+    lam - aug_k (gap + aug_shift eps))`` (``aug_k``: its ``augment_stiffness``) and the Newton
     solve is repeated, until every engaged augmented element is in the band ``-eps < g <=
     0`` (or ``max_aug`` updates; then ``AUGMENT_FAILED`` if ``aug_strict`` else
     ``AUGMENT_PENDING``). Eq. (2) literally is ``aug_k = k_N``, ``aug_shift = 0``: its

@@ -2,7 +2,7 @@
 
 Two local coordinates: the journal centre relative to the bearing housing, ``x = q[journal
 y] - q[housing y]`` and ``y = q[journal z] - q[housing z]`` (housing -1: ground), so that
-the journal turns from x towards y at the shaft's speed ``prog[0].omega``. The law is the
+the journal turns from x towards y at the shaft's speed ``progress[0].omega``. The law is the
 film force of :func:`rubdiag._fluidfilm.step_film_terms` (the short-bearing π-film force of
 :func:`~rubdiag._fluidfilm.film_terms` with as many Gauss points as its eccentricity needs; its
 model and sources there) at the trial position and at the velocity the Newmark relation

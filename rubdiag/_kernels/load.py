@@ -17,7 +17,8 @@ z = a(t) e^{ikφ(t)}, with the amplitude law a(t) by ``LAW_*`` code:
   outside it.
 
 Constant speed is a profile of one knot (the factors are e^{iωt}, ω = kΩ in the group's row).
-:func:`load_factors` evaluates every group's z at both ends of a step into ``zt`` (G, 4):
+:func:`load_factors` evaluates every group's z at both ends of a step into ``group_factors``
+(G, 4):
 (Re z(t_n), Im z(t_n), Re z(t_1), Im z(t_1)), once per step (trigonometry once per group,
 not per term: a projected load has a term per coordinate but one group).
 """

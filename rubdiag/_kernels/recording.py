@@ -90,11 +90,11 @@ def record(index, q, v, momentum, elastic_force, record_dofs, record_map, track,
         o.status = k.status
         o.gap = k.gap
         o.slip = k.slip
-    ek = 0.0
-    es = 0.0
+    v_m_v = 0.0
+    q_k_q = 0.0
     for i in range(q.shape[0]):
-        ek += v[i] * momentum[i]
-        es += q[i] * elastic_force[i]
+        v_m_v += v[i] * momentum[i]
+        q_k_q += q[i] * elastic_force[i]
     pr = progress[0]
     en = recorded_energy[index]
     en.w_ext = pr.w_ext
@@ -102,8 +102,8 @@ def record(index, q, v, momentum, elastic_force, record_dofs, record_map, track,
     en.d_visc = pr.d_visc
     en.d_fric = pr.d_fric
     en.d_num = pr.d_num
-    en.kinetic = 0.5 * ek
-    en.strain = 0.5 * es
+    en.kinetic = 0.5 * v_m_v
+    en.strain = 0.5 * q_k_q
     en.contact = pr.e_contact
 
 

@@ -45,8 +45,9 @@ OPEN = 1
 SLIDING = 2
 STICKING = 3
 
-# Rows of the elements' local vectors (m local coordinates): the work ``wc`` (5, m) of a
-# step and the state ``xs`` (3, m). The laws read ``wc[D_NEW]`` and write ``wc[P_NEW]``.
+# Rows of the elements' local vectors (m local coordinates): the work ``local_work`` (5, m)
+# of a step and the state ``local_state`` (3, m). The laws read ``local_work[D_NEW]`` and
+# write ``local_work[P_NEW]``.
 D_LIN = 0       # the linear predictor's local displacements
 D_NEW = 1       # the trial (then the solution's) local displacements
 P_NEW = 2       # the trial local forces
