@@ -19,7 +19,7 @@ import sys
 import traceback
 import warnings
 
-from rubdiag._blas import pin_blas_kernels
+from rubdiag._blas import no_threads_in_this_process, pin_blas_kernels
 from rubdiag._version import __version__
 
 # Modules that register commands, in the order they appear in --help.
@@ -64,8 +64,16 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+#: commands that make one simulation: OpenBLAS's idle threads would only cost it time. Told
+#: before parsing, since parsing reads option defaults from the library (which loads numpy).
+_ONE_RUN_COMMANDS = ("simulate",)
+
+
 def main(argv: list[str] | None = None) -> int:
     pin_blas_kernels()    # first: before anything loads numpy (rubdiag/_blas.py)
+    words = [a for a in (sys.argv[1:] if argv is None else argv) if not a.startswith("-")]
+    if words and words[0] in _ONE_RUN_COMMANDS:
+        no_threads_in_this_process()
     args = build_parser().parse_args(argv)
     with warnings.catch_warnings():   # restores the caller's warning display afterwards
         if not args.debug:

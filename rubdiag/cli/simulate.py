@@ -62,10 +62,6 @@ def _simulate(args) -> int:
     import dataclasses
 
     from rubdiag import _progress
-    from rubdiag._blas import no_threads_in_this_process
-
-    no_threads_in_this_process()    # one run: OpenBLAS's idle threads would only cost time
-
     from rubdiag.cli._paths import load_rig, output_file
     from rubdiag.simulation import Run, SimulationDiverged, response_points, simulate
 
