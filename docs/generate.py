@@ -189,8 +189,7 @@ def substitutions() -> dict[str, str]:
     numbers of the validation pages (:func:`prose_values.values`, from ``data/*.csv``)."""
     import prose_values
 
-    from rubdiag.learn._caveats import MIN_RUNS_PER_CLASS
-    from rubdiag.learn._channel_choice import NOISE_MARGIN_DB
+    from rubdiag.learn import MIN_RUNS_PER_CLASS, NOISE_MARGIN_DB
     check = importlib.import_module("rubdiag.reduce._check")    # the module, not the function
     t = tolerances()
     return {"reduce_frequency_tolerance": _percent(check.FREQUENCY_TOLERANCE),
