@@ -14,7 +14,7 @@ One warm-up run of each script per side (compiles, fills the caches; not counted
 odd pairs and B first in even ones, so a drift of the machine's speed cancels in the ratios.
 Printed: per quantity (µs per step) each side's median, the median of the paired ratios B/A
 and their range, as a markdown table with the date, the CPU, the load average and the
-command; and whether issue 25's criterion (B/A ≤ 1.05 on the rubbing cells' µs per step) is
+command; and whether the kernel's criterion (B/A ≤ 1.05 on the rubbing cells' µs per step) is
 met — as information only when the cores were not quiet or with ``--quick``.
 
 Usage::
@@ -41,7 +41,7 @@ REPO = Path(__file__).resolve().parents[1]
 WORKTREE_PREFIX = "/tmp/rubdiag-ab-"
 #: a 1-minute load average above this many runnable processes per CPU: not quiet cores
 QUIET_LOAD_PER_CPU = 0.5
-#: issue 25's bar: B's µs per step at most 5 % above A's (median of the paired ratios)
+#: the bar: B's µs per step at most 5 % above A's (median of the paired ratios)
 BAR = 1.05
 #: variables set alike on both sides: one thread per BLAS/OpenMP pool (the kernels are
 #: single-threaded; a spinning pool would time the machine, not the code), and rubdiag's
@@ -244,7 +244,7 @@ def parse_breakdown(text: str) -> tuple[dict[str, float], dict[str, float]]:
 
 PARSERS = {"bench_kernel.py": parse_kernel, "bench_reduced.py": parse_reduced,
            "bench_breakdown.py": parse_breakdown}
-#: the rows issue 25's criterion is about: µs per step of whole rubbing runs, full and reduced
+#: the rows the criterion is about: µs per step of whole rubbing runs, full and reduced
 CRITERION = re.compile(r"((test system, rubbing|, full|, reduced \S+ Hz), µs/step"
                        r"|case \d, µs/step unprofiled)$")
 
@@ -347,7 +347,7 @@ def report(rows, meta: dict) -> str:
         f"- command: `{meta['command']}`",
     ]
     lines += [*(f"- {note}" for note in meta["notes"]), ""]
-    lines += ["| quantity (µs per step; bold: issue 25's criterion) | A median | B median | "
+    lines += ["| quantity (µs per step; bold: the criterion) | A median | B median | "
               "B/A, median of pairs | B/A min–max | pairs |",
               "|---|---:|---:|---:|---:|---:|"]
     for r in rows:

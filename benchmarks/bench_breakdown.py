@@ -1,4 +1,4 @@
-"""Where a step of the full model's kernel spends its time (issue 13, point 2).
+"""Where a step of the full model's kernel spends its time.
 
 Runs the study's rubbing cells (case 1 and case 2, g0 = 1.9 mm: serious) through
 ``rubdiag.simulation.simulate`` with the kernel's cycle counters on

@@ -29,7 +29,7 @@ Numba kernels are compiled and cached on disk, and the feature code is imported)
   result, the sensor signals (anti-alias filter and decimation), noise, spectral features,
   pair features, contact statistics, labels, and the rest of the row's wall time; each
   part's median over the runs, and the median of everything but the kernel (wall − kernel:
-  the figure issue 29 wants ≤ 0.1 s per run);
+  the goal: ≤ 0.1 s per run);
 * (a) ``generate(design, tmp, jobs=1, progress=False)``;
 * (b) ``generate(design, tmp, jobs=2, progress=False)`` (a fresh ProcessPoolExecutor per
   call: starting the workers is part of the cost; on Linux they are forked and inherit this
@@ -267,7 +267,7 @@ def part_times(design) -> dict[str, list[tuple[float, float]]]:
 
 def parts_table(per_part: dict[str, list[tuple[float, float]]]) -> list[str]:
     """Markdown: each part's median seconds per run (wall and CPU), the set-up before the
-    kernel, and everything but the kernel (the issue's figure)."""
+    kernel, and everything but the kernel (the figure)."""
     def median(values, i):
         return statistics.median(v[i] for v in values)
 

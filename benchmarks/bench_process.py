@@ -27,7 +27,7 @@ same process — their difference is the one-time cost of loading the Numba kern
 
 Usage::
 
-    .venv/bin/python benchmarks/bench_process.py                     # the issue's run, 5 each
+    .venv/bin/python benchmarks/bench_process.py                     # the run, 5 each
     .venv/bin/python benchmarks/bench_process.py --repeat 2 --duration-s 0.3   # a quick look
     .venv/bin/python benchmarks/bench_process.py --breakdown --conditions quiet
 
@@ -108,7 +108,7 @@ def preamble(checkout: Path | None) -> str:
 
 
 def simulate_command(model: str, duration_s: float, checkout: Path | None) -> list[str]:
-    """``rubdiag simulate`` of the issue's cell (``python -c`` running the CLI's main)."""
+    """``rubdiag simulate`` of the cell (``python -c`` running the CLI's main)."""
     command = [sys.executable, "-c", preamble(checkout)
                + "from rubdiag.cli import main\nsys.exit(main())\n",
                "simulate", "--case", "2", "--gap-mm", "1.9", "--duration-s", f"{duration_s:g}",

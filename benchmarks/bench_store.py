@@ -1,4 +1,4 @@
-"""Benchmark of the dataset writer's own time per row (issue 24: every row is stored the
+"""Benchmark of the dataset writer's own time per row (every row is stored the
 moment it arrives; that must cost at most 2 % of a 1.3-s reduced run).
 
 Usage::

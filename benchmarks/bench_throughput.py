@@ -227,7 +227,7 @@ def report(args, design, now, commit, pools, load_start, warm, measured, schedul
                      f"C {paired['C']}.")
     a, c = measured["local", "A"].timing.median, measured["local", "C"].timing.median
     lines.append(f"- C against A on 2 local workers: **{a / c:.2f}×** — "
-                 f"{'meets' if a / c >= 4.5 else 'misses'} the issue's goal of ≥ 4.5×.")
+                 f"{'meets' if a / c >= 4.5 else 'misses'} the goal of ≥ 4.5×.")
     bad = [f"{s} {k}: {m.mismatches} of {args.repeat - 1} later passes differ"
            for (s, k), m in measured.items() if m.mismatches]
     failed = [f"{s} {k}: {m.failed} failed runs" for (s, k), m in measured.items() if m.failed]

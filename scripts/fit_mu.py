@@ -26,7 +26,7 @@ root-mean-square log-ratio to the study's value ``p(cell, q)``::
 
 (100 · r is about the rms deviation in %; printed so). The other Table 2 numbers are not
 used: the minimum force and the entry counts change with dt by more than the start-history
-spread (issue 10, point 6: 64.7 → 19.6 → 7.3 N at 10, 5, 2.5 µs), so fitting μ to them would
+spread (64.7 → 19.6 → 7.3 N at 10, 5, 2.5 µs), so fitting μ to them would
 fit a step size.
 
 Splits (fixed before the scan):

@@ -29,7 +29,7 @@ CSV = ROOT / "data" / "learn_table.csv"
 TARGETS = ("rub", "severity")
 SPLITS = ("group", "speed_ratio")
 ESTIMATORS = ("rf", "hgb", "svm", "logreg")
-#: What issue 12 asks, per target: rub/no-rub macro-F1 at least 0.95; severity at least 0.10
+#: The goal, per target: rub/no-rub macro-F1 at least 0.95; severity at least 0.10
 #: macro-F1 above the best single baseline. Both under each split of SPLITS.
 GOALS = {"rub": ("macro_f1", 0.95), "severity": ("margin", 0.10)}
 BASELINES = {"1x level only": "b1x", "speed only": "bspeed", "design factors only": "bfactors"}

@@ -1,4 +1,4 @@
-"""The simulator's results before it is split into small parts (issue 13): a reference.
+"""The simulator's results before it is split into small parts: a reference.
 
 Three runs, made by the code *before* the split and stored with the library versions and the
 OpenBLAS kernels they were made with:

@@ -1,6 +1,6 @@
 #!/usr/bin/env python
 """The reduced model against the full model's start-history spread, with the full model
-itself as the control (issue 13, point 4).
+itself as the control.
 
 Issue 13 asks that the reduced model's median over the five default start histories of each
 study cell (:data:`rubdiag.paper._ensemble.GAP_RAMPS_S`, gap ramp 0.1 s ± 2 %) lies within the

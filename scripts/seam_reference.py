@@ -1,4 +1,4 @@
-"""The simulator's results before its nonlinear elements moved behind one seam (issue 25).
+"""The simulator's results before its nonlinear elements moved behind one seam.
 
 Runs that reach every path of the contact code, made by the code *before* the element seam
 and stored as SHA-256 digests of every array of their

@@ -1,6 +1,6 @@
 """Every bad input of the command line: one line on stderr naming the problem, exit status 2.
 
-The catalogue of issue 9 (point 3), run in-process through ``rubdiag.cli.main``; new
+The catalogue of bad inputs, run in-process through ``rubdiag.cli.main``; new
 commands add their inputs here. Output locations are checked before any work: for those
 entries the expensive functions are replaced by ones that fail the test if they are called.
 """
@@ -222,7 +222,7 @@ CATALOGUE = [
      "--unit ' ' names no unit (allowed: the unit of the file's values, e.g. um)"),
     ("compare-empty-unit", ["compare", "{d}/a.csv", "{d}/a.csv", "--unit", ""],
      "--unit '' names no unit (allowed: the unit of the file's values, e.g. um)"),
-    # --- already one line before issue 9: they stay so --------------------------------------
+    # --- one line from the start: they stay so --------------------------------------
     ("simulate-negative-gap", [*SIM, "--gap-mm", "-1"], "--gap-mm = -1 is out of range"),
     ("simulate-zero-gap", [*SIM, "--gap-mm", "0"], "--gap-mm = 0 is out of range"),
     ("simulate-nan-gap", [*SIM, "--gap-mm", "nan"], "--gap-mm = nan is out of range"),
@@ -280,7 +280,7 @@ CATALOGUE = [
                                  "-100"], "speed_rpm = -100.0 is out of range"),
     ("table2-jobs-zero", ["table2", "--jobs", "0", "--out", "{d}/t2"],
      "--jobs = 0 is out of range"),
-    # --- the reduced model (issue 13): checked before any work ------------------------------
+    # --- the reduced model: checked before any work ------------------------------
     ("simulate-cutoff-without-reduced", [*SIM, "--gap-mm", "2.3", "--cutoff-hz", "1500"],
      "--cutoff-hz 1500 needs --reduced"),
     ("simulate-cutoff-negative", [*SIM, "--gap-mm", "2.3", "--reduced", "--cutoff-hz", "-5"],
@@ -303,7 +303,7 @@ CATALOGUE = [
     ("compare-missing", ["compare", "{d}/a.csv", "{d}/none.csv"], "{d}/none.csv: no such file"),
     ("compare-no-common-channel", ["compare", "{d}/a.csv", "{d}/b.csv"],
      "have no channel in common"),
-    # --- dataset (issue 11, point 8): nothing simulated, nothing written --------------------
+    # --- dataset: nothing simulated, nothing written --------------------
     ("dataset-design-missing", ["dataset", "{d}/none.toml", "--out", "{d}/new"],
      "{d}/none.toml: no such file"),
     ("dataset-unknown-factor", ["dataset", "{d}/design_unknown_factor.toml", "--out",
@@ -339,7 +339,7 @@ CATALOGUE = [
      "--jobs and --scheduler exclude each other"),
     ("dataset-run-timeout-negative", ["dataset", "{d}/design.toml", "--out", "{d}/new",
                                       "--run-timeout", "-1"], "--run-timeout = -1 is out of range"),
-    # --- train, evaluate, predict (issue 12, point 5): nothing trained, nothing written ----
+    # --- train, evaluate, predict: nothing trained, nothing written ----
     ("train-out-file", ["train", "{d}/other_dataset", "--out", "{d}/file"],
      "--out {d}/file: is a file, not a folder"),
     ("train-out-not-a-model", ["train", "{d}/other_dataset", "--out", "{d}/not_a_dataset"],

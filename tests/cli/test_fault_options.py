@@ -1,4 +1,4 @@
-"""``rubdiag simulate`` with the faults that look like rub (issue 26, part 5 in part): a run
+"""``rubdiag simulate`` with the faults that look like rub: a run
 without rub needs no --gap-mm; bad fault options get one line and exit 2."""
 
 from __future__ import annotations

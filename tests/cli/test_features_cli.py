@@ -195,7 +195,7 @@ def test_features_across_speed_bad_input(run_ups, capsys, args, message):
     assert out.err.count("\n") == 1
 
 
-# --- one speed estimator, units, every channel compared (issue 24, part 6) ------------------
+# --- one speed estimator, units, every channel compared ------------------
 
 RPM = 1500.0
 

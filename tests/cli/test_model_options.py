@@ -1,4 +1,4 @@
-"""``--reduced [--cutoff-hz HZ]`` of ``simulate`` and ``table2`` (issue 13): the options reach
+"""``--reduced [--cutoff-hz HZ]`` of ``simulate`` and ``table2``: the options reach
 the runs (the simulator replaced: the run it is given is the point), and one short real run
 prints its model (bad values: test_errors.py)."""
 
@@ -77,7 +77,7 @@ def test_help_states_the_default_cutoff():
 
 @pytest.mark.parametrize(("options", "model"), [([], "full"), (["--reduced"], "reduced")])
 def test_a_short_run_prints_its_model(capsys, options, model):
-    """The issue's command, end to end (the critical speed of case 1 found, 50 ms)."""
+    """The command, end to end (the critical speed of case 1 found, 50 ms)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")        # the 25-ms gap ramp outlasts the discard
         code = main(["simulate", "--case", "1", "--gap-mm", "1.9", "--duration-s", "0.05",

@@ -1,4 +1,4 @@
-"""Designs: the issue's TOML as written, what each sampling method guarantees (grid counts,
+"""Designs: the TOML as written, what each sampling method guarantees (grid counts,
 Latin-hypercube and Sobol' strata, level shares), determinism, the resolved round trip,
 what each factor does to the Run, and a one-line error for every kind of bad input.
 Nothing here simulates."""
@@ -17,7 +17,7 @@ from rubdiag.dataset import _expansion as expansion_module
 from rubdiag.model import save_rig
 from rubdiag.simulation import Run
 
-# issue 11, point 1, as written
+# a design as a user writes it
 ISSUE_TOML = """
 [base]
 rig = "paper"             # preset name or rig TOML path
@@ -58,7 +58,7 @@ def issue_design():
     return Design.from_toml(ISSUE_TOML)
 
 
-# --- the issue's design ----------------------------------------------------------------------
+# --- the design ----------------------------------------------------------------------
 def test_rub_lhs200_toml_gives_200_runs_inside_the_ranges(issue_design, paper_rig):
     runs = issue_design.runs()
     assert issue_design.n_runs == len(runs) == 200
@@ -282,7 +282,7 @@ def test_resolved_reference_speeds_are_used_not_recomputed(monkeypatch):
 
 
 def test_making_a_design_solves_no_eigenvalue_problem(monkeypatch, paper_rig):
-    """The issue's design refers to its rig's critical speeds (speed_ratio) without giving
+    """The design refers to its rig's critical speeds (speed_ratio) without giving
     them: reading it, checking it and drawing its points solve nothing (every eigenvalue
     solver raises meanwhile, nothing kept from other tests); its runs compute the speeds
     then, and are the runs of the same design given the cases' critical speeds."""

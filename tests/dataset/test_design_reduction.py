@@ -1,4 +1,4 @@
-"""A design's model (issue 13): ``[base] reduced`` / ``reduction_cutoff_hz`` reach every run,
+"""A design's model: ``[base] reduced`` / ``reduction_cutoff_hz`` reach every run,
 the resolved TOML carries them (and stays as it was for the full model), bad values are one
 line naming the key. Nothing here simulates."""
 

@@ -1,5 +1,5 @@
 """The ``fault`` factor of dataset designs and the labels each fault's element gives
-(issue 26, parts 5 and 6: rubdiag.dataset._faults)."""
+(rubdiag.dataset._faults)."""
 
 from __future__ import annotations
 

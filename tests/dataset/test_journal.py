@@ -1,4 +1,4 @@
-"""Rows stored as they come (issue 24): each finished row goes into the folder's journal and
+"""Rows stored as they come: each finished row goes into the folder's journal and
 is moved into a Parquet chunk later. Killed at any file operation of that move — or of a
 retried run's replacing its old row — the folder reads every run once with its newest
 row, ``pandas.read_parquet`` never sees a run twice where it was once, and the next job's

@@ -1,4 +1,4 @@
-"""Nothing finished is lost (issue 24): ``rubdiag dataset`` on two worker processes,
+"""Nothing finished is lost: ``rubdiag dataset`` on two worker processes,
 SIGKILLed — with its workers — as soon as its progress line reports k ≥ 8 of 16 runs done,
 keeps at least those k rows (as they were: the resume does not run them again); the same
 command then reports at least k runs already stored and ends with every run of the design

@@ -1,4 +1,4 @@
-"""Designs with a speed ramp (issue 14, part 2): ``[ramp]`` round-trips and is checked, every
+"""Designs with a speed ramp: ``[ramp]`` round-trips and is checked, every
 run sweeps through its design point's speed, a constant-speed design's resolved text and
 run ids are those of before ramps existed, the rows' features are the order-tracked
 record's (and that record gives a chirp's 1× where a time spectrum smears it), and a ramp

@@ -1,4 +1,4 @@
-"""Damaged dataset files (issue 24): an empty, truncated, garbled or bit-flipped chunk, or a
+"""Damaged dataset files: an empty, truncated, garbled or bit-flipped chunk, or a
 truncated journal row, is one line naming the file — from ``load``, ``rubdiag train`` and
 ``rubdiag.learn._evaluate`` (and, in a slow test, ``rubdiag evaluate`` and ``rubdiag predict
 MODEL DATA``) — never a traceback, and the command that line names

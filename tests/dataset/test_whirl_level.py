@@ -1,4 +1,4 @@
-"""Oil whirl as a level of a design's fault factor (issue 27, part 4): its severity is the
+"""Oil whirl as a level of a design's fault factor: its severity is the
 speed over the rig's threshold of instability, its label the journal's sub-synchronous
 orbit share; it needs a rig on journal bearings (the preset paper-journal)."""
 

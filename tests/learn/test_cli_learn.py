@@ -62,8 +62,8 @@ def test_the_default_model(trained, small_dataset, small_rows, power_over_floor_
     meta = json.loads((out / "model.json").read_text())
     sensors = json.loads((small_dataset / "dataset.json").read_text())["acquisition"][
         "sensors"]
-    # decided defaults (issue 12, point 6): rub, random forest, split by design point,
-    # the channels not on the casing — and (issue 24) not at their noise floor either
+    # decided defaults: rub, random forest, split by design point,
+    # the channels not on the casing — and not at their noise floor either
     assert (meta["target"], meta["estimator"], meta["split"]) == ("rub", "rf", "group")
     over = power_over_floor_db(small_dataset)             # from the waveforms themselves
     shaft = [s["name"] for s in sensors if not s["point"].startswith("casing")]

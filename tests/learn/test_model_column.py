@@ -1,4 +1,4 @@
-"""A dataset's ``model`` column ("full" or "reduced", issue 13) is metadata: no channel, no
+"""A dataset's ``model`` column ("full" or "reduced") is metadata: no channel, no
 factor, no input of a classifier. Synthetic rows, no simulation."""
 
 import numpy as np

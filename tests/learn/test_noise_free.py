@@ -65,7 +65,7 @@ def test_a_noisy_record_keeps_its_own_floor():
     assert bands.min() > 10 * MIN_FLOOR_OF_LEVEL * np.sqrt(2.0)   # far above the rule's
 
 
-# --- the issue's test: a model trained on noise, records without it -----------------------
+# --- the test: a model trained on noise, records without it -----------------------
 
 _DESIGN = """
 [base]
@@ -140,7 +140,7 @@ def test_the_clean_runs_are_the_noisy_runs_without_their_noise(datasets):
 @pytest.mark.slow
 @pytest.mark.parametrize("channels", [None, ["shaft11_y_disp"]], ids=["default", "mid-span"])
 def test_noise_free_records_are_predicted_as_their_noisy_ones(datasets, tmp_path, channels):
-    """``rubdiag train`` with its default channels, and the issue's one-probe model."""
+    """``rubdiag train`` with its default channels, and the one-probe model."""
     from rubdiag.learn._predict import predict
     from rubdiag.learn._train import train
 

@@ -218,8 +218,8 @@ class TestCurve:
         """The default features read broadband over the channel's own noise floor: noise-
         only bands stay ≈ 1 however loud the noise, so a model trained at the dataset's
         floor still calls every run without rub "no rub" when its signals get noisier.
-        Over the channel level instead, the added noise read as rub (issue 12 notes in
-        the README: a forest fell to chance at 40 dB)."""
+        Over the channel level instead, the added noise read as rub (a forest fell to chance
+        at 40 dB)."""
         model = small_forest(small_rows).fit(small_rows, small_rows["rub"].astype(bool))
         quiet = ~small_rows["rub"].to_numpy(dtype=bool)
         noisy = small_rows.copy()

@@ -1,4 +1,4 @@
-"""Steps sized by error keep the default classifier's score (issue 29, "done when" item 2).
+"""Steps sized by error keep the default classifier's score.
 
 The shipped classifier design (data/designs/rub_classifier_lhs300.toml, 300 runs) is made
 twice: with the design's default ``step_error`` (long steps where nothing is in contact) and

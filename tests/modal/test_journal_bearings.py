@@ -1,4 +1,4 @@
-"""The linear analysis of a rotor on plain journal bearings (issue 27, part 2): the films'
+"""The linear analysis of a rotor on plain journal bearings: the films'
 speed-dependent, cross-coupled coefficients in the modes, the unbalance response, the
 critical speed map and the threshold of instability.
 

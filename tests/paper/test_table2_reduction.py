@@ -1,4 +1,4 @@
-"""Table 2 of the reduced model (issue 13): the saved runs of a full and a reduced reproduction
+"""Table 2 of the reduced model: the saved runs of a full and a reduced reproduction
 never stand in for each other, and the written table says which model made it.
 
 The simulator is replaced by one that returns a single real short run under each requested

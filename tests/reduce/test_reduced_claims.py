@@ -1,4 +1,4 @@
-"""The study's claims measured on the reduced model (issue 13, point 4): each claim of
+"""The study's claims measured on the reduced model: each claim of
 ``data/claims.csv`` gets the verdict the full model gives it.
 
 The same measurement as ``tests/paper/test_table2.py`` (``scripts/claims.py``'s

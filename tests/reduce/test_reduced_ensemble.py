@@ -1,5 +1,5 @@
 """The reduced model against the full model's start-history spread, on the study's four
-cells (issue 13); the helpers, the control families and the bias limit are
+cells; the helpers, the control families and the bias limit are
 ``scripts/reduced_ensemble.py``'s, which prints the same comparison for any cutoff.
 
 Rub is chaotic, so one run of either model is one realisation. Issue 13 asks that the reduced
@@ -18,7 +18,7 @@ the contact-1 maximum force of case 1 serious and case 2 light is 3 % high (+4.6
 and case 2 light's sticking share 10 % low (-9.4 SD). They shrink with the cutoff (10 kHz:
 +1.2, +0.4 and -3.0 SD).
 Measured 2026-11-24 with the pinned Haswell kernels; the reduced runs again on 2026-11-25,
-with the reduction on one BLAS thread (issue 24): the same checks pass and fail.
+with the reduction on one BLAS thread: the same checks pass and fail.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The probe pairs of a simulated run (issue 28, part 1): the full spectrum of a linear run
+"""The probe pairs of a simulated run: the full spectrum of a linear run
 against its harmonic response written out here.
 
 For y = Re(Y e^{iΩt}) and z = Re(Z e^{iΩt}), the complex y + i z is (Y + iZ)/2 e^{iΩt} plus

@@ -1,4 +1,4 @@
-"""Run-ups and coast-downs (issue 14): the ramp run, its order tracks against the linear
+"""Run-ups and coast-downs: the ramp run, its order tracks against the linear
 response, the summary against the contact record, and rub's hysteresis between run-up and
 coast-down — through the ``rubdiag runup`` command on the reduced model."""
 
@@ -39,7 +39,7 @@ def cli_out(tmp_path_factory):
 
 def test_a_slow_ramps_order_track_is_the_linear_response():
     """The 1× vector tracked on the run's shaft angle and ``linear_response`` share one
-    phase convention: within the issue's 2 % and 3° at 50 rpm/s, below the critical."""
+    phase convention: within the 2 % and 3° at 50 rpm/s, below the critical."""
     run = ramp_run(1, 1000, 1150, 50, 50.0, reduction=Reduction())
     table = runup_orders(simulate(run), revs_per_bin=4)
     linear = linear_response(run, "shaft 11 y", table["rpm"].to_numpy())

@@ -1,4 +1,4 @@
-"""rubdiag.signal._fullspectrum: synthetic orbits of known content (issue 28, part 1).
+"""rubdiag.signal._fullspectrum: synthetic orbits of known content.
 
 The convention: y + i z, the shaft turning from y towards z, is forward at positive
 frequencies. A circle turning with the shaft is forward, against it reverse; an ellipse of

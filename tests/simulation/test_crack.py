@@ -1,4 +1,4 @@
-"""A breathing crack in a shaft element (issue 26, part 3): the cracked section's compliance
+"""A breathing crack in a shaft element: the cracked section's compliance
 against closed forms and the published table, the element's stiffness fully open and closed
 against beam closed forms, the Mayes and Gasch laws against their definitions, and the
 crack through the element seam: a 2x resonance at half the first critical speed that grows

@@ -1,4 +1,4 @@
-"""Faults in a run's description (issue 26, part 4 and 5 in part): ``Run(faults=...)`` on the
+"""Faults in a run's description: ``Run(faults=...)`` on the
 full and the reduced model, and in the run's description and id."""
 
 from __future__ import annotations

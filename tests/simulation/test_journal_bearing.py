@@ -1,4 +1,4 @@
-"""A plain journal bearing through the element seam (issue 27, part 1): a rigid rotor of
+"""A plain journal bearing through the element seam: a rigid rotor of
 10 kg on its oil film under its weight, the film's force from rubdiag._fluidfilm.
 
 The test rotor: one bearing of radius 20 mm, length 10 mm (L/D = 0.25: a short bearing),

@@ -1,4 +1,4 @@
-"""A rig on plain journal bearings in a run (issue 27, part 4 in part): its films are
+"""A rig on plain journal bearings in a run: its films are
 elements, the run starts from the static state they carry, and oil whirl sets in above the
 threshold the linear analysis gives.
 

@@ -1,4 +1,4 @@
-"""Loads by order (issue 25, part 2): a harmonic load term turns with k φ(t) and has an
+"""Loads by order: a harmonic load term turns with k φ(t) and has an
 amplitude law (rubdiag.simulation._loads).
 
 At constant speed an order-k term is a harmonic load at kΩ: the run equals the closed-form

@@ -1,4 +1,4 @@
-"""A loose bearing pedestal in a run (issue 26): ``Faults(looseness=Looseness(...))`` on a rig
+"""A loose bearing pedestal in a run: ``Faults(looseness=Looseness(...))`` on a rig
 whose bearing sits on a :class:`~rubdiag.model._rig.Pedestal`.
 
 The rig: the paper rig with bearing 0 (shaft node 4) on a 20 kg pedestal, support 20 MN/m and

@@ -1,4 +1,4 @@
-"""Coupling misalignment (issue 26, part 1): the loads of a misaligned double-joint spacer
+"""Coupling misalignment: the loads of a misaligned double-joint spacer
 coupling (rubdiag.simulation._misalignment), a model derived from Hooke's-joint kinematics.
 
 The loads are checked against two joints written in closed form here (each joint's torque

@@ -1,4 +1,4 @@
-"""Mechanical looseness (issue 26, part 2): a bearing pedestal that lifts off its seat, a kind
+"""Mechanical looseness: a bearing pedestal that lifts off its seat, a kind
 of nonlinear element on the seam (rubdiag/_kernels/pedestal.py, rubdiag/simulation/_pedestal.py).
 
 The test system: a Jeffcott disc (10 kg, DOFs 0 y, 1 z) on a shaft spring (2e7 N/m) from a

@@ -1,4 +1,4 @@
-"""The simulator gives what it gave before it was split into small parts (issue 13).
+"""The simulator gives what it gave before it was split into small parts.
 
 ``data/presplit/`` was made by ``scripts/presplit_reference.py`` with the code before the
 split: digests of every array of a short contact run, of a portable run (no LAPACK-computed

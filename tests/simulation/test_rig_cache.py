@@ -1,4 +1,4 @@
-"""What a run computes from its rig alone is cached per process and on disk (issue 24): a run
+"""What a run computes from its rig alone is cached per process and on disk: a run
 with cached rig results gives the bits of a run without them, the cache key follows the rig's
 content, a damaged cache file is ignored and rewritten, and a run's BLAS runs on one thread."""
 

@@ -1,4 +1,4 @@
-"""A run's model (issue 13): ``Run.reduction`` asks for the reduced-order model; it is part of
+"""A run's model: ``Run.reduction`` asks for the reduced-order model; it is part of
 the run's identity and of its result file, and a run of the full model is described, hashed
 and stored exactly as before the field existed."""
 

@@ -1,5 +1,4 @@
-"""Point and annular contacts give, behind the element seam, the bits they gave before it
-(issue 25).
+"""Point and annular contacts give, behind the element seam, the bits they gave before it.
 
 ``data/seam/`` was made by ``scripts/seam_reference.py`` with the code before the seam:
 digests of every array of runs that reach each path of the contact code (annular clearance,

@@ -1,4 +1,4 @@
-"""A static load (issue 26, part 0): an order-0 "constant" load term f = Re(F) that does not
+"""A static load: an order-0 "constant" load term f = Re(F) that does not
 turn, gravity and side loads on a rig (``Run.static_load``), and runs that start from the
 static deflection K⁻¹f added to the harmonic steady state.
 
