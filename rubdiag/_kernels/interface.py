@@ -4,7 +4,7 @@
 compiles a namedtuple of arrays as a record: a swapped pair of same-typed arrays is a wrong
 name here, not a silent wrong result), the run's parameters as a record, and returns one of
 the ``STATUS_*`` codes. The bundles' fields keep the short names their caller
-(:mod:`rubdiag.simulation._system`) fills; each is described below, and the kernels take
+(:mod:`rubdiag.simulation._kernel_args`) fills; each is described below, and the kernels take
 them under these names:
 
 * ``State``: ``mv``, ``kq`` are ``momentum`` (M v, N s) and ``elastic_force`` (K q, N),

@@ -84,7 +84,7 @@ records: as a call with a branch over its arrays it brought 12 increfs into
 cache and counts the calls to ``NRT_incref`` in each part's IR: none in the per-step parts,
 a bounded number in the controller (``record`` and the failure paths have some).
 
-Everything is preallocated by the caller (:mod:`rubdiag.simulation._system`; the bundles
+Everything is preallocated by the caller (:mod:`rubdiag.simulation._kernel_args`; the bundles
 are :mod:`rubdiag._kernels.interface`); the kernel can be re-entered: all state lives in the
 arrays passed in. The run's parameters, the loop's counters and clock, each element's
 record and the logs are record arrays whose fields are named in

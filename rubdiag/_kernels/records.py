@@ -1,6 +1,6 @@
 """The record types the time-loop kernel and its caller share, field by name.
 
-The kernel (:mod:`rubdiag._kernels.newmark`) and its caller (:mod:`rubdiag.simulation._system`)
+The kernel (:mod:`rubdiag._kernels.newmark`) and its caller (:mod:`rubdiag.simulation._kernel_args`)
 exchange a run's parameters, the loop's counters, each element's state and the logs as NumPy
 structured arrays: the caller writes ``run["dt"] = ...``, the kernel reads ``run[0].dt``.
 Numba compiles a field access to a load at a fixed offset, with no reference counting, so a
