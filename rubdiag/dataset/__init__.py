@@ -15,7 +15,7 @@ import importlib
 
 # public name -> the submodule that defines it
 _WHERE = {
-    "Design": "design", "DesignRun": "design",
+    "Design": "design", "DesignRun": "design", "DEFAULT_STEP_ERROR": "design",
     "FACTORS": "factors", "Factor": "factors",
     "generate": "generation", "pending_runs": "generation",
     "canonical_run": "ids", "point_id": "ids", "run_id": "ids",
