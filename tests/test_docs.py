@@ -428,6 +428,7 @@ def _myst_nb_hash(source: Path, tmp_path) -> str:
 
 def test_the_parallel_executor_runs_every_executed_page_once():
     """Every notebook and every page with code cells, and nothing else."""
+    pytest.importorskip("myst_nb")      # the docs extra (make docs)
     found = [source for source, _ in execute_pages.pages()]
     assert len(found) == len(set(found))
     notebooks = sorted((DOCS.parent / "notebooks").glob("*.ipynb"))
@@ -441,6 +442,7 @@ def test_the_parallel_executor_runs_every_executed_page_once():
                                     DOCS.parent / "notebooks" / "01_rig_and_modes.ipynb"],
                          ids=lambda p: p.name)
 def test_the_parallel_executor_caches_a_page_under_myst_nbs_key(source, tmp_path):
+    pytest.importorskip("myst_nb")      # the docs extra (make docs)
     from jupyter_cache import get_cache
 
     cache = get_cache(str(tmp_path / "cache"))
