@@ -23,7 +23,7 @@ import scipy.sparse as sp
 from rubdiag.assembly._damping import rayleigh_coefficients
 from rubdiag.assembly._dofs import DofMap
 from rubdiag.assembly._elements import disc_matrices, frame_element, shaft_element
-from rubdiag.model._rig import Rig, Unbalance
+from rubdiag.model import Rig, Unbalance
 
 __all__ = ["BladeContactGeometry", "Model", "assemble"]
 

@@ -65,9 +65,7 @@ def add_fault_options(p) -> None:
 def run_options(args) -> dict:
     """The Run fields the fault options give: ``static_load`` and ``faults`` (only those
     asked for)."""
-    from rubdiag.simulation._faults import Crack, Faults, Looseness
-    from rubdiag.simulation._misalignment import Misalignment
-    from rubdiag.simulation._static_load import StaticLoad
+    from rubdiag.simulation import Crack, Faults, Looseness, Misalignment, StaticLoad
 
     out = {}
     if args.gravity_m_s2 is not None:

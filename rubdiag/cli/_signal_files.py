@@ -90,8 +90,7 @@ def channels_and_features(path, args, keep_flat: bool = False):
 def _named(path):
     """A guessed speed's refusal and ambiguity warning name the file ``path`` (``compare``
     reads two)."""
-    from rubdiag.signal._speed import SpeedAmbiguous
-    from rubdiag.signal._speedvote import SpeedNotFound
+    from rubdiag.signal import SpeedAmbiguous, SpeedNotFound
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -124,7 +123,7 @@ def pair_row(table, frame, fs, args, path) -> dict:
     ``table``): named ``Y+iZ``, at the speed of Y's row of the table, with ``--rotation``.
     Refused in one line: no speed, a name that is not a channel of ``path``, with
     ``--revs-per-bin``."""
-    from rubdiag.signal._fullspectrum import orbit_features
+    from rubdiag.signal import orbit_features
 
     if args.revs_per_bin is not None:
         raise ValueError("--pair works at one speed, not with --revs-per-bin")

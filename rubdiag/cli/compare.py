@@ -107,8 +107,7 @@ def _spectra_figure(args, loaded, rows, unit: str) -> None:
     import numpy as np
 
     from rubdiag._figures import new_figure
-    from rubdiag.plotting import save_figure
-    from rubdiag.plotting._spectra import order_spectra_figure
+    from rubdiag.plotting import order_spectra_figure, save_figure
     from rubdiag.signal import amplitude_spectrum
 
     fig = new_figure(figsize=(9.0, 4.2 * len(rows)), layout="constrained")

@@ -57,7 +57,7 @@ def _faults(args) -> int:
     from rubdiag.cli._paths import output_folder
     from rubdiag.plotting import save_figure
     from rubdiag.plotting._faults import PREDICTED, faults_figure
-    from rubdiag.runs._faults import FIGURE_FAULTS, fault_runs, line_amplitudes, whirl_runs
+    from rubdiag.runs import FIGURE_FAULTS, fault_runs, line_amplitudes, whirl_runs
 
     runs = fault_runs(speed_rpm=args.speed_rpm, interference=args.interference,
                       crack_depth=args.crack_depth,

@@ -193,9 +193,8 @@ def _train(args) -> int:
     out = check_out(args.out, args.overwrite, option="--out")   # before any work
     if args.n_splits < 2:
         raise ValueError(f"--n-splits = {args.n_splits} is out of range (allowed: >= 2)")
+    from rubdiag.learn import DEFAULT_FAMILIES, train
     from rubdiag.learn._channel_choice import CHANNEL_SETS
-    from rubdiag.learn._features import DEFAULT_FAMILIES
-    from rubdiag.learn._train import train
 
     channels = args.channels if args.channels in CHANNEL_SETS else _names(
         args.channels, "--channels")
@@ -239,8 +238,7 @@ def _train(args) -> int:
 def _evaluate(args) -> int:
     band = _band(args.band, "--band")          # before any work
     from rubdiag import _progress
-    from rubdiag.learn._persist import load_model
-    from rubdiag.learn._train import evaluate
+    from rubdiag.learn import evaluate, load_model
 
     with _progress.bar(1, "evaluate", "step", not args.quiet) as bar:   # and its own steps
         _progress.label(bar, "reading the model")
@@ -270,9 +268,8 @@ def _predict(args) -> int:
         raise ValueError("--speeds and --speed-rpm exclude each other (allowed: one of them; "
                          "a file whose speed_rpm is empty in --speeds takes its tacho or the "
                          "estimate)")
+    from rubdiag.learn import load_model, predict
     from rubdiag.learn._inputs import expand_inputs, read_speeds
-    from rubdiag.learn._persist import load_model
-    from rubdiag.learn._predict import predict
 
     speeds = None if args.speeds is None else read_speeds(args.speeds)
     left_out = [p for p in (args.speeds, out) if p is not None]

@@ -149,8 +149,7 @@ def _campbell(args) -> int:
     from rubdiag.assembly import assemble
     from rubdiag.cli._paths import output_folder
     from rubdiag.modal import campbell
-    from rubdiag.plotting import save_figure
-    from rubdiag.plotting._modal import campbell_figure
+    from rubdiag.plotting import campbell_figure, save_figure
 
     _positive("--max-speed-rpm", args.max_speed_rpm)
     _positive("--n-speeds", args.n_speeds)
@@ -181,8 +180,7 @@ def _unbalance(args) -> int:
     from rubdiag.assembly import assemble
     from rubdiag.cli._paths import output_folder
     from rubdiag.modal import critical_speeds, harmonic_response, unbalance_response
-    from rubdiag.plotting import save_figure
-    from rubdiag.plotting._modal import deflection_figure, unbalance_figure
+    from rubdiag.plotting import deflection_figure, save_figure, unbalance_figure
 
     _positive("--max-speed-rpm", args.max_speed_rpm)
     _positive("--n-speeds", args.n_speeds)

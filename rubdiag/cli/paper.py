@@ -78,7 +78,7 @@ def _table2(args) -> int:
 
 def _plot(args) -> int:
     from rubdiag.cli._paths import input_file, load_result, output_folder
-    from rubdiag.plotting._run import save_run_figures
+    from rubdiag.plotting import save_run_figures
 
     input_file(args.result, None, "a result file")   # a typo must not leave a new folder
     output_folder(args.out)

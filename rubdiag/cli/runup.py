@@ -66,7 +66,7 @@ def _runup(args) -> int:
     import dataclasses
 
     from rubdiag.cli._paths import load_rig
-    from rubdiag.runs._runup import linear_response, ramp_run, runup_orders, runup_summary
+    from rubdiag.runs import linear_response, ramp_run, runup_orders, runup_summary
     from rubdiag.simulation import SimulationDiverged
 
     if args.gap_mm is not None and not 0.0 < args.gap_mm <= 100.0:
@@ -175,7 +175,7 @@ def _figures(tracks: dict, linear, args) -> list[Path]:
 
     from rubdiag.assembly import assemble
     from rubdiag.modal import critical_speeds
-    from rubdiag.plotting._runup import save_runup_figures
+    from rubdiag.plotting import save_runup_figures
     from rubdiag.signal import rpm_order_map, waterfall
 
     words = {"runup": "run-up", "coastdown": "coast-down"}

@@ -224,7 +224,7 @@ def summary_lines(table) -> list[str]:
     """A few lines per row of a feature table, in words: the rub signatures found
     (:func:`rubdiag.paper._describe.describe_spectrum`), the 1× line and the RMS; for a
     simulation result also its contact statistics."""
-    from rubdiag.paper._describe import describe_spectrum
+    from rubdiag.paper import describe_spectrum
 
     lines = []
     for row in table.to_dict(orient="records"):

@@ -31,7 +31,7 @@ from rubdiag.dataset._ramp import SpeedRamp
 from rubdiag.dataset._rig_factors import blade_set_of, check_rig_factors
 from rubdiag.dataset._sampling import MAX_REPLICATES, METHODS, check_sobol_n, gap_ramps_s
 from rubdiag.dataset._window import MIN_REVOLUTIONS, check_revolutions
-from rubdiag.model._rig import Rig
+from rubdiag.model import Rig
 from rubdiag.reduce import Reduction
 from rubdiag.simulation import Sensor, default_sensors
 from rubdiag.simulation._sensors import check_sensors

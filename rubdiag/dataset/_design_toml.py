@@ -133,7 +133,7 @@ from rubdiag.dataset._labels import LabelRules
 from rubdiag.dataset._noise import NoiseFloors
 from rubdiag.dataset._ramp import KEYS as RAMP_KEYS
 from rubdiag.dataset._ramp import SpeedRamp
-from rubdiag.model._rig import Rig
+from rubdiag.model import Rig
 from rubdiag.reduce import Reduction
 
 __all__ = ["SECTIONS", "from_dict", "from_toml", "to_dict", "to_toml"]
@@ -248,7 +248,7 @@ def to_dict(design) -> dict:
     dict
         Table name -> table.
     """
-    from rubdiag.model._io import rig_to_dict
+    from rubdiag.model import rig_to_dict
 
     base = {"duration_s": design.duration_s, "discard_s": design.discard_s}
     if design.ramp is not None:

@@ -37,7 +37,7 @@ from rubdiag.dataset._rig_factors import (
 )
 from rubdiag.dataset._sampling import gap_ramps_s, unit_samples
 from rubdiag.dataset._window import check_revolutions, check_top_speed
-from rubdiag.model._rig import Rig, StatorContact, Unbalance
+from rubdiag.model import Rig, StatorContact, Unbalance
 from rubdiag.simulation import Run
 
 __all__ = ["DesignRun", "critical_speed_rad_s", "describe_point", "design_run", "points",

@@ -64,7 +64,7 @@ probe's spectrum:
     that follows the contact elements. NaN without a crack.
 ``misalignment_2x_force_n``
     The 2× line of the coupling's force on the rotor (N): the larger of the y and z force
-    amplitudes of :meth:`~rubdiag.simulation._misalignment.Misalignment.lines` (the model's
+    amplitudes of :meth:`~rubdiag.simulation.Misalignment.lines` (the model's
     law is "constant": the same at every speed, so this is its value at the run's speed).
     NaN without a misalignment.
 ``lift_off_fraction``
@@ -189,7 +189,7 @@ class FaultSettings:
         return {k: getattr(self, k) for k in KEYS if getattr(self, k) != getattr(default, k)}
 
     def static_load(self):
-        from rubdiag.simulation._static_load import StaticLoad
+        from rubdiag.simulation import StaticLoad
 
         if self.gravity_m_s2 == 0.0:
             return None
@@ -197,8 +197,7 @@ class FaultSettings:
 
     def faults(self, point) -> object:
         """The :class:`~rubdiag.simulation._faults.Faults` of a design point, or None."""
-        from rubdiag.simulation._faults import Crack, Faults, Looseness
-        from rubdiag.simulation._misalignment import Misalignment
+        from rubdiag.simulation import Crack, Faults, Looseness, Misalignment
 
         present = faults_in(point.get("fault", "none"))
         parts = {}

@@ -199,8 +199,8 @@ def bearing_loads_n(rig, gravity_m_s2: float = 9.81) -> tuple[float, ...]:
     import scipy.sparse.linalg as spla
 
     from rubdiag.assembly import assemble
-    from rubdiag.model._rig import Bearing
-    from rubdiag.simulation._static_load import StaticLoad
+    from rubdiag.model import Bearing
+    from rubdiag.simulation import StaticLoad
 
     rigid = dataclasses.replace(rig, bearings=tuple(
         Bearing(b.node, 1e12, 1e12) for b in rig.bearings))

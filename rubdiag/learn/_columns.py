@@ -14,11 +14,9 @@ from pathlib import Path
 
 import pandas as pd
 
-from rubdiag.dataset._factors import FACTORS
+from rubdiag.dataset import FACTORS, NoiseFloors, acquisition, load
 from rubdiag.dataset._labels import LABELS
-from rubdiag.dataset._noise import NoiseFloors
 from rubdiag.dataset._schema import SEPARATOR
-from rubdiag.dataset._store import acquisition, load
 from rubdiag.signal._table import FEATURE_NAMES, SPEED_NAMES
 
 __all__ = ["LINE_FEATURES", "TARGETS", "TARGET_COLUMNS", "casing_channels", "channels_of",

@@ -51,10 +51,9 @@ from rubdiag.learn._confusers import calls_rub
 from rubdiag.learn._inputs import Speeds, expand_inputs, speeds_per_file
 from rubdiag.learn._persist import Model, load_model
 from rubdiag.learn._sample_rate import required_fs
-from rubdiag.signal._io import read_signals
+from rubdiag.signal import read_signals, tacho_speed
 from rubdiag.signal._options import Options
 from rubdiag.signal._records import check_signals
-from rubdiag.signal._speed import tacho_speed
 from rubdiag.signal._speedvote import SpeedNotFound, SpeedVote, voted_speed
 from rubdiag.signal._table import prefixed_feature_row
 

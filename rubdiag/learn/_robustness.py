@@ -76,7 +76,7 @@ def analysis_windows(root: str | Path, run_ids, channels) -> Windows:
         The dataset was made without ``--waveforms``, a run's waveforms are missing, or
         runs differ in sampling rate or window length.
     """
-    from rubdiag.dataset._store import load_waveforms
+    from rubdiag.dataset import load_waveforms
 
     root = Path(root)
     if not (root / "waveforms").is_dir():

@@ -62,7 +62,7 @@ import pandas as pd
 
 from rubdiag import _check
 from rubdiag.dataset._schema import pair_channel
-from rubdiag.signal._orders import order_label
+from rubdiag.signal import order_label
 
 __all__ = ["AMPLITUDE_TOLERANCE", "ELLIPTICITY", "KINDS", "NOISE_TOLERANCE", "Kind",
            "TextbookRecord",

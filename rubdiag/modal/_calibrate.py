@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rubdiag.model._rig import Rig
+from rubdiag.model import Rig
 
 __all__ = ["KNOBS", "Calibration", "calibrate"]
 

@@ -14,7 +14,7 @@ import scipy.sparse.linalg as spla
 
 from rubdiag import _check
 from rubdiag.modal._critical import with_rayleigh
-from rubdiag.model._rig import Unbalance
+from rubdiag.model import Unbalance
 
 __all__ = ["HarmonicResponse", "UnbalanceResponse", "harmonic_response", "unbalance_response"]
 

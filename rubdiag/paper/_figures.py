@@ -34,8 +34,7 @@ def write_figures(results: dict, feats, out: str | Path, jobs: int | None = None
     :mod:`rubdiag._progress` to count them on).
     """
     # imported before the pool starts: forked workers inherit them
-    import rubdiag.plotting._modal
-    import rubdiag.plotting._run  # noqa: F401
+    import rubdiag.plotting  # noqa: F401
 
     try:
         import threadpoolctl  # noqa: F401
@@ -111,7 +110,7 @@ def _unbalance_figure(rig, path: Path) -> Path:
     """Fig. 5: the unbalance responses of cases 1 and 2, no rub."""
     from rubdiag._figures import save_figure
     from rubdiag.modal import unbalance_response
-    from rubdiag.plotting._modal import unbalance_figure
+    from rubdiag.plotting import unbalance_figure
 
     model, crit = _critical_speeds(rig)
     curves = {f"case {c} ({'in' if c == 1 else 'out of'} phase)":
@@ -124,7 +123,7 @@ def _deflection_figure(rig, path: Path) -> Path:
     """Fig. 6: the deflected shaft at the two critical speeds, no rub."""
     from rubdiag._figures import save_figure
     from rubdiag.modal import harmonic_response
-    from rubdiag.plotting._modal import deflection_figure
+    from rubdiag.plotting import deflection_figure
 
     model, crit = _critical_speeds(rig)
     shapes = {f"case {c} at {crit[c - 1] * _RPM:.0f} rpm":
@@ -146,7 +145,7 @@ def _speeds(critical: np.ndarray, low_rpm: float = 100.0, high_rpm: float = 8000
 
 
 def _run_figure(stem: str, row, title: str, path: Path) -> Path:
-    from rubdiag.plotting._run import save_run_figures
+    from rubdiag.plotting import save_run_figures
 
     return save_run_figures(_RESULTS[stem], path.parent, stem=path.stem, row=row,
                             title=title)[0]

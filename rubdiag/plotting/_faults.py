@@ -38,7 +38,7 @@ def _window_signal(result, point: str):
 
 def _spectrum(t, x, speed_rad_s: float):
     """Orders and peak amplitudes (Hann window, coherent gain divided out)."""
-    from rubdiag.signal._spectrum import amplitude_spectrum
+    from rubdiag.signal import amplitude_spectrum
 
     fs = 1.0 / (t[1] - t[0])
     f, amp = amplitude_spectrum(x, fs)
@@ -164,7 +164,7 @@ def full_spectrum_figure(y, z, fs: float, speed_hz: float, *, rotation: int = 1,
     rubdiag.signal.full_spectrum : The spectrum drawn.
     faults_figure : One probe's spectrum, run beside run.
     """
-    from rubdiag.signal._fullspectrum import full_spectrum
+    from rubdiag.signal import full_spectrum
 
     f, amp = full_spectrum(y, z, fs, rotation=rotation)
     order = f / speed_hz

@@ -47,8 +47,7 @@ from rubdiag.plotting._runup_axes import (
     round_ticks,
 )
 from rubdiag.plotting._runup_maps import order_map_figure, waterfall_figure
-from rubdiag.signal._leakage import tracking_leakage
-from rubdiag.signal._orders import order_label
+from rubdiag.signal import order_label, tracking_leakage
 
 __all__ = ["COLOURS", "RUB_ORDERS", "bode_figure", "polar_figure", "rub_orders_figure",
            "runup_figures", "save_runup_figures"]

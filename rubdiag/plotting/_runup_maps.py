@@ -10,7 +10,7 @@ from matplotlib import patheffects
 from matplotlib.colors import LogNorm
 
 from rubdiag.plotting._runup_axes import criticals, figure_axes, log_labels, round_ticks
-from rubdiag.signal._orders import order_label
+from rubdiag.signal import order_label
 
 __all__ = ["CMAP", "ORDERS", "order_map_figure", "waterfall_figure"]
 

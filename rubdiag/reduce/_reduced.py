@@ -180,7 +180,7 @@ _ARRAYS = ("boundary", "T", "mode_frequencies_hz", "first_dropped_hz", "M", "K",
 
 @functools.lru_cache(maxsize=8)
 def _reduced_model(rig, reduction: Reduction, blade_contacts: bool) -> ReducedModel:
-    from rubdiag.model._io import rig_to_dict
+    from rubdiag.model import rig_to_dict
 
     if not isinstance(reduction, Reduction):
         raise TypeError(f"reduction has the wrong type {type(reduction).__name__} "

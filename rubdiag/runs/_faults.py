@@ -58,12 +58,9 @@ def fault_runs(*, speed_rpm: float | None = None, interference: float = 1.3,
         The runs by name.
     """
     from rubdiag.model import preset_rig
-    from rubdiag.simulation import Run
-    from rubdiag.simulation._faults import Crack, Faults, Looseness
-    from rubdiag.simulation._misalignment import Misalignment
+    from rubdiag.simulation import Crack, Faults, Looseness, Misalignment, Run, StaticLoad
     from rubdiag.simulation._rig_cache import damped_model
     from rubdiag.simulation._rig_system import rig_system
-    from rubdiag.simulation._static_load import StaticLoad
 
     interference = _check.number("interference", interference, lo=0.0, hi=100.0,
                                  lo_open=True)
@@ -125,10 +122,9 @@ def whirl_runs(*, interference: float = 1.3, above: float = 1.06, below: float =
     from rubdiag.assembly import assemble
     from rubdiag.modal import critical_speeds, whirl_threshold, with_rayleigh
     from rubdiag.model import preset_rig
-    from rubdiag.simulation import Run
+    from rubdiag.simulation import Run, StaticLoad
     from rubdiag.simulation._rig_cache import damped_model
     from rubdiag.simulation._rig_system import rig_system
-    from rubdiag.simulation._static_load import StaticLoad
 
     interference = _check.number("interference", interference, lo=0.0, hi=100.0,
                                  lo_open=True)

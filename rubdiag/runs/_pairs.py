@@ -46,7 +46,7 @@ def run_orbit_features(result) -> pd.DataFrame:
     pandas.DataFrame
         One row per recorded node.
     """
-    from rubdiag.signal._fullspectrum import orbit_features
+    from rubdiag.signal import orbit_features
 
     if result.run.speed_profile is not None:
         raise ValueError("a run along a speed profile has no single speed for its full "

@@ -76,7 +76,7 @@ def ramp_run(case: int, from_rpm: float, to_rpm: float, rate_rpm_s: float, gap_m
     from rubdiag.modal import with_rayleigh
     from rubdiag.simulation import Run, SpeedProfile
     from rubdiag.simulation._rig_system import rig_system
-    from rubdiag.simulation._simulation import _RAMP_MARGIN
+    from rubdiag.simulation._simulation import RAMP_MARGIN
 
     def make(hold: float, closing: float) -> Run:
         profile = SpeedProfile.ramp(from_rpm, to_rpm, rate_rpm_s, hold_s=hold)
@@ -87,7 +87,7 @@ def ramp_run(case: int, from_rpm: float, to_rpm: float, rate_rpm_s: float, gap_m
     if run.contact_law is None:
         return run
     approach = rig_system(run, with_rayleigh(assemble(run.rig))).approach
-    if _RAMP_MARGIN * approach <= run.gap_m:
+    if RAMP_MARGIN * approach <= run.gap_m:
         return run
     return make(max(hold_s, GAP_CLOSING_S), GAP_CLOSING_S)
 

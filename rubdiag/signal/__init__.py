@@ -7,7 +7,8 @@ Public API (all frequencies in Hz, speeds in rpm, amplitudes in the signal's uni
 * :func:`tacho_speed`, :func:`dominant_speed` — running speed in rpm; :func:`voted_speed` —
   the speed of a record whose channels' strongest lines vote (what :func:`signal_features` and
   ``rubdiag predict`` guess); :class:`SpeedAmbiguous` — the warning of a guess whose 1× may
-  be a weaker line at 1/2 or 1/3 of it.
+  be a weaker line at 1/2 or 1/3 of it; :class:`SpeedNotFound` — the error of a record
+  whose speed must be given.
 * :func:`tacho_angle`, :func:`tacho_rpm`, :func:`angle_from_rpm` — shaft angle (rad) and speed
   (rpm) at every sample, for records at a variable speed.
 * :func:`resample_to_angle` ``(x, fs, angle, …) -> (revolutions, x_angle)`` — computed order
@@ -50,7 +51,7 @@ from rubdiag.signal._ordertrack import (
 from rubdiag.signal._spectrum import amplitude_spectrum
 from rubdiag.signal._speed import SpeedAmbiguous, dominant_speed, tacho_speed
 from rubdiag.signal._speedtable import REVOLUTION_FEATURE_NAMES, revolution_features
-from rubdiag.signal._speedvote import voted_speed
+from rubdiag.signal._speedvote import SpeedNotFound, voted_speed
 from rubdiag.signal._table import FEATURE_NAMES, feature_names, signal_features
 from rubdiag.signal._tacho import angle_from_rpm, tacho_angle, tacho_rpm
 from rubdiag.signal._transformer import RubFeatures
@@ -62,6 +63,7 @@ __all__ = [
     "CombinationPair",
     "RubFeatures",
     "SpeedAmbiguous",
+    "SpeedNotFound",
     "amplitude_spectrum",
     "angle_from_rpm",
     "combination_pairs",

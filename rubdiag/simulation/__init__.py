@@ -12,6 +12,7 @@ from rubdiag.simulation._faults import Crack, Faults, Looseness
 from rubdiag.simulation._grid import TimeGrid
 from rubdiag.simulation._linear_system import LinearSystem
 from rubdiag.simulation._loads import HarmonicForce
+from rubdiag.simulation._misalignment import Misalignment
 from rubdiag.simulation._recording import Recording
 from rubdiag.simulation._result import EpisodeLog, SimulationDiverged, SystemResult
 from rubdiag.simulation._run import GapRampInWindow, Run, critical_speed_for_case
@@ -33,6 +34,7 @@ __all__ = [
     "HarmonicForce",
     "LinearSystem",
     "Looseness",
+    "Misalignment",
     "PointContact",
     "Recording",
     "Run",

@@ -238,7 +238,7 @@ class BreathingCrack:
         """The crack in shaft element ``element`` (0-based, axial order) of ``rig``
         (:class:`rubdiag.model.Rig`): its DOFs, length, diameter and material; ``crack``
         the other fields."""
-        from rubdiag.assembly._assemble import dof_map
+        from rubdiag.assembly import dof_map
 
         shaft, material = rig.shaft, rig.material
         _check.integer("element", element, lo=0, hi=shaft.n_elements - 1)

@@ -15,8 +15,7 @@ from __future__ import annotations
 
 import dataclasses
 
-from rubdiag.model._io import rig_to_dict
-from rubdiag.model._rig import Rig
+from rubdiag.model import Rig, rig_to_dict
 
 __all__ = ["WHEN_SET", "described"]
 

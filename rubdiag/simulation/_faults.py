@@ -3,7 +3,7 @@
 ``Run(faults=Faults(...))`` places each fault on the run's rig:
 
 * ``misalignment`` — a misaligned flexible coupling at a shaft node
-  (:class:`~rubdiag.simulation._misalignment.Misalignment`): loads by order (preload, 2×, …);
+  (:class:`~rubdiag.simulation.Misalignment`): loads by order (preload, 2×, …);
 * ``crack`` — a breathing transverse crack in a shaft element (:class:`Crack`, placed as a
   :class:`~rubdiag.simulation._crack.BreathingCrack` element of the seam).
 
@@ -220,7 +220,7 @@ class Faults:
     ----------
     misalignment : Misalignment or None
         A misaligned flexible coupling at a shaft node
-        (:class:`~rubdiag.simulation._misalignment.Misalignment`).
+        (:class:`~rubdiag.simulation.Misalignment`).
     crack : Crack or None
         A breathing crack in a shaft element.
     looseness : Looseness or None

@@ -1,6 +1,6 @@
 """Coupling misalignment: the loads a misaligned spacer coupling puts on the rotor's end.
 
-The model is DERIVED here, not quoted. The published models this issue names (Sekhar &
+The model is DERIVED here, not quoted. The published misalignment models (Sekhar &
 Prabhu, J. Sound Vib. 185 (1995) 655-671; Patel & Darpe, J. Sound Vib. 325 (2009) 609-628,
 whose misalignment stiffness comes from their measurements; Al-Hussain & Redmond,
 J. Sound Vib. 249 (2002) 483-498) could not be checked equation by equation, so none of
@@ -96,14 +96,59 @@ COMPONENTS = ("y", "z", "ry", "rz")
 
 @dataclass(frozen=True, kw_only=True)
 class Misalignment:
-    """A misaligned double-joint spacer coupling at a shaft node (module docstring).
+    """A misaligned double-joint spacer coupling at the driven end of the shaft.
 
-    ``node``: the shaft node of the rotor-side flex plane (the driven end), >= 0.
-    ``drive_torque_n_m``: T, |T| <= 1e6 N·m (+: about +x). ``spacer_length_m``: L, in
-    (0, 10] m. ``offset_m``: parallel offset δ, in [0, 0.05] m and δ/L <= 0.25.
-    ``angle_rad``: angular misalignment α₀, in [0, 0.2] rad. ``direction_rad``: β, the
-    misalignment plane from +y towards +z, in [-2π, 2π]. ``ratio_1x``, ``ratio_3x``:
-    calibrations in [0, 1) (module docstring).
+    The coupling's two flex planes are Hooke's joints joined by a massless spacer; the drive
+    torque passed through their bends puts a static load and 2× (and 4×) forces and moments
+    on the rotor's end (the module docstring derives them). Set it on a run through
+    :class:`Faults`.
+
+    Parameters
+    ----------
+    node : int
+        The shaft node of the rotor-side flex plane (the driven end), >= 0.
+    drive_torque_n_m : float
+        The drive torque T (N·m), |T| <= 1e6; positive about +x.
+    spacer_length_m : float
+        The spacer's length L between the flex planes (m), in (0, 10].
+    offset_m : float
+        Parallel offset δ of the drive-side flex plane from the rotor's axis (m), in
+        [0, 0.05] and at most L/4. Default 0.
+    angle_rad : float
+        Angular misalignment α₀ of the drive shaft (rad), in [0, 0.2]. Default 0.
+    direction_rad : float
+        β, the misalignment plane's angle from +y towards +z (rad), in [-2π, 2π]. Default 0.
+    ratio_1x, ratio_3x : float
+        Calibrations in [0, 1): 1× and 3× copies of the 2× terms, scaled by this ratio,
+        for the 1× and 3× that measured misaligned rotors show and the kinematics do not
+        give. Default 0 (the derived model alone).
+
+    Raises
+    ------
+    ValueError
+        A field out of its range, naming it and the range allowed.
+
+    See Also
+    --------
+    Faults : The faults of a run, this misalignment among them.
+
+    References
+    ----------
+    The kinematics of Hooke's (Cardan) joints, applied to a double-joint spacer coupling.
+    Compared with the published models of A. S. Sekhar and B. S. Prabhu, J. Sound Vib. 185
+    (1995) 655-671, and T. H. Patel and A. K. Darpe, J. Sound Vib. 325 (2009) 609-628 (who
+    measured the 1× and 3× the calibrations stand for).
+
+    Examples
+    --------
+    A 1 mm parallel offset over a 0.1 m spacer bends the rotor-side joint by asin(0.01):
+
+    >>> from rubdiag.simulation import Faults, Misalignment
+    >>> m = Misalignment(node=0, drive_torque_n_m=50.0, spacer_length_m=0.1, offset_m=1e-3)
+    >>> round(m.spacer_angle_rad, 6)
+    0.01
+    >>> Faults(misalignment=m).names
+    ('misalignment',)
     """
 
     node: int

@@ -30,7 +30,7 @@ _PARTS = ("data", "indices", "indptr")
 def assembled(rig):
     """``rubdiag.assembly._assemble(rig)``, once per rig and environment."""
     from rubdiag.assembly import Model, assemble, dof_map
-    from rubdiag.model._io import rig_to_dict
+    from rubdiag.model import rig_to_dict
 
     def compute() -> dict[str, np.ndarray]:
         model = assemble(rig)
@@ -66,7 +66,7 @@ def damped_model(rig):
 def forward_critical_speeds(rig, n: int) -> tuple[float, ...]:
     """``critical_speeds(assemble(rig), n)`` (rad/s, ascending; fewer than ``n`` when the
     rig has fewer), once per rig, ``n`` and environment."""
-    from rubdiag.model._io import rig_to_dict
+    from rubdiag.model import rig_to_dict
 
     def compute() -> dict[str, np.ndarray]:
         from rubdiag.modal import critical_speeds
@@ -83,7 +83,7 @@ def whirl_threshold_speed(rig, critical_rad_s: tuple[float, ...]) -> float | Non
     between half the first and twice the last of ``critical_rad_s``, its forward critical
     speeds (:func:`rubdiag.modal._stability.threshold_speed`; None: stable there), once
     per rig and environment on disk."""
-    from rubdiag.model._io import rig_to_dict
+    from rubdiag.model import rig_to_dict
 
     def compute() -> dict[str, np.ndarray]:
         from rubdiag.assembly import assemble

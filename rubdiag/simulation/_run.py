@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from rubdiag import _check
-from rubdiag.model._rig import BladeContact, Rig, Unbalance
+from rubdiag.model import BladeContact, Rig, Unbalance
 from rubdiag.reduce import Reduction
 from rubdiag.simulation._described import WHEN_SET
 from rubdiag.simulation._faults import Faults
@@ -227,7 +227,7 @@ class Run:
             if not isinstance(self.static_load, StaticLoad):
                 raise _check.wrong_type("static_load", type(self.static_load).__name__,
                                         "a StaticLoad or None")
-            from rubdiag.assembly._assemble import dof_map
+            from rubdiag.assembly import dof_map
 
             self.static_load.check_model(dof_map(self.rig))
         if self.contact is not None and self.rig.contact is None:

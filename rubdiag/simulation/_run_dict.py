@@ -3,8 +3,7 @@ store and run ids hash (the rule that writes it: :mod:`rubdiag.simulation._descr
 
 from __future__ import annotations
 
-from rubdiag.model._io import rig_from_dict
-from rubdiag.model._rig import BladeContact, Unbalance
+from rubdiag.model import BladeContact, Unbalance, rig_from_dict
 from rubdiag.reduce import Reduction
 from rubdiag.simulation._described import described
 from rubdiag.simulation._faults import Crack, Faults, Looseness

@@ -30,7 +30,7 @@ from rubdiag.simulation._system import simulate_system
 
 __all__ = ["response_points", "simulate"]
 
-_RAMP_MARGIN = 1.1    # the ramp starts 10 % above the largest linear approach
+RAMP_MARGIN = 1.1    # the ramp starts 10 % above the largest linear approach
 
 
 def response_points(rig) -> tuple[str, ...]:
@@ -111,7 +111,7 @@ def _simulate(run: Run, progress, raise_on_failure: bool) -> SimulationResult:
     if rs.contacts and run.gap_ramp_s > 0:
         g0 = np.array([c.gap for c in rs.contacts])
         # the approach is over each gap's static shift (zero unless gaps are "loaded")
-        g_start = np.maximum(g0, rs.gap_shift + _RAMP_MARGIN * rs.approach)
+        g_start = np.maximum(g0, rs.gap_shift + RAMP_MARGIN * rs.approach)
         # the fault elements and films have no gap: their entries are not read
         g_start = np.r_[g_start, np.full(len(rs.fault_elements), np.nan)]
         gap_ramp = (run.gap_ramp_s, g_start if rs.fault_elements else g_start[: len(g0)])
