@@ -14,13 +14,20 @@ One warm-up run of each script per side (compiles, fills the caches; not counted
 odd pairs and B first in even ones, so a drift of the machine's speed cancels in the ratios.
 Printed: per quantity (µs per step) each side's median, the median of the paired ratios B/A
 and their range, as a markdown table with the date, the CPU, the load average and the
-command; and whether the kernel's criterion (B/A ≤ 1.05 on the rubbing cells' µs per step) is
-met — as information only when the cores were not quiet or with ``--quick``.
+command; and whether the kernel's criterion (B/A ≤ ``--bar``, default 1.05, on the rubbing
+cells' µs per step) is met — as information only when the cores were not quiet or with
+``--quick``.
+
+``--clock cpu`` times the processes' CPU time instead of the wall clock: each child starts
+with ``time.perf_counter`` replaced by ``time.process_time`` (a ``sitecustomize`` module on
+its path), so the kernel's own timer and the scripts' count the CPU seconds the process got.
+The kernels run on one thread, so on cores shared with other jobs this is the figure that
+does not depend on how much of a core the process was given; the cores need not be quiet.
 
 Usage::
 
     .venv/bin/python benchmarks/ab_compare.py --a 4dff11d [--b HEAD|FOLDER] [--pairs 5] \
-        [--quick] [--json OUT.json]
+        [--clock wall|cpu] [--bar 1.05] [--quick] [--json OUT.json]
 """
 
 from __future__ import annotations
@@ -33,6 +40,7 @@ import shlex
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -41,8 +49,10 @@ REPO = Path(__file__).resolve().parents[1]
 WORKTREE_PREFIX = "/tmp/rubdiag-ab-"
 #: a 1-minute load average above this many runnable processes per CPU: not quiet cores
 QUIET_LOAD_PER_CPU = 0.5
-#: the bar: B's µs per step at most 5 % above A's (median of the paired ratios)
+#: the default bar: B's µs per step at most 5 % above A's (median of the paired ratios)
 BAR = 1.05
+#: on a child's path with ``--clock cpu``: every ``time.perf_counter()`` reads CPU time
+CPU_CLOCK_SHIM = "import time\ntime.perf_counter = time.process_time\n"
 #: variables set alike on both sides: one thread per BLAS/OpenMP pool (the kernels are
 #: single-threaded; a spinning pool would time the machine, not the code), and rubdiag's
 #: disk cache of rig-only results off (the base revision may predate it)
@@ -50,6 +60,11 @@ CHILD_ENV = {
     "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
     "NUMEXPR_NUM_THREADS": "1", "NUMBA_NUM_THREADS": "1", "RUBDIAG_CACHE_DIR": "",
 }
+
+
+#: what each ``--clock`` times
+CLOCKS = {"wall": "wall clock (time.perf_counter)",
+          "cpu": "the process's CPU time (time.perf_counter read as time.process_time)"}
 
 
 @dataclass(frozen=True)
@@ -136,10 +151,11 @@ def resolve_side(name: str, spec: str) -> Side:
     return Side(name, root, f"{short} ({root})")
 
 
-def child_env(side: Side) -> dict[str, str]:
+def child_env(side: Side, shim: Path | None = None) -> dict[str, str]:
+    """A child's environment; ``shim``: a folder whose ``sitecustomize`` changes its clock."""
     env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
     env.update(CHILD_ENV)
-    env["PYTHONPATH"] = str(side.root)
+    env["PYTHONPATH"] = str(side.root) if shim is None else f"{shim}{os.pathsep}{side.root}"
     return env
 
 
@@ -261,12 +277,12 @@ def script_for(side: Side, other: Side, bench: Bench) -> Path:
     return fallback
 
 
-def run_bench(side: Side, script: Path, bench: Bench, quick: bool):
+def run_bench(side: Side, script: Path, bench: Bench, quick: bool, shim: Path | None = None):
     """One process of one script on one side: (µs quantities, work quantities, wall s)."""
     command = [sys.executable, str(script), *(bench.quick_args if quick else bench.args)]
     start = time.perf_counter()
-    out = subprocess.run(command, cwd=side.root, env=child_env(side), capture_output=True,
-                         text=True)
+    out = subprocess.run(command, cwd=side.root, env=child_env(side, shim),
+                         capture_output=True, text=True)
     wall = time.perf_counter() - start
     if out.returncode != 0:
         last = (out.stderr.strip().splitlines() or ["(no output)"])[-1]
@@ -329,7 +345,7 @@ def report(rows, meta: dict) -> str:
     if meta["quick"]:
         lines += ["**QUICK MODE** (`--quick`): short runs, one repeat each — a smoke test "
                   "of the script, not a measurement.", ""]
-    if not meta["quiet"]:
+    if not meta["quiet"] and meta["clock"] == "wall":
         lines += [f"**WARNING: not quiet cores** — 1-minute load average above "
                   f"{QUIET_LOAD_PER_CPU} per CPU (see below): report only.", ""]
     load = meta["load"]
@@ -344,6 +360,7 @@ def report(rows, meta: dict) -> str:
         f"- {meta['pairs']} pair{'s' if meta['pairs'] != 1 else ''} after one warm-up run "
         f"per side, order AB, BA, AB, …; each script a process of its own side, one "
         f"BLAS/OpenMP thread, no disk cache, own Numba cache per checkout",
+        f"- clock: {CLOCKS[meta['clock']]}",
         f"- command: `{meta['command']}`",
     ]
     lines += [*(f"- {note}" for note in meta["notes"]), ""]
@@ -356,14 +373,16 @@ def report(rows, meta: dict) -> str:
         ratio = f"**{ratio}**" if r["criterion"] and r["ratio"] is not None else ratio
         lines.append(f"| {name} | {_fmt(r['a'])} | {_fmt(r['b'])} | {ratio} | "
                      f"{_fmt(r['lo'], 3)}–{_fmt(r['hi'], 3)} | {r['n']} |")
+    bar = meta["bar"]
     over = [r["quantity"] for r in rows if r["criterion"] and r["ratio"] is not None
-            and r["ratio"] > BAR]
-    verdict = ("met: every bold row's B/A ≤ " + f"{BAR:.2f}" if not over
-               else f"NOT met: B/A > {BAR:.2f} for " + "; ".join(over))
-    if meta["quick"] or not meta["quiet"]:
+            and r["ratio"] > bar]
+    verdict = ("met: every bold row's B/A ≤ " + f"{bar:.2f}" if not over
+               else f"NOT met: B/A > {bar:.2f} for " + "; ".join(over))
+    noisy = not meta["quiet"] and meta["clock"] == "wall"
+    if meta["quick"] or noisy:
         verdict += " — information only (" + ("quick mode" if meta["quick"] else
                                                "not quiet cores") + ")"
-    lines += ["", f"Criterion (B's µs per step within +{100 * (BAR - 1):.0f} % of A's, "
+    lines += ["", f"Criterion (B's µs per step within +{100 * (bar - 1):.0f} % of A's, "
               f"median of the paired ratios): {verdict}."]
     return "\n".join(lines)
 
@@ -376,14 +395,32 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     ap.add_argument("--b", default=str(REPO),
                     help="git revision or checkout folder (default: this checkout)")
     ap.add_argument("--pairs", type=int, default=5, help="A/B pairs (default 5)")
+    ap.add_argument("--clock", choices=tuple(CLOCKS), default="wall",
+                    help="wall: elapsed time (needs quiet cores); cpu: the processes' CPU "
+                         "time (default: wall)")
+    ap.add_argument("--bar", type=float, default=BAR,
+                    help=f"the criterion: B/A at most this (default {BAR})")
     ap.add_argument("--quick", action="store_true", help="short runs: a smoke test")
     ap.add_argument("--json", type=Path, help="also write every run's figures here")
     return ap.parse_args(argv)
 
 
+def clock_shim(clock: str) -> Path | None:
+    """For ``--clock cpu``, a new folder whose ``sitecustomize`` makes the child's
+    ``time.perf_counter`` read CPU time; None for the wall clock."""
+    if clock == "wall":
+        return None
+    shim = Path(tempfile.mkdtemp(prefix="rubdiag-ab-clock-"))
+    (shim / "sitecustomize.py").write_text(CPU_CLOCK_SHIM, encoding="utf-8")
+    return shim
+
+
 def run(args: argparse.Namespace) -> int:
     if args.pairs < 1:
         raise ValueError(f"--pairs = {args.pairs} is out of range (allowed: >= 1)")
+    if not args.bar >= 1.0:
+        raise ValueError(f"--bar = {args.bar} is out of range (allowed: >= 1)")
+    shim = clock_shim(args.clock)
     start_load = os.getloadavg()[0]
     started = time.time()
     notes = []
@@ -408,7 +445,8 @@ def run(args: argparse.Namespace) -> int:
     # warm-up: compiles into each checkout's __pycache__, and checks the outputs parse
     for s in ("A", "B"):
         for bench in BENCHES:
-            _, _, wall = run_bench(sides[s], scripts[s, bench.script], bench, quick=True)
+            _, _, wall = run_bench(sides[s], scripts[s, bench.script], bench, quick=True,
+                                   shim=shim)
             log(f"warm-up {s} {bench.script}: {wall:.1f} s")
     loads = [start_load]
     pairs: list[dict] = []
@@ -419,7 +457,7 @@ def run(args: argparse.Namespace) -> int:
         for bench in BENCHES:
             for s in order:
                 times, done, wall = run_bench(sides[s], scripts[s, bench.script], bench,
-                                              args.quick)
+                                              args.quick, shim)
                 pair[s].update(times)
                 work[s].update(done)
                 pair["wall_s"][f"{s} {bench.script}"] = wall
@@ -446,6 +484,7 @@ def run(args: argparse.Namespace) -> int:
     meta = {"a": sides["A"].label, "b": sides["B"].label, "quick": args.quick,
             "quiet": quiet, "load": loads, "cpu": cpu_model(), "cpus": cpus,
             "pairs": args.pairs, "command": command, "notes": notes,
+            "clock": args.clock, "bar": args.bar,
             "start": time.strftime("%Y-%m-%d %H:%M", time.gmtime(started)),
             "end": time.strftime("%H:%M", time.gmtime()),
             "minutes": (time.time() - started) / 60}

@@ -369,7 +369,93 @@ def rig_values() -> dict[str, str]:
             "ross_python": ".".join(made["python"].split(".")[:2])}
 
 
+# ------------------------------------------------------------------------------------------
+# table2.md and index.md, the sensitivity sweep: data/sensitivity.csv and
+# data/sensitivity_findings.csv (scripts/sensitivity.py)
+# ------------------------------------------------------------------------------------------
+SWEEP_CELLS = ("case1_light", "case1_serious", "case2_light", "case2_serious")
+#: the sweep's default setting (the paper rig preset) under the name each knob gives it
+SWEEP_DEFAULT = {"casing_support": "casing_support=distributed", "dt": "dt=1e-05",
+                 "window": "window=2.3"}
+#: the settings that change the contact's or the casing's law rather than a number the
+#: study leaves open within the preset's model: a tight augmentation band, a point support
+SWEEP_OTHER_LAWS = ("augmentation=eps10um", "casing_support=point")
+
+
+def _signed_span(fractions) -> str:
+    """``−7 … +7`` (per cent) of ``fractions``."""
+    return " … ".join(f"{100 * f:+.0f}".replace("-", "−")
+                      for f in (min(fractions), max(fractions)))
+
+
+def sensitivity_values() -> dict[str, str]:
+    """The sensitivity sweep's findings, one knob at a time around the preset."""
+    rows = pd.read_csv(DATA / "sensitivity.csv")
+    found = pd.read_csv(DATA / "sensitivity_findings.csv")
+    at = rows.set_index(["setting", "cell"])
+
+    def q(setting: str, cell: str, name: str) -> float:
+        return float(at.loc[(setting, cell), name])
+
+    def ratio(a: str, b: str, cell: str, name: str) -> float:
+        return q(a, cell, name) / q(b, cell, name)
+
+    def severity(settings, name: str) -> str:
+        """Case 2 over case 1 at the same gap, over ``settings``."""
+        return _span([q(s, f"case2_{g}", name) / q(s, f"case1_{g}", name)
+                      for s in settings for g in ("light", "serious")], "{:.1f}")
+
+    settings = list(dict.fromkeys(rows["setting"]))
+    within = [s for s in settings if s not in SWEEP_OTHER_LAWS]
+    histories = [s for s in settings if s.startswith("gap_ramp=")]
+    vs_study = {c: [q(s, c, "casing_max_y_um") / q(s, c, "paper_casing_max_y_um")
+                    for s in histories] for c in SWEEP_CELLS}
+    late = max(abs(ratio("window=4.3", SWEEP_DEFAULT["window"], c, name) - 1)
+               for c in SWEEP_CELLS
+               for name in ("rotor_max_y_mm", "casing_max_y_um", "contact1_max_force_n"))
+
+    def present(setting: str, order: str) -> bool:
+        return max(q(setting, "case1_serious", f"{p}_amp_{order}")
+                   for p in ("shaft", "blade")) > 0
+
+    stick_over_slide = (rows["contact1_mean_force_sticking_n"]
+                        / rows["contact1_mean_force_sliding_n"]).min()
+    pairs = rows[rows["case"] == 2][["shaft_combo_fa_hz", "shaft_combo_fb_hz"]].dropna()
+    point, spread = "casing_support=point", SWEEP_DEFAULT["casing_support"]
+    case2 = ("case2_light", "case2_serious")
+    entries = [abs(ratio("dt=5e-06", SWEEP_DEFAULT["dt"], c, f"contact1_{kind}_entries") - 1)
+               for c in SWEEP_CELLS for kind in ("sliding", "sticking")]
+    return {
+        "sweep_settings": str(len(settings)),
+        "sweep_force_severity": severity(within, "contact1_max_force_n"),
+        "sweep_casing_severity": severity(within, "casing_max_y_um"),
+        "sweep_force_severity_other": severity(SWEEP_OTHER_LAWS, "contact1_max_force_n"),
+        "sweep_casing_severity_other": severity(SWEEP_OTHER_LAWS, "casing_max_y_um"),
+        "sweep_stick_force": f"{stick_over_slide:.1f}",
+        "sweep_pair_settings": _of(found["b_combination"].sum(), len(found)),
+        "sweep_pair_hz": " + ".join(f"{pairs[c].median():.0f}" for c in pairs),
+        "sweep_force_vs_study": _signed_span(
+            [q(s, c, "contact1_max_force_n") / q(s, c, "paper_contact1_max_force_n") - 1
+             for s in histories for c in SWEEP_CELLS]),
+        "sweep_casing_vs_study": _span([r for c in SWEEP_CELLS[:3] for r in vs_study[c]],
+                                       "{:.2f}"),
+        "sweep_casing_vs_study_2serious": _span(vs_study["case2_serious"], "{:.2f}"),
+        "sweep_late_window": _percent(late),
+        "sweep_7x2_histories": f"{sum(present(s, '3p5x') for s in histories)}/{len(histories)}",
+        "sweep_3x2_histories": f"{sum(present(s, '1p5x') for s in histories)}/{len(histories)}",
+        "sweep_eps10_force_kn": _span([q("augmentation=eps10um", c, "contact1_max_force_n")
+                                       / 1e3 for c in case2], "{:.1f}"),
+        "sweep_point_force": _span([100 * (ratio(point, spread, c, "contact1_max_force_n") - 1)
+                                    for c in case2], "{:.0f}"),
+        "sweep_point_casing": _span([ratio(point, spread, c, "casing_max_y_um") for c in case2],
+                                    "{:.1f}"),
+        "sweep_point_sidebands": _span([q(point, c, "shaft_sb_4x_delta_hz")
+                                        for c in SWEEP_CELLS[:2]], "{:.1f}"),
+        "sweep_dt_entries": _percent(max(entries)),
+    }
+
+
 def values() -> dict[str, str]:
     """Every substitution of the validation pages."""
     return {**confuser_values(), **transfer_values(), **learn_values(), **mu_values(),
-            **dt_values(), **step_values(), **rig_values()}
+            **dt_values(), **step_values(), **rig_values(), **sensitivity_values()}

@@ -37,7 +37,10 @@ Settings that describe the same runs share one run cache (``DIR/runs/<key>/``): 
 default is simulated once, not once per knob.
 
 At the end the study's findings are checked per setting (:func:`findings`) and written to
-``DIR/findings.csv``.
+``DIR/findings.csv``. A complete sweep (no ``--quick``, no ``--only``, every case run) is also
+stored in the repository: its rows without the machine's wall times as
+``data/sensitivity.csv`` (6 significant digits) and its findings as
+``data/sensitivity_findings.csv``; the validation pages' prose reads its numbers from them.
 
 Usage::
 
@@ -411,6 +414,24 @@ def save(frame: pd.DataFrame, out: Path) -> None:
     _atomic_write(frame, out / "sensitivity.csv")
 
 
+#: where a complete sweep is stored for the documentation, and what is left out of it: the
+#: run cache's key and the wall times (they describe the machine, not the model)
+DATA = Path(__file__).resolve().parents[1] / "data"
+NOT_STORED = ("run_key", "message", "failure_time_s", "run_wall_s", "setting_wall_s")
+DIGITS = 6
+
+
+def store(frame: pd.DataFrame, found: pd.DataFrame, data: Path = DATA) -> None:
+    """Write a complete sweep to ``data/sensitivity.csv`` and ``data/sensitivity_findings.csv``
+    (floats to :data:`DIGITS` significant digits; each file atomically)."""
+    for table, name in ((frame.drop(columns=[c for c in NOT_STORED if c in frame]),
+                         "sensitivity.csv"), (found, "sensitivity_findings.csv")):
+        path = data / name
+        tmp = path.with_name(f".{name}.{os.getpid()}.tmp")
+        table.to_csv(tmp, index=False, float_format=f"%.{DIGITS}g", lineterminator="\n")
+        os.replace(tmp, path)
+
+
 def load(out: Path) -> pd.DataFrame:
     path = out / "sensitivity.parquet"
     if path.is_file():
@@ -636,6 +657,11 @@ def main(argv=None) -> int:
             found = findings(frame)
             _atomic_write(found, out / "findings.csv")
             print(robustness_table(found).to_string(), file=sys.stderr)
+            complete = (len(frame) == len(settings()) * len(CASE_NAMES)
+                        and (frame["status"] == "ok").all())
+            if not (args.quick or args.only) and complete:
+                store(frame, found)
+                log(f"stored in {DATA / 'sensitivity.csv'} and sensitivity_findings.csv")
         except Exception:   # the sweep's data are saved; the summary is a convenience
             log(f"findings failed:\n{traceback.format_exc()}")
     log(f"done in {time.perf_counter() - start:.0f} s")

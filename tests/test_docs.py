@@ -12,6 +12,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from scripts_loader import load_script
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
 sys.path.insert(0, str(DOCS))
@@ -293,18 +294,10 @@ STATED = {
     "model-uncertainty.md": {"0.75"},                           # where the approach is taken
     "mu-fit.md": {"2.3", "0.3"},                                # Table 2's durations
     "step-study.md": {"2.3", "95 %"},
-    "table2.md": {"2.3", "1.9", "0.1", "0.3", "2.5", "0.4", "0.5", "4.3"},   # cases, sweep
+    "table2.md": {"2.3", "1.9", "0.1", "0.3", "2.5", "0.4", "0.5", "4.3",    # cases, sweep
+                  "0.2",                                        # a setting of the sweep
+                  "1.1"},                                       # the study's case-2 force
 }
-#: measured numbers that no file of data/ holds yet: the sensitivity sweep
-#: (scripts/sensitivity.py) writes its rows to out/sensitivity, not to data/
-NOT_STORED = {
-    "index.md": {"3.6", "4.5"},
-    "table2.md": {"3.6", "4.5", "88 %", "1.1", "2.6", "3.4", "5.1", "7.0", "3.5", "6.9", "2.2",
-                  "25 of 28", "0.2", "7 %", "1.03", "1.25", "1.52", "1.87", "5 %", "5.0",
-                  "37 %"},
-}
-
-
 def prose(text: str) -> str:
     """A page's text without code, generated samples, comments, inline code and
     substitutions: what a writer types as sentences."""
@@ -323,7 +316,7 @@ def test_the_prose_filter_keeps_sentences_and_drops_code_and_substitutions():
 @pytest.mark.parametrize("page", sorted(p.name for p in VALIDATION.glob("*.md")))
 def test_a_validation_page_types_no_measured_number(page):
     typed = set(TYPED_NUMBER.findall(prose((VALIDATION / page).read_text(encoding="utf-8"))))
-    allowed = STATED.get(page, set()) | NOT_STORED.get(page, set())
+    allowed = STATED.get(page, set())
     assert typed <= allowed, f"typed by hand in {page}: {sorted(typed - allowed)}"
 
 
@@ -448,3 +441,22 @@ def test_the_parallel_executor_caches_a_page_under_myst_nbs_key(source, tmp_path
     cache = get_cache(str(tmp_path / "cache"))
     assert cache.create_hashed_notebook(execute_pages.read(source))[1] == (
         _myst_nb_hash(source, tmp_path))
+
+
+def test_the_sensitivity_substitutions_are_the_stored_sweep():
+    """The sweep in data/ is the whole sweep scripts/sensitivity.py runs, and the prose's
+    numbers are its cells, recomputed here from the rows."""
+    sweep = load_script("sensitivity")
+    rows, found = _csv("sensitivity.csv"), _csv("sensitivity_findings.csv")
+    names = [s.name for s in sweep.settings()]
+    assert list(dict.fromkeys(rows["setting"])) == list(found["setting"]) == names
+    assert len(rows) == len(names) * len(sweep.CASE_NAMES) and (rows["status"] == "ok").all()
+    values = generate.substitutions()
+    assert values["sweep_pair_settings"] == f"{found['b_combination'].sum()} of {len(names)}"
+    case2 = rows[(rows["case"] == 2)].set_index(["setting", "intensity"])["casing_max_y_um"]
+    point = case2["casing_support=point"] / case2["casing_support=distributed"]
+    assert values["sweep_point_casing"] == f"{point.min():.1f}–{point.max():.1f}"
+    late = rows[rows["setting"].isin(["window=4.3", "window=2.3"])].pivot(
+        index="cell", columns="setting", values="contact1_max_force_n")
+    assert (late["window=4.3"] / late["window=2.3"] - 1).abs().max() <= (
+        int(values["sweep_late_window"]) + 0.5) / 100
