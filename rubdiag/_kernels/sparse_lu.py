@@ -23,6 +23,11 @@ from rubdiag._numba import njit
 
 __all__ = ["LUFactors", "csr_matvec", "factorize", "lu_solve"]
 
+#: the relative residual, max|A x - b| / (max|A| max|x|), a factorisation must solve a
+#: random right-hand side to: a sound LU of the rig's operators leaves about 1e-15, a
+#: numerically singular one orders of magnitude more
+SOLVE_CHECK = 1e-10
+
 
 @njit
 def csr_matvec(indptr, indices, data, x, out):
@@ -138,7 +143,7 @@ def factorize(
     SuperLU's symmetric mode (diagonal pivots, symmetric ordering: about 20 % less fill for
     an effective stiffness ``K + 2/h C + 4/h^2 M``, which is strongly diagonally dominant). A
     candidate is kept only if it solves a random right-hand side to a relative residual
-    below 1e-10. Raises ``numpy.linalg.LinAlgError`` if A is singular.
+    below :data:`SOLVE_CHECK`. Raises ``numpy.linalg.LinAlgError`` if A is singular.
     """
     A = sp.csc_matrix(A, dtype=np.float64)
     n = A.shape[0]
@@ -160,7 +165,7 @@ def factorize(
         if not np.all(np.isfinite(x)):
             continue
         res = np.abs(A @ x - b).max() / max(np.abs(A).max() * np.abs(x).max(), 1e-300)
-        if res > 1e-10:
+        if res > SOLVE_CHECK:
             continue
         nnz = lu.L.nnz + lu.U.nnz
         if best is None or nnz < best[0]:

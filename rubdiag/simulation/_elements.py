@@ -41,6 +41,7 @@ import numpy as np
 
 from rubdiag import _check
 from rubdiag._kernels import annular_contact, contact_books, point_contact
+from rubdiag._tolerances import ON_LEVEL
 
 __all__ = ["AnnularContact", "Packed", "PointContact", "checked_elements", "gap_ramps", "impacts"]
 
@@ -115,7 +116,7 @@ def _pair(name: str, value, ground: bool = False) -> tuple:
 
 def _unit(name: str, value) -> tuple:
     v = np.asarray(value, dtype=np.float64).reshape(-1)
-    if v.size != 2 or not np.all(np.isfinite(v)) or abs(np.hypot(*v) - 1.0) > 1e-9:
+    if v.size != 2 or not np.all(np.isfinite(v)) or abs(np.hypot(*v) - 1.0) > ON_LEVEL:
         raise _check.out_of_range(name, v.tolist(), "a finite unit vector (y, z)")
     return (float(v[0]), float(v[1]))
 
@@ -209,7 +210,7 @@ class PointContact(_Contact):
         set_(self, "dof_b", _pair("PointContact.dof_b", self.dof_b, ground=True))
         set_(self, "normal", _unit("PointContact.normal", self.normal))
         set_(self, "tangent", _unit("PointContact.tangent", self.tangent))
-        if abs(np.dot(self.normal, self.tangent)) > 1e-9:
+        if abs(np.dot(self.normal, self.tangent)) > ON_LEVEL:
             raise _check.out_of_range("PointContact.normal/tangent",
                                       (self.normal, self.tangent), "orthonormal unit vectors")
         _check.number("PointContact.gap", self.gap, allowed="a finite gap (m)")

@@ -14,6 +14,7 @@ from typing import NamedTuple
 import numpy as np
 
 from rubdiag import _check
+from rubdiag._tolerances import ON_LEVEL
 
 __all__ = ["Ticks", "TimeGrid", "ticks"]
 
@@ -125,14 +126,14 @@ def ticks(grid: TimeGrid) -> Ticks:
     if dt_max is not None:
         dt_max = _check.number("dt_max", dt_max, lo=dt, allowed=f">= dt = {dt:g} s")
         base = round(math.log2(dt_max / dt))
-        if abs(dt_max - dt * 2**base) > 1e-9 * dt_max or base > _MAX_LONG:
+        if abs(dt_max - dt * 2**base) > ON_LEVEL * dt_max or base > _MAX_LONG:
             raise _check.out_of_range("dt_max", dt_max,
                                       f"dt = {dt:g} s times 1, 2, 4 … {2**_MAX_LONG}")
         if fixed_step and base:
             raise _check.out_of_range("dt_max", dt_max, f"dt = {dt:g} s with fixed_step")
     duration = _check.number("duration", grid.duration, lo=0.0, lo_open=True,
                              allowed="finite and > 0 s")
-    if duration < dt * (1 - 1e-9):
+    if duration < dt * (1 - ON_LEVEL):
         raise _check.out_of_range("duration", duration, f">= one step dt = {dt:g} s")
     if fixed_step:
         dt_min = dt
@@ -143,13 +144,13 @@ def ticks(grid: TimeGrid) -> Ticks:
                                allowed="finite and > 0 s")
         if dt_min > dt:
             raise _check.out_of_range("dt_min", dt_min, f"<= dt = {dt:g} s")
-    n_lev = 1 + math.floor(math.log2(dt / dt_min) + 1e-9)
+    n_lev = 1 + math.floor(math.log2(dt / dt_min) + ON_LEVEL)
     if n_lev > _MAX_LEVELS:
         raise _check.out_of_range("dt_min", dt_min, f">= dt / 2^{_MAX_LEVELS - 1}")
     top = n_lev - 1     # ticks per base step: 2^top
     n_lev += base
     ratio = duration / dt
-    n_big = round(ratio) if abs(ratio - round(ratio)) < 1e-9 * max(1.0, ratio) else int(ratio)
+    n_big = round(ratio) if abs(ratio - round(ratio)) < ON_LEVEL * max(1.0, ratio) else int(ratio)
     if grid.output_dt is None:
         m_out = 1
         output_dt = dt
@@ -157,7 +158,7 @@ def ticks(grid: TimeGrid) -> Ticks:
         output_dt = _check.number("output_dt", grid.output_dt, lo=0.0, lo_open=True)
         r = output_dt / dt
         m_out = round(r)
-        if m_out < 1 or abs(r - m_out) > 1e-9 * max(1.0, r):
+        if m_out < 1 or abs(r - m_out) > ON_LEVEL * max(1.0, r):
             raise _check.out_of_range("output_dt", output_dt,
                                       f"a positive integer multiple of dt = {dt:g} s")
     tick_total = np.int64(n_big) << top

@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from rubdiag import _check
+from rubdiag._tolerances import BOUND_SLACK, ON_LEVEL
 from rubdiag.model import BladeContact, Rig, Unbalance
 from rubdiag.reduce import Reduction
 from rubdiag.simulation._described import WHEN_SET
@@ -39,6 +40,9 @@ SPEED_TOLERANCE = 0.005
 #: acceleration rule's period error, (ω h)² / 12, is 0.44 % at 40 µs for the features'
 #: highest line (8× at 6840 rpm, 912 Hz), and the error estimate keeps the rest in check
 LONG_STEP_FACTOR = 4
+#: how far 1 / (output_rate_hz dt_s) may lie from its whole number (relative): a rate typed
+#: to seven digits (3333.333 Hz at dt_s = 10 µs) still names its divisor of 1/dt_s
+_TYPED_RATE = 1e-6
 
 
 class GapRampInWindow(UserWarning):
@@ -174,7 +178,7 @@ class Run:
                 raise _check.wrong_type("speed_profile", type(self.speed_profile).__name__,
                                         "a SpeedProfile or None")
             start = self.speed_profile.start_rad_s
-            if not math.isclose(self.speed_rad_s, start, rel_tol=1e-12):
+            if not math.isclose(self.speed_rad_s, start, rel_tol=BOUND_SLACK):
                 raise ValueError(f"speed_rad_s = {self.speed_rad_s:g} (allowed: the speed "
                                  f"profile's start speed, {start:g} rad/s)")
         if len(self.unbalance.magnitudes_kg_m) != len(self.rig.discs):
@@ -200,10 +204,10 @@ class Run:
         if self.output_rate_hz is None:
             object.__setattr__(self, "output_rate_hz",
                                1.0 / (self.dt_s * max(1, round(1e-4 / self.dt_s))))
-        _check.number("output_rate_hz", self.output_rate_hz, lo=0.0, hi=(1 + 1e-9) / self.dt_s,
+        _check.number("output_rate_hz", self.output_rate_hz, lo=0.0, hi=(1 + ON_LEVEL) / self.dt_s,
                       lo_open=True)
         ratio = 1.0 / (self.output_rate_hz * self.dt_s)
-        if abs(ratio - round(ratio)) > 1e-6 * ratio:
+        if abs(ratio - round(ratio)) > _TYPED_RATE * ratio:
             example = 1.0 / self.dt_s / max(1, round(ratio))
             raise _check.out_of_range("output_rate_hz", self.output_rate_hz,
                                       f"1/dt_s divided by an integer, e.g. {example:g}")
@@ -246,7 +250,7 @@ class Run:
         if self.dt_max_s is None:
             object.__setattr__(self, "dt_max_s", LONG_STEP_FACTOR * self.dt_s)
         factor = self.dt_max_s / self.dt_s
-        if not any(math.isclose(factor, k, rel_tol=1e-9) for k in (1, 2, 4, 8)):
+        if not any(math.isclose(factor, k, rel_tol=ON_LEVEL) for k in (1, 2, 4, 8)):
             raise _check.out_of_range("dt_max_s", self.dt_max_s,
                                       f"dt_s = {self.dt_s:g} s times 1, 2, 4 or 8")
 

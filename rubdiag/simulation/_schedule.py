@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from rubdiag import _check
+from rubdiag._tolerances import BOUND_SLACK
 from rubdiag.simulation._grid import Ticks
 from rubdiag.simulation._linear_system import checked_matrix
 from rubdiag.simulation._loads import HarmonicForce
@@ -33,7 +34,7 @@ def checked_profile(profile, tolerance, G, force: HarmonicForce, n: int, grid: T
         raise ValueError("speed_profile needs gyroscopic (the unit-speed G; use a zero "
                          "matrix for a system without gyroscopic terms)")
     G = checked_matrix("gyroscopic", G, n)
-    if force.dofs.size and not np.allclose(force.omega, profile.start_rad_s, rtol=1e-12,
+    if force.dofs.size and not np.allclose(force.omega, profile.start_rad_s, rtol=BOUND_SLACK,
                                            atol=0):
         raise ValueError(f"force.omega = {force.omega[0]:g} rad/s (allowed: the speed "
                          f"profile's start speed, {profile.start_rad_s:g} rad/s)")

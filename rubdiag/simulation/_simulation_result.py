@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from rubdiag._atomic import write_bytes
+from rubdiag._tolerances import BOUND_SLACK
 from rubdiag._version import __version__
 from rubdiag.simulation._result import EpisodeLog, StatusLog, SystemResult
 from rubdiag.simulation._run import Run
@@ -85,7 +86,7 @@ class SimulationResult:
     @property
     def window(self) -> np.ndarray:
         """Boolean mask of the samples in the analysis window (t >= discard_s)."""
-        return self.t >= self.run.discard_s - 1e-12
+        return self.t >= self.run.discard_s - BOUND_SLACK
 
     def displacement(self, point: str, windowed: bool = False) -> np.ndarray:
         """Recorded displacement (m) of a point such as ``"shaft 11 y"``."""
