@@ -132,10 +132,8 @@ class Model:
         """The journal bearings' film linearised at their static load at spin speed Ω
         (rad/s, > 0): stiffness and damping (N/m, N·s/m; n×n, non-symmetric, zeros without
         journal bearings), between the shaft node and the ground or the bearing's pedestal
-        (:func:`rubdiag._fluidfilm.linearised_coefficients`: the Jacobian of the same film
+        (:meth:`rubdiag.model.JournalFilm.coefficients`: the Jacobian of the same film
         force the time integrator uses). The linear analysis adds them to K and C."""
-        from rubdiag._fluidfilm import linearised_coefficients
-
         K, C = _Triplets(self.n_dof), _Triplets(self.n_dof)
         if self.journal_bearings and not (np.isfinite(speed) and speed > 0.0):
             raise ValueError(f"speed = {speed!r} is out of range (allowed: > 0 rad/s: a journal "
@@ -143,8 +141,7 @@ class Model:
         for k in self.journal_bearings:
             b = self.rig.bearings[k]
             f = b.journal
-            kb, cb, _ = linearised_coefficients(f.load_n, speed, f.viscosity_pa_s, f.radius_m,
-                                                f.length_m, f.clearance_m, f.load_vector)
+            kb, cb = f.coefficients(speed)
             idx = [self.dofs.index(b.node, "y"), self.dofs.index(b.node, "z")]
             if b.pedestal is not None:      # the film between journal and pedestal
                 idx += [self.dofs.index(f"pedestal {k}", "y"),

@@ -73,7 +73,7 @@ probe's spectrum:
 ``subsync_share``
     The largest over the rig's journal bearings of the share, by power, of the journal's
     orbit relative to its housing below 0.9× of the speed
-    (:func:`rubdiag.simulation._films.subsynchronous_share`). NaN on a rig without journal
+    (:func:`rubdiag.runs.subsynchronous_share`). NaN on a rig without journal
     bearings.
 ``min_film_ratio``
     The thinnest oil film over the window, over the clearance, among the rig's journal
@@ -287,7 +287,7 @@ def fault_labels(result, rub: bool) -> dict:
     """
     from rubdiag._kernels import pedestal
     from rubdiag._kernels.records import SLIDING, STICKING
-    from rubdiag.simulation._films import subsynchronous_share
+    from rubdiag.runs import subsynchronous_share
 
     faults = result.run.faults
     present = () if faults is None else faults.names

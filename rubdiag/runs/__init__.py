@@ -9,6 +9,7 @@
   like rub beside rub (:mod:`rubdiag.runs._faults`).
 * :func:`run_orbit_features` — the full spectrum and orbit of every recorded probe pair
   (:mod:`rubdiag.runs._pairs`).
+* :func:`subsynchronous_share` — how much of a journal's orbit is oil whirl or whip.
 """
 
 from __future__ import annotations
@@ -19,10 +20,12 @@ from rubdiag.runs._faults import FIGURE_FAULTS, fault_runs, line_amplitudes, whi
 from rubdiag.runs._features import is_result, run_features, run_points, run_signals
 from rubdiag.runs._pairs import recorded_pairs, run_orbit_features
 from rubdiag.runs._runup import linear_response, ramp_run, runup_orders, runup_summary
+from rubdiag.runs._whirl import SUBSYNCHRONOUS_BAND, subsynchronous_share
 
 __all__ = [
     "CONTACT_STAT_NAMES",
     "FIGURE_FAULTS",
+    "SUBSYNCHRONOUS_BAND",
     "contact_statistics",
     "fault_runs",
     "is_result",
@@ -36,6 +39,7 @@ __all__ = [
     "run_signals",
     "runup_orders",
     "runup_summary",
+    "subsynchronous_share",
     "whirl_runs",
 ]
 

@@ -17,11 +17,8 @@ import numpy as np
 
 from rubdiag.simulation._journal import JournalBearing
 
-__all__ = ["STATIC_RTOL", "SUBSYNCHRONOUS_BAND", "equilibrium", "film_elements",
-           "film_equilibrium", "journal_guess", "subsynchronous_share"]
+__all__ = ["STATIC_RTOL", "equilibrium", "film_elements", "film_equilibrium", "journal_guess"]
 
-#: the band of orders (× the running speed) whose motion counts as whirl or whip
-SUBSYNCHRONOUS_BAND = (0.05, 0.9)
 #: the last Newton step's bound, relative to the largest static displacement
 STATIC_RTOL = 1e-8
 _ITERATIONS = 50
@@ -108,36 +105,3 @@ def equilibrium(K: np.ndarray, Kb: np.ndarray, f: np.ndarray, films, guess: np.n
     raise ValueError(f"the static state on the journal bearings did not converge at "
                      f"{speed:g} rad/s (last Newton step {np.abs(step).max():.3g} m): the "
                      "films may not carry the static load at this speed")
-
-
-def subsynchronous_share(result, bearing: int) -> float:
-    """The share, by power, of journal bearing ``bearing``'s (index in ``Rig.bearings``)
-    dynamic orbit relative to its housing over the analysis window that lies in
-    :data:`SUBSYNCHRONOUS_BAND` of the running speed: the raw measure of oil whirl and whip,
-    from the element's own coordinates (the journal's recorded y and z less its pedestal's),
-    never a probe's. The orbit is the complex ``y + i z`` less its mean (forward and
-    backward whirl both count), its power spectrum a Hann-windowed periodogram over the
-    window (the window keeps the 1× line's leakage out of the band); 0 for a journal that
-    does not move."""
-    from rubdiag import _check
-
-    run = result.run
-    bearings = run.rig.bearings
-    b = bearings[_check.integer("bearing", bearing, lo=0, hi=len(bearings) - 1)]
-    if b.journal is None:
-        raise ValueError(f"bearing = {bearing} is not a journal bearing of rig "
-                         f"{run.rig.name!r}")
-    orbit = (result.displacement(f"shaft {b.node} y", True)
-             + 1j * result.displacement(f"shaft {b.node} z", True))
-    if b.pedestal is not None:
-        orbit = orbit - (result.displacement(f"pedestal {bearing} y", True)
-                         + 1j * result.displacement(f"pedestal {bearing} z", True))
-    orbit = orbit - orbit.mean()
-    t = result.t[result.window]
-    power = np.abs(np.fft.fft(orbit * np.hanning(t.size))) ** 2
-    order = np.abs(np.fft.fftfreq(t.size, t[1] - t[0])) * 2 * np.pi / run.speed_rad_s
-    total = power.sum()
-    if total == 0.0:
-        return 0.0
-    low, high = SUBSYNCHRONOUS_BAND
-    return float(power[(order >= low) & (order <= high)].sum() / total)

@@ -120,8 +120,8 @@ def test_the_journal_preset_whips_in_case_2_above_its_threshold(rpm, whips):
     0.02 at 4250 rpm, 0.95 at 4600 rpm, the disc at 22.7 Hz, the first mode; journals at
     0.17 c or more from the wall)."""
     from rubdiag.reduce import Reduction
+    from rubdiag.runs import subsynchronous_share
     from rubdiag.simulation import Run, simulate
-    from rubdiag.simulation._films import subsynchronous_share
     from rubdiag.simulation._static_load import StaticLoad
 
     result = simulate(Run.paper_case(2, None, speed_rpm=rpm, duration_s=3.0, discard_s=1.5,

@@ -134,7 +134,7 @@ def test_the_subsynchronous_share_of_the_journal_orbit_measures_whirl(threshold)
     """The whirl label's raw measure, from the journal's own orbit relative to its housing:
     none below the threshold (the orbit is the unbalance's 1x; measured 6e-9 at 0.9 and 0.95
     of it), nearly all above it (0.984 at 1.05, 0.991 at 1.1)."""
-    from rubdiag.simulation._films import subsynchronous_share
+    from rubdiag.runs import subsynchronous_share
 
     below = simulate(run(0.9 * threshold))
     above = simulate(run(1.1 * threshold))
