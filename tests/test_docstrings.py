@@ -79,3 +79,45 @@ def test_the_examples_print_what_they_say(module):
     for test in tests:
         runner.run(test)
     assert runner.summarize(verbose=False).failed == 0
+
+
+def _docstrings(name: str):
+    """The docstring of a public name and, for a class, of each of its public members."""
+    obj = resolve(name)
+    yield name, obj.__doc__
+    if isinstance(obj, type):
+        for attribute, member in vars(obj).items():
+            if not attribute.startswith("_"):
+                doc = getattr(member, "__doc__", None) or getattr(
+                    getattr(member, "fget", None), "__doc__", None)
+                yield f"{name}.{attribute}", doc
+
+
+def substitutions(text: str) -> list[str]:
+    """The substitution references reStructuredText finds in ``text`` (``|T|``: roles that
+    only Sphinx knows, literals and math are not read as ones)."""
+    from docutils.frontend import get_default_settings
+    from docutils.nodes import substitution_reference
+    from docutils.parsers.rst import Parser
+    from docutils.utils import new_document
+
+    settings = get_default_settings(Parser)
+    settings.report_level = settings.halt_level = 5
+    tree = new_document("docstring", settings)
+    Parser().parse(text, tree)
+    return [n.astext() for n in tree.findall(substitution_reference)]
+
+
+def test_the_substitution_check_sees_one():
+    assert substitutions("Torque |T| <= 1e6; ``|x|`` and :math:`|v|` are fine.") == ["T"]
+
+
+@pytest.mark.parametrize("name", public_names())
+def test_no_docstring_text_reads_as_a_substitution(name):
+    """reStructuredText reads ``|T|`` as a substitution the reference does not define (an
+    error in the documentation's build): absolute values are written in words or as code."""
+    import inspect
+
+    for where, doc in _docstrings(name):
+        if doc and "|" in doc:
+            assert substitutions(inspect.cleandoc(doc)) == [], where

@@ -108,7 +108,7 @@ class Misalignment:
     node : int
         The shaft node of the rotor-side flex plane (the driven end), >= 0.
     drive_torque_n_m : float
-        The drive torque T (N·m), |T| <= 1e6; positive about +x.
+        The drive torque T (N·m), in [-1e6, 1e6]; positive about +x.
     spacer_length_m : float
         The spacer's length L between the flex planes (m), in (0, 10].
     offset_m : float
