@@ -33,10 +33,12 @@ Usage::
 from __future__ import annotations
 
 import argparse
+import atexit
 import json
 import os
 import re
 import shlex
+import shutil
 import statistics
 import subprocess
 import sys
@@ -407,10 +409,12 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
 
 def clock_shim(clock: str) -> Path | None:
     """For ``--clock cpu``, a new folder whose ``sitecustomize`` makes the child's
-    ``time.perf_counter`` read CPU time; None for the wall clock."""
+    ``time.perf_counter`` read CPU time (removed when this process ends); None for the wall
+    clock."""
     if clock == "wall":
         return None
     shim = Path(tempfile.mkdtemp(prefix="rubdiag-ab-clock-"))
+    atexit.register(shutil.rmtree, shim, ignore_errors=True)
     (shim / "sitecustomize.py").write_text(CPU_CLOCK_SHIM, encoding="utf-8")
     return shim
 

@@ -70,12 +70,14 @@ def instruction_counts() -> dict[str, int]:
 def compare(a: dict[str, int], b: dict[str, int]) -> int:
     """Print the functions side by side; returns the number that differ or are in one only.
     Functions are matched by name, without their module and leading underscores: a function
-    that moved to another kernel module or became a module's public name is still itself."""
+    that moved to another kernel module or became a module's public name is still itself
+    (several functions of one name are compared as the sorted list of their counts)."""
     def by_name(counts):
         names = {}
         for key, n in counts.items():
             names.setdefault(key.split(".", 1)[1].lstrip("_"), []).append(n)
-        return {name: found[0] for name, found in names.items() if len(found) == 1}
+        return {name: found[0] if len(found) == 1 else tuple(sorted(found))
+                for name, found in names.items()}
 
     na, nb = by_name(a), by_name(b)
     differ = 0
@@ -87,8 +89,9 @@ def compare(a: dict[str, int], b: dict[str, int]) -> int:
         print(f"{name:<52} {ca if ca is not None else '—':>8} "
               f"{cb if cb is not None else '—':>8}{mark}")
     same = sum(1 for name in set(na) & set(nb) if na[name] == nb[name])
+    total = [sum(counts.values()) for counts in (a, b)]
     print(f"\n{same} functions with the same instruction count; {differ} differ or are in "
-          f"one version only; A total {sum(a.values())}, B total {sum(b.values())}")
+          f"one version only; A total {total[0]}, B total {total[1]}")
     return differ
 
 

@@ -387,12 +387,12 @@ def run_setting(setting: Setting, out: Path, jobs: int) -> list[dict]:
 # ------------------------------------------------------------------------------------------
 # files
 # ------------------------------------------------------------------------------------------
-def _atomic_write(frame: pd.DataFrame, path: Path) -> None:
+def _atomic_write(frame: pd.DataFrame, path: Path, **csv_options) -> None:
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     if path.suffix == ".parquet":
         frame.to_parquet(tmp, index=False)
     else:
-        frame.to_csv(tmp, index=False)
+        frame.to_csv(tmp, index=False, **csv_options)
     os.replace(tmp, path)
 
 
@@ -426,10 +426,7 @@ def store(frame: pd.DataFrame, found: pd.DataFrame, data: Path = DATA) -> None:
     (floats to :data:`DIGITS` significant digits; each file atomically)."""
     for table, name in ((frame.drop(columns=[c for c in NOT_STORED if c in frame]),
                          "sensitivity.csv"), (found, "sensitivity_findings.csv")):
-        path = data / name
-        tmp = path.with_name(f".{name}.{os.getpid()}.tmp")
-        table.to_csv(tmp, index=False, float_format=f"%.{DIGITS}g", lineterminator="\n")
-        os.replace(tmp, path)
+        _atomic_write(table, data / name, float_format=f"%.{DIGITS}g", lineterminator="\n")
 
 
 def load(out: Path) -> pd.DataFrame:

@@ -61,7 +61,7 @@ class PublicNamespacesContract(Contract):
 
         breaches = []
         for importer in sorted(graph.modules):
-            if not importer.startswith(self.container):
+            if not (importer == self.container or importer.startswith(self.container + ".")):
                 continue
             for imported in sorted(graph.find_modules_directly_imported_by(importer)):
                 package = private_package(imported, self.container)

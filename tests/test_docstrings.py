@@ -87,10 +87,9 @@ def _docstrings(name: str):
     yield name, obj.__doc__
     if isinstance(obj, type):
         for attribute, member in vars(obj).items():
-            if not attribute.startswith("_"):
-                doc = getattr(member, "__doc__", None) or getattr(
-                    getattr(member, "fget", None), "__doc__", None)
-                yield f"{name}.{attribute}", doc
+            if not attribute.startswith("_") and (callable(member) or isinstance(
+                    member, (property, classmethod, staticmethod))):
+                yield f"{name}.{attribute}", member.__doc__
 
 
 def substitutions(text: str) -> list[str]:
